@@ -1,0 +1,39 @@
+# rs_add_module(NAME [DEPS targets...] [PRIVATE_DEPS targets...] [PC_REQUIRES names...])
+# One static library per folder: every .c file in the calling directory, public headers in
+# lib/include/raystream. Registered for install/export and the pkg-config file.
+function(rs_add_module name)
+  cmake_parse_arguments(M "" "" "DEPS;PRIVATE_DEPS;PC_REQUIRES" ${ARGN})
+  file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.c)
+  if(NOT srcs)
+    message(STATUS "raystream: module ${name} has no sources yet; skipped")
+    return()
+  endif()
+  add_library(${name} STATIC ${srcs})
+  target_include_directories(${name} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/lib/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  target_link_libraries(${name} PUBLIC ${M_DEPS} PRIVATE ${M_PRIVATE_DEPS})
+  install(TARGETS ${name} EXPORT raystreamTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  set_property(GLOBAL APPEND PROPERTY RS_MODULES ${name})
+  set_property(GLOBAL APPEND PROPERTY RS_PC_REQUIRES ${M_PC_REQUIRES})
+endfunction()
+
+# rs_add_tool(NAME) : an executable from every .c in the calling directory, linked to raystream.
+function(rs_add_tool name)
+  file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.c)
+  add_executable(${name} ${srcs})
+  target_link_libraries(${name} PRIVATE raystream ${ARGN})
+  install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endfunction()
+
+# rs_find_pkg(PREFIX pcmodule) : pkg-config dependency as PkgConfig::PREFIX, recorded so the
+# installed raystreamConfig.cmake finds it again for consumers of the static libraries.
+function(rs_find_pkg prefix module)
+  pkg_check_modules(${prefix} ${ARGN} IMPORTED_TARGET GLOBAL ${module})
+  if(${prefix}_FOUND)
+    set_property(GLOBAL APPEND PROPERTY RS_PKG_IMPORTS "${prefix}=${module}")
+  endif()
+  set(${prefix}_FOUND ${${prefix}_FOUND} PARENT_SCOPE)
+endfunction()
