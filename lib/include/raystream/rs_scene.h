@@ -1,0 +1,168 @@
+/**
+ * @file rs_scene.h
+ * A scene: triangles (fed from caller-owned vertex/index arrays, copied in), materials, a
+ * camera, point lights, the environment cube and ambient light. Geometry is stored in
+ * single precision, exactly as the GPU will read it; everything else in double.
+ */
+#ifndef RS_SCENE_H
+#define RS_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "raystream/rs_status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Material flags. */
+enum rs_material_flags {
+	/** Weight reflection/refraction by Fresnel (Schlick) instead of the fixed weights. */
+	RS_MATERIAL_FRESNEL = 1u << 0,
+};
+
+/**
+ * Surface description. Zero-initialised is a valid black, purely diffuse surface.
+ * A surface with reflectance == 0 and transmittance == 0 ends its ray path (state -3).
+ */
+struct rs_material {
+	float diffuse[3];    /**< Lambert colour */
+	float specular;      /**< Phong specular weight (white highlight) */
+	float shininess;     /**< Phong exponent; 0 means 1 */
+	float reflectance;   /**< mirror reflection weight */
+	float transmittance; /**< refraction weight */
+	float ior;           /**< index of refraction; 0 means 1 (no bending) */
+	uint32_t flags;      /**< enum rs_material_flags */
+};
+
+/**
+ * A mesh to add: caller-owned arrays, read during rs_scene_add_mesh() only.
+ * Strides are in bytes; 0 means tightly packed (3 floats, 3 uint32).
+ */
+struct rs_mesh_desc {
+	const float *positions;   /**< vertex_count xyz triples */
+	size_t vertex_count;
+	size_t position_stride;
+	const float *normals;     /**< optional; NULL: angle-weighted normals are computed */
+	size_t normal_stride;
+	const uint32_t *indices;  /**< triangle_count index triples into this mesh's vertices */
+	size_t triangle_count;
+	size_t index_stride;
+	uint32_t material;        /**< id returned by rs_scene_add_material() */
+};
+
+/** Pinhole camera. fov_y_deg is the paper's projection angle 2*atan(b/a). */
+struct rs_camera {
+	double eye[3];
+	double target[3];
+	double up[3];
+	double fov_y_deg;         /**< vertical field of view; 0 means 45 */
+	uint32_t width, height;   /**< image size the scene was framed for; 0 means 512 */
+};
+
+/** A white-or-coloured point light without fall-off. */
+struct rs_light {
+	double position[3];
+	double color[3];          /**< radiance scale per channel (1,1,1 = white, intensity 1) */
+};
+
+/**
+ * The environment cube: rays leaving the scene are intersected with it (no parallax) and
+ * take the colour there. Face order +x, -x, +y, -y, +z, -z. Each face shows a grid of
+ * `grid` x `grid` cells whose lines (width line_width of a cell, centred on cell borders)
+ * are the face colour times line_scale.
+ */
+struct rs_environment {
+	double center[3];
+	double half_size;         /**< 0: derived from the scene bounds (2x largest extent) */
+	float face_color[6][3];
+	uint32_t grid;            /**< 0 means 16 */
+	float line_width;         /**< fraction of a cell; 0 means 0.06 */
+	float line_scale;         /**< 0 means 0.25 */
+};
+
+/** Axis-aligned bounds. */
+struct rs_bounds {
+	double lo[3];
+	double hi[3];
+};
+
+struct rs_scene;
+
+/** Scene options; zero-initialised means defaults. */
+struct rs_scene_desc {
+	size_t max_triangles;     /**< refuse meshes beyond this total; 0 means 2^24 - 1 */
+};
+
+/**
+ * Create an empty scene (no geometry; default camera, no lights, ambient 0.1, default
+ * environment colours). Free with rs_scene_destroy().
+ */
+enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene **out,
+			       struct rs_error *err);
+
+/** Free a scene and set *scene to NULL; NULL and *scene == NULL are allowed. */
+void rs_scene_destroy(struct rs_scene **scene);
+
+/** Last error message recorded on this scene (empty if none); owned by the scene. */
+const char *rs_scene_last_error(const struct rs_scene *scene);
+
+/** Add a material; its id (0, 1, ...) is written to out_id. Rejects NaN/negative values. */
+enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_material *material,
+				     uint32_t *out_id);
+
+/**
+ * Copy a mesh into the scene. Rejects (RS_ERR_BAD_DATA, nothing added) NaN or infinite
+ * positions/normals, indices out of range, zero triangles, unknown material ids, and totals
+ * beyond max_triangles. Zero-area triangles are kept (the tracers handle them).
+ */
+enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh);
+
+/** Set the camera (rejects eye == target, zero/parallel up, fov outside (0, 180)). */
+enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera);
+/** Add a point light (rejects non-finite values or negative colour). */
+enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light);
+/** Set the environment cube (rejects non-finite values). */
+enum rs_status rs_scene_set_environment(struct rs_scene *scene,
+					const struct rs_environment *environment);
+/** Ambient term added to every lit surface (scaled by its diffuse colour); default 0.1. */
+enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient);
+
+/* Read access. Pointers stay valid until the scene is changed or destroyed. */
+size_t rs_scene_triangle_count(const struct rs_scene *scene);
+size_t rs_scene_vertex_count(const struct rs_scene *scene);
+/** xyz per vertex, tightly packed. */
+const float *rs_scene_positions(const struct rs_scene *scene);
+/** Unit xyz per vertex (computed or given, renormalised), tightly packed. */
+const float *rs_scene_normals(const struct rs_scene *scene);
+/** Three vertex indices per triangle. */
+const uint32_t *rs_scene_indices(const struct rs_scene *scene);
+/** Material id per triangle. */
+const uint32_t *rs_scene_triangle_materials(const struct rs_scene *scene);
+size_t rs_scene_material_count(const struct rs_scene *scene);
+const struct rs_material *rs_scene_materials(const struct rs_scene *scene);
+size_t rs_scene_light_count(const struct rs_scene *scene);
+const struct rs_light *rs_scene_lights(const struct rs_scene *scene);
+const struct rs_camera *rs_scene_camera(const struct rs_scene *scene);
+double rs_scene_ambient(const struct rs_scene *scene);
+/** The environment with defaults resolved (centre/half-size from the bounds if unset). */
+void rs_scene_environment(const struct rs_scene *scene, struct rs_environment *out);
+/** Bounds of all triangles (lo > hi when the scene is empty). */
+void rs_scene_bounds(const struct rs_scene *scene, struct rs_bounds *out);
+
+/**
+ * Frame the camera the way the benchmark scenes do: look at the centre of `focus` from
+ * `elevation_deg` above the horizontal on the +z side, at distance r / sin(fov_y / 2), with
+ * r = half the box's diagonal, up +y. Writes *camera (fov/size fields are kept, 0 = default).
+ */
+void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg,
+		     struct rs_camera *camera);
+
+/** Resolved camera values: fov 45 and 512x512 where zero. */
+void rs_camera_resolve(const struct rs_camera *in, struct rs_camera *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

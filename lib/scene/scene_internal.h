@@ -1,0 +1,41 @@
+/* The scene's private layout, shared by the files of lib/scene only. */
+#ifndef RS_SCENE_INTERNAL_H
+#define RS_SCENE_INTERNAL_H
+
+#include "raystream/rs_scene.h"
+
+struct rs_scene {
+	struct rs_error error;
+	size_t max_triangles;
+
+	float *positions;
+	float *normals;
+	uint32_t *indices;
+	uint32_t *triangle_materials;
+	size_t vertex_count, triangle_count;
+	size_t position_capacity, normal_capacity, index_capacity, triangle_material_capacity;
+	struct rs_bounds bounds;
+
+	struct rs_material *materials;
+	size_t material_count, material_capacity;
+	struct rs_light *lights;
+	size_t light_count, light_capacity;
+
+	struct rs_camera camera;
+	struct rs_environment environment;
+	double ambient;
+};
+
+/*
+ * Angle-weighted vertex normals (Thuermer & Wuethrich) for `triangle_count` triangles whose
+ * global indices point into `positions`; vertices [first_vertex, first_vertex + count)
+ * get their normals written to out (count * 3 floats).
+ */
+void rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
+				     size_t triangle_count, size_t first_vertex,
+				     size_t vertex_count, float *out);
+
+/* Renormalise normals in place; zero-length ones become (0, 1, 0) so none is NaN. */
+void rs_scene_normalize_normals(float *normals, size_t count);
+
+#endif

@@ -1,0 +1,167 @@
+/* rs_scene: validation of caller geometry, computed normals, camera and environment. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "raystream/rs_scene.h"
+
+/* Unit cube, each face split into two triangles; corner 0 is (0,0,0). */
+static const float cube_pos[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
+				      0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+static const uint32_t cube_idx[12 * 3] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+					  3, 6, 2, 3, 7, 6, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+
+static struct rs_scene *make_scene(void)
+{
+	struct rs_scene *scene = NULL;
+	assert_int_equal(rs_scene_create(NULL, &scene, NULL), RS_OK);
+	struct rs_material m = {.diffuse = {0.5f, 0.5f, 0.5f}};
+	uint32_t id = 99;
+	assert_int_equal(rs_scene_add_material(scene, &m, &id), RS_OK);
+	assert_int_equal(id, 0);
+	return scene;
+}
+
+static struct rs_mesh_desc cube_mesh(void)
+{
+	return (struct rs_mesh_desc){.positions = cube_pos, .vertex_count = 8,
+				     .indices = cube_idx, .triangle_count = 12};
+}
+
+static void mesh_is_copied(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	struct rs_mesh_desc mesh = cube_mesh();
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_triangle_count(scene), 24);
+	assert_int_equal(rs_scene_vertex_count(scene), 16);
+	/* The second copy's indices are offset to its own vertices. */
+	assert_int_equal(rs_scene_indices(scene)[12 * 3], 8 + cube_idx[0]);
+	struct rs_bounds b;
+	rs_scene_bounds(scene, &b);
+	assert_true(b.lo[0] == 0.0 && b.hi[2] == 1.0);
+	rs_scene_destroy(&scene);
+	assert_null(scene);
+}
+
+/* Angle weighting: each cube face meets a corner at 90 degrees in total, whatever its
+ * triangulation, so the corner normal is exactly the diagonal. */
+static void normals_are_angle_weighted(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	struct rs_mesh_desc mesh = cube_mesh();
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	const float *n = rs_scene_normals(scene);
+	const double k = -1.0 / sqrt(3.0);
+	for (int a = 0; a < 3; ++a)
+		assert_true(fabs(n[a] - k) < 1e-6); /* vertex 0 at (0,0,0) points outwards */
+	rs_scene_destroy(&scene);
+}
+
+static void nan_vertex_is_rejected(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	float pos[9] = {0, 0, 0, 1, 0, 0, 0, NAN, 0};
+	uint32_t idx[3] = {0, 1, 2};
+	struct rs_mesh_desc mesh = {.positions = pos, .vertex_count = 3, .indices = idx,
+				    .triangle_count = 1};
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(rs_scene_last_error(scene), "vertex 2"));
+	assert_int_equal(rs_scene_triangle_count(scene), 0);
+	rs_scene_destroy(&scene);
+}
+
+static void index_out_of_range_is_rejected(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+	uint32_t idx[3] = {0, 1, 3};
+	struct rs_mesh_desc mesh = {.positions = pos, .vertex_count = 3, .indices = idx,
+				    .triangle_count = 1};
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(rs_scene_last_error(scene), "triangle 0"));
+	rs_scene_destroy(&scene);
+}
+
+static void zero_triangles_and_unknown_material_are_rejected(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	struct rs_mesh_desc mesh = cube_mesh();
+	mesh.triangle_count = 0;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
+	mesh = cube_mesh();
+	mesh.material = 5;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
+	rs_scene_destroy(&scene);
+}
+
+static void degenerate_triangle_gets_finite_normals(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	float pos[9] = {1, 1, 1, 1, 1, 1, 1, 1, 1};
+	uint32_t idx[3] = {0, 1, 2};
+	struct rs_mesh_desc mesh = {.positions = pos, .vertex_count = 3, .indices = idx,
+				    .triangle_count = 1};
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	for (int i = 0; i < 9; ++i)
+		assert_true(isfinite(rs_scene_normals(scene)[i]));
+	rs_scene_destroy(&scene);
+}
+
+static void bad_camera_is_rejected(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	struct rs_camera cam = {.eye = {0, 0, 5}, .target = {0, 0, 0}, .up = {0, 0, 1}};
+	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_ERR_BAD_DATA); /* up parallel */
+	cam.up[1] = 1;
+	cam.up[2] = 0;
+	cam.fov_y_deg = 200;
+	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_ERR_BAD_DATA);
+	cam.fov_y_deg = 0;
+	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_OK);
+	rs_scene_destroy(&scene);
+}
+
+/* The view cone of half-angle fov/2 touches the bounding sphere: distance r / sin(fov/2). */
+static void camera_frame_touches_bounding_sphere(void **state)
+{
+	struct rs_bounds box = {.lo = {-1, -2, -3}, .hi = {3, 2, 1}};
+	struct rs_camera cam = {.fov_y_deg = 45};
+	rs_camera_frame(&box, 30.0, &cam);
+	double r = 0.5 * sqrt(16.0 + 16.0 + 16.0);
+	double d = sqrt(pow(cam.eye[0] - 1, 2) + pow(cam.eye[1] - 0, 2) + pow(cam.eye[2] + 1, 2));
+	assert_true(fabs(d - r / sin(22.5 * M_PI / 180.0)) < 1e-12);
+	assert_true(fabs(atan2(cam.eye[1], cam.eye[2] + 1) - M_PI / 6) < 1e-12);
+}
+
+static void environment_defaults_follow_bounds(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	struct rs_mesh_desc mesh = cube_mesh();
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	struct rs_environment env;
+	rs_scene_environment(scene, &env);
+	assert_true(env.center[0] == 0.5 && env.half_size == 2.0 && env.grid == 16);
+	rs_scene_destroy(&scene);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(mesh_is_copied),
+		cmocka_unit_test(normals_are_angle_weighted),
+		cmocka_unit_test(nan_vertex_is_rejected),
+		cmocka_unit_test(index_out_of_range_is_rejected),
+		cmocka_unit_test(zero_triangles_and_unknown_material_are_rejected),
+		cmocka_unit_test(degenerate_triangle_gets_finite_normals),
+		cmocka_unit_test(bad_camera_is_rejected),
+		cmocka_unit_test(camera_frame_touches_bounding_sphere),
+		cmocka_unit_test(environment_defaults_follow_bounds),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
