@@ -1,0 +1,136 @@
+/* rs_image: PNG and PFM round trips, atomic writes, accuracy figures. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "raystream/rs_image.h"
+
+static char dir[256];
+
+static int make_dir(void **state)
+{
+	snprintf(dir, sizeof dir, "/tmp/rs_test_image_XXXXXX");
+	return mkdtemp(dir) ? 0 : -1;
+}
+
+static int remove_dir(void **state)
+{
+	char cmd[300];
+	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+	return system(cmd) == 0 ? 0 : -1;
+}
+
+static void path_in_dir(char *out, size_t size, const char *name)
+{
+	snprintf(out, size, "%s/%s", dir, name);
+}
+
+static void png_round_trip_is_exact_after_quantizing(void **state)
+{
+	float rgb[4 * 3 * 3];
+	for (size_t i = 0; i < sizeof rgb / sizeof rgb[0]; ++i)
+		rgb[i] = (float)i / 40.0f;
+	rgb[5] = NAN;
+	rgb[6] = -2.0f;
+	rgb[7] = 9.0f;
+	char path[300];
+	path_in_dir(path, sizeof path, "a.png");
+	assert_int_equal(rs_image_write_png(path, rgb, 4, 3, NULL), RS_OK);
+	uint8_t expect[4 * 3 * 3];
+	rs_image_quantize(rgb, 4, 3, expect);
+	assert_int_equal(expect[5], 0);
+	assert_int_equal(expect[6], 0);
+	assert_int_equal(expect[7], 255);
+	uint8_t *got;
+	uint32_t w, h;
+	assert_int_equal(rs_image_read_png(path, &got, &w, &h, NULL), RS_OK);
+	assert_int_equal(w, 4);
+	assert_int_equal(h, 3);
+	assert_memory_equal(got, expect, sizeof expect);
+	free(got);
+}
+
+static void pfm_round_trip_keeps_rows_and_infinity(void **state)
+{
+	float depth[3 * 2] = {1.0f, 2.5f, INFINITY, 4.0f, 5.0f, 1e30f};
+	char path[300];
+	path_in_dir(path, sizeof path, "d.pfm");
+	assert_int_equal(rs_image_write_pfm(path, depth, 3, 2, 1, NULL), RS_OK);
+	float *got;
+	uint32_t w, h, c;
+	assert_int_equal(rs_image_read_pfm(path, &got, &w, &h, &c, NULL), RS_OK);
+	assert_true(w == 3 && h == 2 && c == 1);
+	assert_memory_equal(got, depth, sizeof depth);
+	free(got);
+}
+
+static void nan_is_refused_without_leaving_a_file(void **state)
+{
+	float depth[2] = {1.0f, NAN};
+	char path[300];
+	path_in_dir(path, sizeof path, "nan.pfm");
+	struct rs_error err = {0};
+	assert_int_equal(rs_image_write_pfm(path, depth, 2, 1, 1, &err), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(err.message, "NaN"));
+	assert_int_not_equal(access(path, F_OK), 0);
+}
+
+static void unwritable_path_fails_cleanly(void **state)
+{
+	float rgb[3] = {1, 1, 1};
+	struct rs_error err = {0};
+	assert_int_equal(rs_image_write_png("/nonexistent-dir/x.png", rgb, 1, 1, &err), RS_ERR_IO);
+	assert_non_null(strstr(err.message, "/nonexistent-dir/x.png"));
+}
+
+static void reading_garbage_is_a_parse_error(void **state)
+{
+	char path[300];
+	path_in_dir(path, sizeof path, "junk.png");
+	FILE *f = fopen(path, "wb");
+	fputs("this is not an image", f);
+	fclose(f);
+	uint8_t *px;
+	uint32_t w, h, c;
+	float *data;
+	assert_int_equal(rs_image_read_png(path, &px, &w, &h, NULL), RS_ERR_PARSE);
+	assert_int_equal(rs_image_read_pfm(path, &data, &w, &h, &c, NULL), RS_ERR_PARSE);
+	assert_null(px);
+	assert_null(data);
+}
+
+static void compare_reports_psnr_max_and_bad_share(void **state)
+{
+	float ref[4] = {0.5f, 0.5f, 0.5f, INFINITY};
+	float test[4] = {0.5f, 0.6f, 0.5f, 3.0f};
+	struct rs_image_diff d;
+	rs_image_compare(test, ref, 4, 1, 1, 1.0, 0.05, &d);
+	/* Three finite samples, one off by 0.1: mse = 0.01 / 3. */
+	assert_true(fabs(d.mse - 0.01 / 3.0) < 1e-8);
+	assert_true(fabs(d.psnr_db - 10.0 * log10(300.0)) < 1e-5);
+	assert_true(fabs(d.max_abs_error - 0.1) < 1e-6);
+	assert_int_equal(d.mismatched, 1);
+	assert_true(fabs(d.bad_share - 0.5) < 1e-12);
+	rs_image_compare(ref, ref, 4, 1, 1, 1.0, 0.0, &d);
+	assert_true(isinf(d.psnr_db) && d.bad_share == 0.0);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(png_round_trip_is_exact_after_quantizing),
+		cmocka_unit_test(pfm_round_trip_keeps_rows_and_infinity),
+		cmocka_unit_test(nan_is_refused_without_leaving_a_file),
+		cmocka_unit_test(unwritable_path_fails_cleanly),
+		cmocka_unit_test(reading_garbage_is_a_parse_error),
+		cmocka_unit_test(compare_reports_psnr_max_and_bad_share),
+	};
+	return cmocka_run_group_tests(tests, make_dir, remove_dir);
+}
