@@ -1,0 +1,242 @@
+/* The 1-euro filter (Casiez, Roussel, Vogel, CHI 2012) for poses, with per-sample
+ * timestamps, and capped constant-velocity prediction.
+ *
+ * Position: the reference algorithm per vector (speed = norm of the smoothed derivative, so
+ * the cutoff does not depend on the axes). Orientation: on the unit-quaternion manifold, the
+ * derivative is the rotation vector of the relative rotation between consecutive samples
+ * divided by dt, and smoothing is a slerp by the 1-euro alpha. The derivative is taken from
+ * consecutive raw samples, as in the authors' reference implementation, so on a ramp it
+ * converges to the true speed and the lag is speed / (2 pi (min_cutoff + beta * speed)). */
+#include "raystream/rs_pose.h"
+
+#include "pose_math.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#define RS_POSE_PI 3.14159265358979323846
+
+struct rs_pose_filter {
+	struct rs_pose_filter_desc desc;
+	int have;
+	double t;
+	double x_raw[3], x_hat[3], dx_hat[3];
+	double q_raw[4], q_hat[4], w_hat[3]; /* q_raw kept in q_hat's hemisphere */
+	char message[RS_ERROR_MESSAGE_MAX];
+};
+
+void rs_pose_filter_desc_resolve(const struct rs_pose_filter_desc *desc,
+                                 struct rs_pose_filter_desc *out)
+{
+	struct rs_pose_filter_desc d;
+	if (desc)
+		d = *desc;
+	else
+		memset(&d, 0, sizeof d);
+	/* VRPN's vrpn_Tracker_FilterOneEuro defaults (vrpn_Tracker_Filter.h). */
+	if (d.position_min_cutoff_hz == 0.0)
+		d.position_min_cutoff_hz = 1.15;
+	if (d.position_beta == 0.0)
+		d.position_beta = 0.5;
+	if (d.position_d_cutoff_hz == 0.0)
+		d.position_d_cutoff_hz = 1.2;
+	if (d.orientation_min_cutoff_hz == 0.0)
+		d.orientation_min_cutoff_hz = 1.5;
+	if (d.orientation_beta == 0.0)
+		d.orientation_beta = 0.5;
+	if (d.orientation_d_cutoff_hz == 0.0)
+		d.orientation_d_cutoff_hz = 1.2;
+	if (d.max_prediction_s == 0.0)
+		d.max_prediction_s = 0.03;
+	if (d.reset_gap_s == 0.0)
+		d.reset_gap_s = 0.25;
+	*out = d;
+}
+
+static int positive(double v)
+{
+	return isfinite(v) && v > 0.0;
+}
+
+enum rs_status rs_pose_filter_create(const struct rs_pose_filter_desc *desc,
+                                     struct rs_pose_filter **out, struct rs_error *err)
+{
+	if (!out)
+		return rs_error_set(err, RS_ERR_INVALID, "pose filter: NULL out");
+	*out = NULL;
+	struct rs_pose_filter_desc d;
+	rs_pose_filter_desc_resolve(desc, &d);
+	/* beta may be meant as "no speed adaptation"; zero already means default, so only
+	 * negative or non-finite values are refused. */
+	if (!positive(d.position_min_cutoff_hz) || !positive(d.position_d_cutoff_hz) ||
+	    !positive(d.orientation_min_cutoff_hz) || !positive(d.orientation_d_cutoff_hz) ||
+	    !positive(d.position_beta) || !positive(d.orientation_beta) ||
+	    !positive(d.max_prediction_s) || !positive(d.reset_gap_s))
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "pose filter: cutoffs, betas, max_prediction_s and reset_gap_s "
+		                    "must be finite and > 0");
+	struct rs_pose_filter *f = calloc(1, sizeof *f);
+	if (!f)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "pose filter: out of memory");
+	f->desc = d;
+	rs_pose_filter_reset(f);
+	*out = f;
+	return RS_OK;
+}
+
+void rs_pose_filter_destroy(struct rs_pose_filter **filter)
+{
+	if (!filter)
+		return;
+	free(*filter);
+	*filter = NULL;
+}
+
+void rs_pose_filter_reset(struct rs_pose_filter *f)
+{
+	if (!f)
+		return;
+	f->have = 0;
+	f->t = 0.0;
+	memset(f->x_hat, 0, sizeof f->x_hat);
+	memset(f->dx_hat, 0, sizeof f->dx_hat);
+	memset(f->w_hat, 0, sizeof f->w_hat);
+	memset(f->q_hat, 0, sizeof f->q_hat);
+	f->q_hat[3] = 1.0;
+	f->message[0] = '\0';
+}
+
+const char *rs_pose_filter_last_error(const struct rs_pose_filter *f)
+{
+	return f ? f->message : "pose filter: NULL";
+}
+
+static void state_out(const struct rs_pose_filter *f, struct rs_pose *out)
+{
+	out->time_s = f->t;
+	memcpy(out->position, f->x_hat, sizeof f->x_hat);
+	memcpy(out->orientation, f->q_hat, sizeof f->q_hat);
+	pm_qcanonical(out->orientation);
+}
+
+/* Smoothing factor of a first-order low-pass with cutoff fc sampled after dt. */
+static double alpha(double fc, double dt)
+{
+	double tau = 1.0 / (2.0 * RS_POSE_PI * fc);
+	return 1.0 / (1.0 + tau / dt);
+}
+
+static void start(struct rs_pose_filter *f, double t, const double x[3], const double q[4])
+{
+	f->have = 1;
+	f->t = t;
+	memcpy(f->x_raw, x, sizeof f->x_raw);
+	memcpy(f->x_hat, x, sizeof f->x_hat);
+	memcpy(f->q_raw, q, sizeof f->q_raw);
+	memcpy(f->q_hat, q, sizeof f->q_hat);
+	memset(f->dx_hat, 0, sizeof f->dx_hat);
+	memset(f->w_hat, 0, sizeof f->w_hat);
+}
+
+enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_pose *in,
+                                     struct rs_pose *out)
+{
+	if (!f || !in || !out) {
+		if (f)
+			snprintf(f->message, sizeof f->message, "pose filter: NULL argument");
+		return RS_ERR_INVALID;
+	}
+	double q[4], x[3], t = in->time_s;
+	memcpy(x, in->position, sizeof x);
+	int ok = isfinite(t) && pm_finite3(x) && pm_qnormalize(in->orientation, q);
+	if (!ok) {
+		snprintf(f->message, sizeof f->message,
+		         "pose filter: non-finite input or zero quaternion ignored");
+		if (f->have) {
+			state_out(f, out);
+		} else {
+			memset(out, 0, sizeof *out);
+			out->orientation[3] = 1.0;
+		}
+		return RS_ERR_BAD_DATA;
+	}
+	f->message[0] = '\0';
+	double dt = t - f->t;
+	if (!f->have || dt > f->desc.reset_gap_s) {
+		start(f, t, x, q);
+		state_out(f, out);
+		return RS_OK;
+	}
+	if (!(dt > 0.0)) {
+		/* Repeated or out-of-order timestamp: no rate to work with, keep the state. */
+		state_out(f, out);
+		return RS_OK;
+	}
+	const struct rs_pose_filter_desc *d = &f->desc;
+
+	double ad = alpha(d->position_d_cutoff_hz, dt), speed2 = 0.0;
+	for (int k = 0; k < 3; ++k) {
+		double dx = (x[k] - f->x_raw[k]) / dt;
+		f->dx_hat[k] += ad * (dx - f->dx_hat[k]);
+		speed2 += f->dx_hat[k] * f->dx_hat[k];
+	}
+	double a = alpha(d->position_min_cutoff_hz + d->position_beta * sqrt(speed2), dt);
+	for (int k = 0; k < 3; ++k)
+		f->x_hat[k] = d->disable_filter ? x[k] : f->x_hat[k] + a * (x[k] - f->x_hat[k]);
+	memcpy(f->x_raw, x, sizeof x);
+
+	/* q and -q are the same rotation: keep the input in the state's hemisphere so a sign
+	 * flip between samples is not a 360-degree jump. */
+	if (pm_qdot(q, f->q_hat) < 0.0)
+		for (int k = 0; k < 4; ++k)
+			q[k] = -q[k];
+	double rc[4], rel[4], w[3];
+	pm_qconj(f->q_raw, rc);
+	pm_qmul(q, rc, rel);
+	pm_qlog(rel, w);
+	ad = alpha(d->orientation_d_cutoff_hz, dt);
+	speed2 = 0.0;
+	for (int k = 0; k < 3; ++k) {
+		f->w_hat[k] += ad * (w[k] / dt - f->w_hat[k]);
+		speed2 += f->w_hat[k] * f->w_hat[k];
+	}
+	a = alpha(d->orientation_min_cutoff_hz + d->orientation_beta * sqrt(speed2), dt);
+	if (d->disable_filter)
+		memcpy(f->q_hat, q, sizeof q);
+	else
+		pm_qslerp(f->q_hat, q, a, f->q_hat);
+	memcpy(f->q_raw, q, sizeof q);
+	f->t = t;
+	state_out(f, out);
+	return RS_OK;
+}
+
+enum rs_status rs_pose_filter_predict(const struct rs_pose_filter *f, double display_time_s,
+                                      struct rs_pose *out)
+{
+	if (!f || !out || !isfinite(display_time_s))
+		return RS_ERR_INVALID;
+	if (!f->have) {
+		memset(out, 0, sizeof *out);
+		out->orientation[3] = 1.0;
+		out->time_s = display_time_s;
+		return RS_END;
+	}
+	double h = display_time_s - f->t;
+	if (h < 0.0)
+		h = 0.0;
+	if (h > f->desc.max_prediction_s)
+		h = f->desc.max_prediction_s;
+	double rv[3], dq[4], q[4];
+	for (int k = 0; k < 3; ++k) {
+		out->position[k] = f->x_hat[k] + f->dx_hat[k] * h;
+		rv[k] = f->w_hat[k] * h;
+	}
+	pm_qexp(rv, dq);
+	pm_qmul(dq, f->q_hat, q);
+	pm_qnormalize(q, q);
+	pm_qcanonical(q);
+	memcpy(out->orientation, q, sizeof q);
+	out->time_s = f->t + h;
+	return RS_OK;
+}

@@ -1,0 +1,339 @@
+/* Marker samples to T_tracker_display: validity checks, the degeneracy gate, relabelling of
+ * swapped ids by side lengths, the Horn fit, the calibration offset, and a defined answer
+ * (held, predicted or none) whenever a sample cannot be solved. */
+#include "raystream/rs_pose.h"
+
+#include "pose_internal.h"
+#include "pose_math.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+struct rs_pose_solver {
+	struct rs_pose_solver_desc desc;
+	struct rs_pose_layout layout;
+	double layout_sides[3];
+	double relabel_margin; /* m^2, see match_layout() */
+	double side_tolerance; /* m: worst side mismatch still taken for this layout */
+	int have_pose;
+	struct rs_pose last_good;   /* T_tracker_display of the last solved sample */
+	double velocity[3];         /* smoothed, m/s */
+	double angular_velocity[3]; /* smoothed, rad/s, tracker frame */
+	double last_time;           /* latest finite sample time seen */
+	char message[RS_ERROR_MESSAGE_MAX];
+};
+
+/* All orderings of three markers: perm[j] = layout id of measured point j. */
+static const int k_perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+
+void rs_pose_solver_desc_resolve(const struct rs_pose_solver_desc *desc,
+                                 struct rs_pose_solver_desc *out)
+{
+	struct rs_pose_solver_desc d;
+	if (desc)
+		d = *desc;
+	else
+		memset(&d, 0, sizeof d);
+	if (d.noise_sigma_m == 0.0)
+		d.noise_sigma_m = 0.0005;
+	if (d.min_height_sigmas == 0.0)
+		d.min_height_sigmas = 10.0;
+	if (d.hold_timeout_s == 0.0)
+		d.hold_timeout_s = 0.5;
+	if (d.max_prediction_s == 0.0)
+		d.max_prediction_s = 0.03;
+	if (d.velocity_time_constant_s == 0.0)
+		d.velocity_time_constant_s = 0.05;
+	*out = d;
+}
+
+const char *rs_pose_status_name(enum rs_pose_status status)
+{
+	switch (status) {
+	case RS_POSE_OK:
+		return "RS_POSE_OK";
+	case RS_POSE_RELABELED:
+		return "RS_POSE_RELABELED";
+	case RS_POSE_HELD:
+		return "RS_POSE_HELD";
+	case RS_POSE_PREDICTED:
+		return "RS_POSE_PREDICTED";
+	case RS_POSE_NONE:
+		return "RS_POSE_NONE";
+	}
+	return "RS_POSE_UNKNOWN";
+}
+
+static int valid_param(double v)
+{
+	return isfinite(v) && v >= 0.0;
+}
+
+enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
+                                     const struct rs_pose_layout *layout,
+                                     struct rs_pose_solver **out, struct rs_error *err)
+{
+	if (!out)
+		return rs_error_set(err, RS_ERR_INVALID, "pose solver: NULL out");
+	*out = NULL;
+	struct rs_pose_solver_desc d;
+	rs_pose_solver_desc_resolve(desc, &d);
+	if (!valid_param(d.noise_sigma_m) || !valid_param(d.min_height_sigmas) ||
+	    !valid_param(d.hold_timeout_s) || !valid_param(d.max_prediction_s) ||
+	    !valid_param(d.velocity_time_constant_s))
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "pose solver: descriptor fields must be finite and >= 0");
+	enum rs_status st = rs_pose_layout_check(layout, err);
+	if (st != RS_OK)
+		return st;
+	struct rs_pose_solver *s = calloc(1, sizeof *s);
+	if (!s)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "pose solver: out of memory");
+	s->desc = d;
+	s->layout = *layout;
+	double *q = s->layout.T_markers_display.orientation;
+	if (q[0] == 0.0 && q[1] == 0.0 && q[2] == 0.0 && q[3] == 0.0)
+		q[3] = 1.0;
+	pm_qnormalize(q, q);
+	pm_qcanonical(q);
+	double h;
+	rs_pose_triangle_metrics(layout->markers, s->layout_sides, &h);
+	double dmin = rs_pose_min_side_difference(s->layout_sides);
+	s->relabel_margin = dmin * dmin;
+	/* Side lengths carry about sqrt(2) sigma of noise each; beyond ten of those plus 2 mm of
+	 * calibration slack the points are not this display's markers at all. */
+	s->side_tolerance = 10.0 * sqrt(2.0) * d.noise_sigma_m + 0.002;
+	rs_pose_solver_reset(s);
+	*out = s;
+	return RS_OK;
+}
+
+void rs_pose_solver_destroy(struct rs_pose_solver **solver)
+{
+	if (!solver)
+		return;
+	free(*solver);
+	*solver = NULL;
+}
+
+void rs_pose_solver_reset(struct rs_pose_solver *s)
+{
+	if (!s)
+		return;
+	s->have_pose = 0;
+	memset(&s->last_good, 0, sizeof s->last_good);
+	s->last_good.orientation[3] = 1.0;
+	memset(s->velocity, 0, sizeof s->velocity);
+	memset(s->angular_velocity, 0, sizeof s->angular_velocity);
+	s->last_time = 0.0;
+	s->message[0] = '\0';
+}
+
+const char *rs_pose_solver_last_error(const struct rs_pose_solver *s)
+{
+	return s ? s->message : "pose solver: NULL";
+}
+
+static void note(struct rs_pose_solver *s, const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(s->message, sizeof s->message, fmt, ap);
+	va_end(ap);
+}
+
+/* No solution for this sample: hold, predict or give up, as configured. */
+static void lost(struct rs_pose_solver *s, double t, struct rs_pose *out, struct rs_pose_quality *q)
+{
+	double elapsed = t - s->last_good.time_s;
+	if (!s->have_pose || elapsed > s->desc.hold_timeout_s) {
+		memset(out, 0, sizeof *out);
+		out->orientation[3] = 1.0;
+		out->time_s = t;
+		q->status = RS_POSE_NONE;
+		return;
+	}
+	*out = s->last_good;
+	out->time_s = t;
+	if (!s->desc.predict_when_lost) {
+		q->status = RS_POSE_HELD;
+		return;
+	}
+	double h = elapsed < 0.0 ? 0.0 : elapsed;
+	if (h > s->desc.max_prediction_s)
+		h = s->desc.max_prediction_s;
+	double rv[3], dq[4];
+	for (int k = 0; k < 3; ++k) {
+		out->position[k] += s->velocity[k] * h;
+		rv[k] = s->angular_velocity[k] * h;
+	}
+	pm_qexp(rv, dq);
+	pm_qmul(dq, s->last_good.orientation, out->orientation);
+	pm_qnormalize(out->orientation, out->orientation);
+	pm_qcanonical(out->orientation);
+	q->status = RS_POSE_PREDICTED;
+}
+
+/* Exponentially smoothed finite-difference velocities, for PREDICTED only: the smoothing
+ * keeps marker noise (sigma / dt per sample) from being extrapolated. */
+static void update_velocity(struct rs_pose_solver *s, const struct rs_pose *p)
+{
+	double dt = p->time_s - s->last_good.time_s;
+	if (!s->have_pose || !(dt > 0.0) || dt > s->desc.hold_timeout_s) {
+		memset(s->velocity, 0, sizeof s->velocity);
+		memset(s->angular_velocity, 0, sizeof s->angular_velocity);
+		return;
+	}
+	double a = dt / (dt + s->desc.velocity_time_constant_s);
+	double qc[4], dq[4], w[3];
+	pm_qconj(s->last_good.orientation, qc);
+	pm_qmul(p->orientation, qc, dq);
+	pm_qlog(dq, w);
+	for (int k = 0; k < 3; ++k) {
+		double v = (p->position[k] - s->last_good.position[k]) / dt;
+		s->velocity[k] += a * (v - s->velocity[k]);
+		s->angular_velocity[k] += a * (w[k] / dt - s->angular_velocity[k]);
+	}
+}
+
+static int marker_usable(const struct rs_marker *m)
+{
+	if (!(m->flags & RS_MARKER_VALID) || (m->flags & RS_MARKER_OCCLUDED))
+		return 0;
+	for (int k = 0; k < 3; ++k)
+		if (!(fabs(m->position[k]) <= RS_POSE_MAX_COORD_M))
+			return 0;
+	return 1;
+}
+
+static double perm_cost(const struct rs_pose_solver *s, const double sides[3], int p,
+                        double *out_worst)
+{
+	double cost = 0.0, worst = 0.0;
+	for (int k = 0; k < 3; ++k) {
+		double d = fabs(sides[k] - s->layout_sides[k_perms[p][k]]);
+		cost += d * d;
+		worst = d > worst ? d : worst;
+	}
+	*out_worst = worst;
+	return cost;
+}
+
+/* Which layout id each measured point is (index into k_perms). The tracker's ids are
+ * trusted unless another ordering fits the side lengths better by more than D^2, D the
+ * layout's smallest side difference: a true swap of the two closest sides improves the
+ * cost by about 2 D^2, while noise alone needs a ~1.5 D error to fake that margin. */
+static int match_layout(const struct rs_pose_solver *s, const double sides[3], const int given[3],
+                        double *out_worst)
+{
+	int best = 0, given_p = -1;
+	double best_cost = INFINITY, worst, given_cost = INFINITY, given_worst = INFINITY;
+	for (int p = 0; p < 6; ++p) {
+		double cost = perm_cost(s, sides, p, &worst);
+		if (given[0] == k_perms[p][0] && given[1] == k_perms[p][1] &&
+		    given[2] == k_perms[p][2]) {
+			given_p = p;
+			given_cost = cost;
+			given_worst = worst;
+		}
+		if (cost < best_cost) {
+			best_cost = cost;
+			best = p;
+			*out_worst = worst;
+		}
+	}
+	if (given_p >= 0 && given_worst <= s->side_tolerance &&
+	    !(given_cost - best_cost > s->relabel_margin)) {
+		*out_worst = given_worst;
+		return given_p;
+	}
+	return best;
+}
+
+enum rs_status rs_pose_solver_update(struct rs_pose_solver *s,
+                                     const struct rs_marker_sample *sample, struct rs_pose *out,
+                                     struct rs_pose_quality *out_quality)
+{
+	struct rs_pose_quality qdummy;
+	struct rs_pose_quality *q = out_quality ? out_quality : &qdummy;
+	memset(q, 0, sizeof *q);
+	if (!s || !sample || !out) {
+		if (s)
+			note(s, "pose solver: NULL sample or output");
+		return RS_ERR_INVALID;
+	}
+	s->message[0] = '\0';
+	double t = sample->host_time_s;
+	if (!isfinite(t)) {
+		note(s, "non-finite sample time");
+		lost(s, s->last_time, out, q);
+		return RS_OK;
+	}
+	s->last_time = t;
+	if (sample->marker_count > RS_TRACK_MARKERS) {
+		note(s, "marker_count %u > %d", (unsigned)sample->marker_count, RS_TRACK_MARKERS);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
+	double pts[3][3];
+	int given[3], n = 0;
+	for (uint32_t i = 0; i < sample->marker_count; ++i) {
+		const struct rs_marker *m = &sample->markers[i];
+		if (!marker_usable(m))
+			continue;
+		memcpy(pts[n], m->position, sizeof pts[n]);
+		given[n] = m->id < RS_TRACK_MARKERS ? (int)m->id : -1;
+		++n;
+	}
+	q->markers_used = (uint32_t)n;
+	if (n < 3) {
+		note(s, "only %d usable markers (need 3)", n);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
+	double sides[3], h;
+	rs_pose_triangle_metrics((const double(*)[3])pts, sides, &h);
+	q->min_height_m = h;
+	double gate = s->desc.min_height_sigmas * s->desc.noise_sigma_m;
+	if (!(h >= gate) || !(h > 0.0)) {
+		note(s, "degenerate marker triangle: smallest height %.3g m < gate %.3g m", h,
+		     gate);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
+	double worst = INFINITY;
+	int p = match_layout(s, sides, given, &worst);
+	if (!(worst <= s->side_tolerance)) {
+		note(s, "marker distances do not match the layout (off by %.3g m > %.3g m)", worst,
+		     s->side_tolerance);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
+	double model[3][3];
+	int same = 1;
+	for (int j = 0; j < 3; ++j) {
+		memcpy(model[j], s->layout.markers[k_perms[p][j]], sizeof model[j]);
+		same &= given[j] == k_perms[p][j];
+	}
+	struct rs_pose T_tracker_markers;
+	struct rs_error e;
+	rs_error_clear(&e);
+	double rms = 0.0;
+	if (rs_pose_fit((const double(*)[3])model, (const double(*)[3])pts, 3, &T_tracker_markers,
+	                &rms, &e) != RS_OK) {
+		note(s, "%s", e.message);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
+	struct rs_pose pose;
+	rs_pose_compose(&T_tracker_markers, &s->layout.T_markers_display, &pose);
+	pose.time_s = t;
+	update_velocity(s, &pose);
+	s->last_good = pose;
+	s->have_pose = 1;
+	*out = pose;
+	q->status = same ? RS_POSE_OK : RS_POSE_RELABELED;
+	q->residual_rms_m = rms;
+	return RS_OK;
+}
