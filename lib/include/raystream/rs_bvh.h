@@ -37,7 +37,9 @@ struct rs_bvh_desc {
 /**
  * One node of the threaded pre-order layout.
  * Invariants (checked by rs_bvh_check()):
- *  - node 0 is the root; a node's subtree is the contiguous range [i, escape);
+ *  - node 0 is the root; a node's subtree is the contiguous range [i, escape). The flat
+ *    builders (NONE, LINEAR) emit a forest instead: a list of top-level leaves, each one's
+ *    escape being the next; the walk is the same;
  *  - escape = index of the first node after i's subtree (node_count for the last subtree);
  *  - level = height above the leaves (leaf: level 0); order = position among the nodes of
  *    the same level, counted left to right;

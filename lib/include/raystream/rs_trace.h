@@ -117,12 +117,98 @@ struct rs_trace_stats {
 };
 
 /**
+ * The primary ray through image position (px, py) in pixels, (0, 0) being the top-left
+ * corner of the image and (x + 0.5, y + 0.5) the centre of pixel (x, y); row 0 = top.
+ * Pinhole at camera->eye (resolved with rs_camera_resolve()), vertical field of view
+ * fov_y_deg over `height` pixels, square pixels. width/height 0: the camera's size.
+ * The direction has unit length (so t is a distance); tmin 0, tmax +INFINITY, no skip slot.
+ */
+void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_t height,
+			 double px, double py, struct rs_ray *out_ray);
+
+/** Where a ray leaves the environment cube (see rs_trace_environment()). */
+struct rs_env_hit {
+	double point[3];  /**< exit point, on the face plane */
+	uint32_t face;    /**< 0..5 = +x, -x, +y, -y, +z, -z */
+	double s, t;      /**< position on the face in [0, 1] along axes (a+1)%3 and (a+2)%3 */
+	uint32_t cell_s, cell_t; /**< grid cell, 0..grid-1 */
+	bool line;        /**< the point lies on a grid line */
+};
+
+/**
+ * Colour of the environment cube where a ray from `origin` along `dir` (any length > 0)
+ * leaves it: the exit point, not the direction alone, picks the texel, so there is no
+ * parallax. A zero direction answers face +x at its centre. `env` as rs_scene_environment()
+ * resolves it (zero grid/line fields get their defaults here too). out_hit may be NULL.
+ */
+void rs_trace_environment(const struct rs_environment *env, const double origin[3],
+			  const double dir[3], struct rs_env_hit *out_hit, double out_rgb[3]);
+
+/** Mirror `dir` about the unit `normal`: dir - 2 (dir.normal) normal (any side). */
+void rs_trace_reflect(const double dir[3], const double normal[3], double out_dir[3]);
+
+/**
+ * Snell refraction of the unit `dir` through a surface with unit `normal` facing against
+ * `dir` (dir.normal <= 0), eta = n_from / n_to. Writes the unit refracted direction and
+ * returns true, or returns false (total internal reflection) and leaves out_dir untouched.
+ */
+bool rs_trace_refract(const double dir[3], const double normal[3], double eta,
+		      double out_dir[3]);
+
+/**
+ * Schlick's approximation of the Fresnel reflectance for light going from index n_from to
+ * n_to with cos_i = cosine of the incidence angle: R0 + (1 - R0)(1 - c)^5, R0 =
+ * ((n_from - n_to) / (n_from + n_to))^2, c = cos_i when n_from <= n_to, else the cosine of
+ * the transmitted angle; 1 under total internal reflection; 0 when n_from == n_to (no
+ * interface) or an index is not positive. Always in [0, 1].
+ */
+double rs_trace_fresnel_schlick(double cos_i, double n_from, double n_to);
+
+/** One traced segment of a path (for tests and for comparing backends pass by pass). */
+struct rs_trace_segment {
+	struct rs_ray ray;        /**< as traced (origin already offset, skip slot set) */
+	struct rs_hit hit;        /**< slot RS_NO_SLOT on a miss */
+	double throughput;        /**< weight its contribution was scaled by */
+	enum rs_ray_state state;  /**< after this segment: ACTIVE (a next ray was made),
+				       ENVIRONMENT (missed, colour taken) or DIFFUSE */
+};
+
+/** Result of one path. */
+struct rs_trace_path {
+	double rgb[3];
+	double depth;             /**< first segment's hit distance (unit dir), +INFINITY on a miss */
+	enum rs_ray_state state;  /**< final state; ACTIVE means the pass budget ran out */
+	uint32_t segments;        /**< segments traced (<= passes) */
+	uint32_t shadow_rays;
+	struct rs_trace_counters counters; /**< every test of every ray of the path */
+};
+
+/**
+ * Trace one path from an arbitrary first ray with rs_trace_render()'s semantics (desc's
+ * passes, lights, triangle test, epsilon; its size and rows are ignored). `primary->dir`
+ * must be non-zero; it is normalised unless already unit length within 1e-12 (camera rays
+ * are kept bit for bit, so they take the same path as in rs_trace_render()).
+ * out_segments: caller-owned array of `passes` entries, or NULL. No allocation.
+ */
+enum rs_status rs_trace_ray_path(const struct rs_scene *scene, const struct rs_packed *packed,
+				 const struct rs_trace_desc *desc, const struct rs_ray *primary,
+				 struct rs_trace_path *out_path,
+				 struct rs_trace_segment *out_segments, struct rs_error *err);
+
+/** Largest accepted rs_trace_desc.passes. */
+#define RS_TRACE_MAX_PASSES 64u
+
+/**
  * Render the scene from its camera.
  * @param out_rgb    caller-owned width*height*3 floats (linear RGB, row 0 = top), or NULL
  * @param out_depth  caller-owned width*height floats: primary-hit distance, +INFINITY on a
  *                   miss, or NULL
  * @param out_stats  may be NULL
- * Only rows [row_begin, row_end) are written when a row range is given.
+ * Only rows [row_begin, row_end) are written when a row range is given; stats cover those
+ * rows. Allocation-free; read-only on scene and packed, so several threads may render
+ * disjoint row ranges at once. Semantics: docs/tracer.md.
+ * RS_ERR_INVALID: bad descriptor (passes > RS_TRACE_MAX_PASSES, more lights than the scene
+ * has, bad row range, epsilon < 0 or not finite), or packed not matching the scene.
  */
 enum rs_status rs_trace_render(const struct rs_scene *scene, const struct rs_packed *packed,
 			       const struct rs_trace_desc *desc, float *out_rgb, float *out_depth,

@@ -1,0 +1,103 @@
+/*
+ * Pseudo-terminal pair for end-to-end tests of the serial path: the master side plays
+ * the tracker, the slave path is opened like any serial device.
+ */
+#define _GNU_SOURCE /* ptsname_r */
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include "rs_serial.h"
+
+struct rs_serial_pty {
+	int master;
+	int slave_keep; /* keeps the pair alive (and the line raw) until a reader opens it */
+	char path[128];
+};
+
+enum rs_status rs_serial_pty_create(struct rs_serial_pty **out, struct rs_error *err)
+{
+	RS_ASSERT(out);
+	*out = NULL;
+	struct rs_serial_pty *p = calloc(1, sizeof *p);
+	if (!p)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "pty: out of memory");
+	p->slave_keep = -1;
+	p->master = posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
+	if (p->master < 0 || grantpt(p->master) != 0 || unlockpt(p->master) != 0 ||
+	    ptsname_r(p->master, p->path, sizeof p->path) != 0) {
+		int e = errno;
+		if (p->master >= 0)
+			close(p->master);
+		free(p);
+		return rs_error_set(err, RS_ERR_IO, "pty: cannot create a pseudo-terminal: %s",
+		                    strerror(e));
+	}
+	/* Raw from the start, so no byte is ever cooked (CR/LF, ^C, echo) on the way. */
+	p->slave_keep = open(p->path, O_RDWR | O_NOCTTY | O_CLOEXEC);
+	struct termios t;
+	if (p->slave_keep < 0 || tcgetattr(p->slave_keep, &t) != 0) {
+		int e = errno;
+		rs_serial_pty_destroy(&p);
+		return rs_error_set(err, RS_ERR_IO, "pty: cannot configure: %s", strerror(e));
+	}
+	cfmakeraw(&t);
+	tcsetattr(p->slave_keep, TCSANOW, &t);
+	*out = p;
+	return RS_OK;
+}
+
+const char *rs_serial_pty_path(const struct rs_serial_pty *pty)
+{
+	return pty->path;
+}
+
+enum rs_status rs_serial_pty_write(struct rs_serial_pty *p, const uint8_t *data, size_t len,
+                                   struct rs_error *err)
+{
+	RS_ASSERT(p && (data || len == 0));
+	if (p->master < 0)
+		return rs_error_set(err, RS_ERR_DISCONNECTED, "pty: master side closed");
+	while (len > 0) {
+		ssize_t n = write(p->master, data, len);
+		if (n < 0) {
+			if (errno == EINTR)
+				continue;
+			if (errno == EAGAIN) {
+				struct pollfd pfd = {.fd = p->master, .events = POLLOUT};
+				poll(&pfd, 1, 100);
+				continue;
+			}
+			return rs_error_set(err, RS_ERR_IO, "pty: write: %s", strerror(errno));
+		}
+		data += n;
+		len -= (size_t)n;
+	}
+	return RS_OK;
+}
+
+void rs_serial_pty_hangup(struct rs_serial_pty *p)
+{
+	if (p && p->master >= 0) {
+		close(p->master);
+		p->master = -1;
+	}
+	if (p && p->slave_keep >= 0) {
+		close(p->slave_keep);
+		p->slave_keep = -1;
+	}
+}
+
+void rs_serial_pty_destroy(struct rs_serial_pty **pty)
+{
+	if (!pty || !*pty)
+		return;
+	rs_serial_pty_hangup(*pty);
+	free(*pty);
+	*pty = NULL;
+}

@@ -1,0 +1,126 @@
+/*
+ * URI dispatch over the tracker backends compiled into this build.
+ */
+#include <string.h>
+
+#include "rs_tracker.h"
+#ifdef RS_TRACKER_HAVE_SERIAL
+#include "rs_serial.h"
+#endif
+#ifdef RS_TRACKER_HAVE_HID
+#include "rs_hid.h"
+#endif
+#ifdef RS_TRACKER_HAVE_USB
+#include "rs_usb.h"
+#endif
+
+#define PATH_CAP 512
+
+int rs_tracker_has_scheme(const char *scheme)
+{
+	if (!scheme)
+		return 0;
+	if (!strcmp(scheme, "sim") || !strcmp(scheme, "replay"))
+		return 1;
+#ifdef RS_TRACKER_HAVE_SERIAL
+	if (!strcmp(scheme, "serial"))
+		return 1;
+#endif
+#ifdef RS_TRACKER_HAVE_HID
+	if (!strcmp(scheme, "hid"))
+		return 1;
+#endif
+#ifdef RS_TRACKER_HAVE_USB
+	if (!strcmp(scheme, "usb"))
+		return 1;
+#endif
+	return 0;
+}
+
+static enum rs_status open_replay(const char *rest, struct rs_track_source **out,
+                                  struct rs_error *err)
+{
+	static const char opt[] = "?realtime=1";
+	char path[PATH_CAP];
+	size_t n = strlen(rest);
+	struct rs_track_replay_desc d = {0};
+	if (n >= sizeof opt - 1 && !strcmp(rest + n - (sizeof opt - 1), opt)) {
+		n -= sizeof opt - 1;
+		d.realtime = 1;
+	}
+	if (n == 0)
+		return rs_error_set(err, RS_ERR_PARSE, "replay: expected replay:FILE");
+	if (n >= sizeof path)
+		return rs_error_set(err, RS_ERR_PARSE, "replay: file name too long");
+	memcpy(path, rest, n);
+	path[n] = '\0';
+	return rs_track_replay_open(path, &d, out, err);
+}
+
+static enum rs_status open_sim(const char *rest, struct rs_track_source **out, struct rs_error *err)
+{
+	char script[PATH_CAP];
+	struct rs_track_sim_source_desc d;
+	enum rs_status st = rs_track_sim_parse_params(rest, &d, script, sizeof script, err);
+	if (st != RS_OK)
+		return st;
+	st = rs_track_sim_open(&d, out, err);
+	/* Every simulator option came from the URI text: a bad one is a malformed URI. */
+	if (st == RS_ERR_INVALID && err)
+		err->status = RS_ERR_PARSE;
+	return st == RS_ERR_INVALID ? RS_ERR_PARSE : st;
+}
+
+enum rs_status rs_tracker_open(const char *uri, struct rs_track_source **out, struct rs_error *err)
+{
+	RS_ASSERT(out);
+	*out = NULL;
+	if (!uri)
+		return rs_error_set(err, RS_ERR_INVALID, "tracker: no URI");
+	size_t sl = strcspn(uri, ":");
+	if (!uri[sl] || sl == 0 || sl > 16)
+		return rs_error_set(
+		    err, RS_ERR_PARSE,
+		    "tracker: '%.60s' is not a source URI (hid:, usb:, serial:, sim:, "
+		    "replay:)",
+		    uri);
+	char scheme[17];
+	memcpy(scheme, uri, sl);
+	scheme[sl] = '\0';
+	const char *rest = uri + sl + 1;
+	if (!strcmp(scheme, "sim"))
+		return open_sim(rest, out, err);
+	if (!strcmp(scheme, "replay"))
+		return open_replay(rest, out, err);
+	if (!strcmp(scheme, "serial")) {
+#ifdef RS_TRACKER_HAVE_SERIAL
+		char path[PATH_CAP];
+		struct rs_serial_desc d;
+		enum rs_status st = rs_serial_parse_uri(rest, path, sizeof path, &d, err);
+		return st != RS_OK ? st : rs_serial_open(&d, out, err);
+#else
+		return rs_error_set(err, RS_ERR_UNSUPPORTED, "tracker: serial backend not built");
+#endif
+	}
+	if (!strcmp(scheme, "hid")) {
+#ifdef RS_TRACKER_HAVE_HID
+		char serial[128];
+		struct rs_hid_desc d;
+		enum rs_status st = rs_hid_parse_uri(rest, &d, serial, sizeof serial, err);
+		return st != RS_OK ? st : rs_hid_open(&d, out, err);
+#else
+		return rs_error_set(err, RS_ERR_UNSUPPORTED, "tracker: hid backend not built");
+#endif
+	}
+	if (!strcmp(scheme, "usb")) {
+#ifdef RS_TRACKER_HAVE_USB
+		struct rs_usb_desc d;
+		enum rs_status st = rs_usb_parse_uri(rest, &d, err);
+		return st != RS_OK ? st : rs_usb_open(&d, out, err);
+#else
+		return rs_error_set(err, RS_ERR_UNSUPPORTED, "tracker: usb backend not built");
+#endif
+	}
+	return rs_error_set(err, RS_ERR_PARSE,
+	                    "tracker: unknown scheme '%s' (hid, usb, serial, sim, replay)", scheme);
+}

@@ -1,0 +1,169 @@
+/*
+ * USB transport: reads from one bulk/interrupt IN endpoint; bytes go to the stream
+ * parser, so frames may span transfers. libusb is reached only through rs_usb_api.
+ */
+#include <libusb.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rs_usb.h"
+
+/* A multiple of every full/high-speed max packet size, so a bulk read cannot overflow. */
+#define USB_READ 512
+
+struct usb {
+	const struct rs_usb_api *api;
+	void *usb;
+	void *handle;
+	uint16_t vid, pid;
+	int interface;
+	uint8_t endpoint;
+	int interrupt;
+};
+
+static const char *ename(const struct usb *u, int code)
+{
+	const char *s = u->api->error_name ? u->api->error_name(u->api->ctx, code) : NULL;
+	return s ? s : "libusb error";
+}
+
+static void usb_close_handle(struct usb *u)
+{
+	if (!u->handle)
+		return;
+	u->api->release_interface(u->api->ctx, u->handle, u->interface);
+	u->api->close(u->api->ctx, u->handle);
+	u->handle = NULL;
+}
+
+static enum rs_status usb_open_dev(struct usb *u, struct rs_error *err)
+{
+	u->handle = u->api->open_vid_pid(u->api->ctx, u->usb, u->vid, u->pid);
+	if (!u->handle)
+		return rs_error_set(err, RS_ERR_NOT_FOUND,
+		                    "usb: no device %04x:%04x (or no access)", u->vid, u->pid);
+	int r = u->api->find_in_endpoint(u->api->ctx, u->handle, &u->interface, &u->endpoint,
+	                                 &u->interrupt);
+	if (r != LIBUSB_SUCCESS) {
+		u->api->close(u->api->ctx, u->handle);
+		u->handle = NULL;
+		return rs_error_set(
+		    err, r == LIBUSB_ERROR_NOT_FOUND ? RS_ERR_UNSUPPORTED : RS_ERR_DEVICE,
+		    "usb: %04x:%04x has no usable IN endpoint (%s)", u->vid, u->pid, ename(u, r));
+	}
+	r = u->api->claim_interface(u->api->ctx, u->handle, u->interface);
+	if (r != LIBUSB_SUCCESS) {
+		u->api->close(u->api->ctx, u->handle);
+		u->handle = NULL;
+		return rs_error_set(err, RS_ERR_DEVICE, "usb: cannot claim interface %d: %s",
+		                    u->interface, ename(u, r));
+	}
+	return RS_OK;
+}
+
+static enum rs_status usb_read(void *impl, uint8_t *buf, size_t cap, int timeout_ms, size_t *out_n,
+                               struct rs_error *err)
+{
+	struct usb *u = impl;
+	*out_n = 0;
+	if (!u->handle)
+		return rs_error_set(err, RS_ERR_DISCONNECTED, "usb: device closed");
+	int len = cap < USB_READ ? (int)cap : USB_READ;
+	/* libusb reads 0 as "forever"; our 0 means "poll", the closest is 1 ms. */
+	unsigned t = timeout_ms < 0 ? 0u : timeout_ms == 0 ? 1u : (unsigned)timeout_ms;
+	int got = 0;
+	int r =
+	    u->api->transfer(u->api->ctx, u->handle, u->endpoint, u->interrupt, buf, len, &got, t);
+	if (got < 0 || got > len)
+		got = 0;
+	if ((r == LIBUSB_SUCCESS || r == LIBUSB_ERROR_TIMEOUT) && got > 0) {
+		*out_n = (size_t)got;
+		return RS_OK;
+	}
+	if (r == LIBUSB_SUCCESS || r == LIBUSB_ERROR_TIMEOUT)
+		return rs_error_set(err, RS_TIMEOUT, "usb: timeout");
+	if (r == LIBUSB_ERROR_NO_DEVICE || r == LIBUSB_ERROR_IO) {
+		usb_close_handle(u); /* release fails harmlessly on a vanished device */
+		return rs_error_set(err, RS_ERR_DISCONNECTED, "usb: %04x:%04x disconnected (%s)",
+		                    u->vid, u->pid, ename(u, r));
+	}
+	return rs_error_set(err, RS_ERR_DEVICE, "usb: transfer failed: %s", ename(u, r));
+}
+
+static enum rs_status usb_reopen(void *impl, struct rs_error *err)
+{
+	struct usb *u = impl;
+	usb_close_handle(u);
+	return usb_open_dev(u, err);
+}
+
+static void usb_destroy(void *impl)
+{
+	struct usb *u = impl;
+	if (!u)
+		return;
+	usb_close_handle(u);
+	if (u->usb)
+		u->api->exit(u->api->ctx, u->usb);
+	free(u);
+}
+
+static const struct rs_track_transport usb_transport = {
+    .read = usb_read,
+    .reopen = usb_reopen,
+    .destroy = usb_destroy,
+};
+
+enum rs_status rs_usb_open(const struct rs_usb_desc *desc, struct rs_track_source **out_source,
+                           struct rs_error *err)
+{
+	RS_ASSERT(out_source);
+	*out_source = NULL;
+	if (!desc || (desc->vid == 0 && desc->pid == 0))
+		return rs_error_set(err, RS_ERR_INVALID, "usb: vendor and product id required");
+	struct usb *u = calloc(1, sizeof *u);
+	if (!u)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "usb: out of memory");
+	u->api = desc->api ? desc->api : rs_usb_api_default();
+	u->vid = desc->vid;
+	u->pid = desc->pid;
+	int r = u->api->init(u->api->ctx, &u->usb);
+	if (r != LIBUSB_SUCCESS) {
+		free(u);
+		return rs_error_set(err, RS_ERR_DEVICE, "usb: cannot initialise libusb (%d)", r);
+	}
+	enum rs_status st = usb_open_dev(u, err);
+	if (st != RS_OK) {
+		usb_destroy(u);
+		return st;
+	}
+	return rs_track_stream_create(&usb_transport, u, out_source, err);
+}
+
+static int hex16(const char *s, size_t n, uint16_t *out)
+{
+	if (n == 0 || n > 4)
+		return 0;
+	char tmp[5];
+	memcpy(tmp, s, n);
+	tmp[n] = '\0';
+	char *end = NULL;
+	unsigned long v = strtoul(tmp, &end, 16);
+	if (*end || tmp[0] == '-' || tmp[0] == '+' || tmp[0] == ' ')
+		return 0;
+	*out = (uint16_t)v;
+	return 1;
+}
+
+enum rs_status rs_usb_parse_uri(const char *rest, struct rs_usb_desc *out, struct rs_error *err)
+{
+	RS_ASSERT(rest && out);
+	memset(out, 0, sizeof *out);
+	size_t a = strcspn(rest, ":");
+	if (!rest[a] || !hex16(rest, a, &out->vid) ||
+	    !hex16(rest + a + 1, strlen(rest + a + 1), &out->pid))
+		return rs_error_set(err, RS_ERR_PARSE,
+		                    "usb: expected usb:VID:PID in hex, got 'usb:%.60s'", rest);
+	return RS_OK;
+}

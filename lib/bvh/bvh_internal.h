@@ -1,0 +1,45 @@
+/* Private helpers shared by the BVH builders: leaf bounds and the pass that turns a
+ * pre-order node list with parent links into the threaded layout (escape, level, order,
+ * interior bounds). */
+#ifndef RS_BVH_INTERNAL_H
+#define RS_BVH_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "raystream/rs_bvh.h"
+
+/** Parent of a top-level node (a flat list is a forest of top-level leaves). */
+#define RS_BVH_NO_PARENT UINT32_MAX
+
+/** Empty box: lo = +FLT_MAX, hi = -FLT_MAX. */
+void rs_bvh__box_empty(float lo[3], float hi[3]);
+/** Grow lo/hi by the three vertices of input triangle `tri`. */
+void rs_bvh__box_add_triangle(float lo[3], float hi[3], const float *positions,
+			      const uint32_t *indices, uint32_t tri);
+/** Surface area of a box (0 for an empty one). */
+double rs_bvh__box_area(const float lo[3], const float hi[3]);
+
+/**
+ * Finish a pre-order node list: nodes[] have leaf fields (bounds, first, count) set and
+ * interior bounds empty; parent[i] < i or RS_BVH_NO_PARENT. Computes escape (i + subtree
+ * size), level (height), order (left-to-right rank within the level) and interior bounds
+ * as the union of the children, bottom-up. Returns false when out of memory.
+ */
+int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_t *parent);
+
+/* Builders. Inputs are validated by rs_bvh_build(); each writes nodes, triangle order and
+ * the node count. SAH may fail with RS_ERR_NO_MEMORY. */
+enum rs_status rs_bvh__build_flat(uint32_t leaf_size, const float *positions,
+				  const uint32_t *indices, size_t triangle_count,
+				  struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
+				  struct rs_error *err);
+enum rs_status rs_bvh__build_paper(const float *positions, const uint32_t *indices,
+				   size_t triangle_count, struct rs_bvh_node *nodes,
+				   uint32_t *order, size_t *out_count, struct rs_error *err);
+enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
+				 const uint32_t *indices, size_t triangle_count,
+				 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
+				 struct rs_error *err);
+
+#endif

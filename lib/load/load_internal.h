@@ -1,0 +1,20 @@
+/* Helpers shared by the loader's files (not installed). */
+#ifndef RS_LOAD_INTERNAL_H
+#define RS_LOAD_INTERNAL_H
+
+#include <stddef.h>
+
+#include "raystream/rs_status.h"
+
+/*
+ * Check that `path` names a readable regular file of at most `max_bytes` bytes (0: the
+ * default limit); its size goes to *out_size. Errors name the file.
+ */
+enum rs_status rs_load_check_file(const char *path, size_t max_bytes, size_t *out_size,
+                                  struct rs_error *err);
+
+/* Read a whole file (checked as above) into a NUL-terminated buffer the caller free()s. */
+enum rs_status rs_load_read_text(const char *path, size_t max_bytes, char **out_text,
+                                 size_t *out_size, struct rs_error *err);
+
+#endif

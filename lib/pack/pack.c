@@ -1,0 +1,184 @@
+/* rs_pack: the scene and its BVH as RGBA32F texture images, the exact bytes the GLES
+ * kernels sample and the CPU reference tracer walks. Integers are stored as floats, which
+ * is why every count must stay below 2^24. */
+#include "raystream/rs_pack.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t *out_width,
+			  uint32_t *out_height)
+{
+	/* Never 0 x 0: an empty list still gets one (zeroed) row so a texture can exist. */
+	size_t per_row = items < RS_PACK_ROW_ITEMS ? (items ? items : 1) : RS_PACK_ROW_ITEMS;
+	size_t rows = items ? (items + RS_PACK_ROW_ITEMS - 1) / RS_PACK_ROW_ITEMS : 1;
+	*out_width = (uint32_t)(per_row * texels_per_item);
+	*out_height = (uint32_t)rows;
+}
+
+enum rs_status rs_pack_layout(size_t node_count, size_t triangle_count, size_t material_count,
+			      struct rs_packed *out, struct rs_error *err)
+{
+	if (!out)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: no output");
+	memset(out, 0, sizeof *out);
+	if (node_count >= RS_PACK_MAX_ITEMS || triangle_count >= RS_PACK_MAX_ITEMS ||
+	    material_count >= RS_PACK_MAX_ITEMS)
+		return rs_error_set(err, RS_ERR_LIMIT,
+				    "pack: %zu nodes, %zu triangles, %zu materials: each must stay "
+				    "below 2^24 to index exactly through floats",
+				    node_count, triangle_count, material_count);
+	rs_pack_texture_size(node_count, RS_PACK_NODE_TEXELS, &out->nodes.width,
+			     &out->nodes.height);
+	rs_pack_texture_size(triangle_count, RS_PACK_TRIANGLE_TEXELS, &out->triangles.width,
+			     &out->triangles.height);
+	rs_pack_texture_size(triangle_count, RS_PACK_NORMAL_TEXELS, &out->normals.width,
+			     &out->normals.height);
+	rs_pack_texture_size(material_count, RS_PACK_MATERIAL_TEXELS, &out->materials.width,
+			     &out->materials.height);
+	out->node_count = (uint32_t)node_count;
+	out->triangle_count = (uint32_t)triangle_count;
+	out->material_count = (uint32_t)material_count;
+	return RS_OK;
+}
+
+static size_t texture_floats(const struct rs_texture *t)
+{
+	return (size_t)t->width * t->height * 4u;
+}
+
+enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err)
+{
+	if (!packed)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: no packed struct");
+	struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
+				     &packed->materials};
+	for (int i = 0; i < 4; i++) {
+		tex[i]->texels = calloc(texture_floats(tex[i]), sizeof(float));
+		if (!tex[i]->texels) {
+			for (int j = 0; j < i; j++) {
+				free(tex[j]->texels);
+				tex[j]->texels = NULL;
+			}
+			return rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory");
+		}
+	}
+	return RS_OK;
+}
+
+void rs_pack_free(struct rs_packed *packed)
+{
+	if (!packed)
+		return;
+	free(packed->nodes.texels);
+	free(packed->triangles.texels);
+	free(packed->normals.texels);
+	free(packed->materials.texels);
+	memset(packed, 0, sizeof *packed);
+}
+
+static float *texel(struct rs_texture *tex, uint32_t texels_per_item, uint32_t item, uint32_t j)
+{
+	return (float *)rs_pack_texel(tex, texels_per_item, item, j);
+}
+
+static void set4(float *t, float a, float b, float c, float d)
+{
+	t[0] = a;
+	t[1] = b;
+	t[2] = c;
+	t[3] = d;
+}
+
+static enum rs_status check_packed(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
+				   size_t node_count, const uint32_t *triangle_order,
+				   const struct rs_packed *p, struct rs_error *err)
+{
+	size_t tris = rs_scene_triangle_count(scene);
+	if (p->node_count != node_count || p->triangle_count != tris ||
+	    p->material_count != rs_scene_material_count(scene))
+		return rs_error_set(err, RS_ERR_INVALID,
+				    "pack: layout counts do not match the scene and BVH");
+	struct rs_packed want;
+	enum rs_status s = rs_pack_layout(node_count, tris, p->material_count, &want, err);
+	if (s != RS_OK)
+		return s;
+	const struct rs_texture *have[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
+	const struct rs_texture *need[4] = {&want.nodes, &want.triangles, &want.normals,
+					    &want.materials};
+	for (int i = 0; i < 4; i++) {
+		if (!have[i]->texels || have[i]->width != need[i]->width ||
+		    have[i]->height != need[i]->height)
+			return rs_error_set(err, RS_ERR_INVALID,
+					    "pack: texture %d missing or not sized by rs_pack_layout", i);
+	}
+	if (node_count && !nodes)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: no nodes");
+	if (tris && !triangle_order)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: no triangle order");
+	for (size_t t = 0; t < tris; t++)
+		if (triangle_order[t] >= tris)
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+					    "pack: triangle order slot %zu names triangle %u of %zu", t,
+					    triangle_order[t], tris);
+	for (size_t i = 0; i < node_count; i++)
+		if (nodes[i].escape > node_count || (size_t)nodes[i].first + nodes[i].count > tris)
+			return rs_error_set(err, RS_ERR_BAD_DATA, "pack: node %zu out of range", i);
+	return RS_OK;
+}
+
+enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
+			     size_t node_count, const uint32_t *triangle_order,
+			     struct rs_packed *packed, struct rs_error *err)
+{
+	if (!scene || !packed)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: scene or packed struct missing");
+	enum rs_status s = check_packed(scene, nodes, node_count, triangle_order, packed, err);
+	if (s != RS_OK)
+		return s;
+	struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
+				     &packed->materials};
+	for (int i = 0; i < 4; i++)
+		memset(tex[i]->texels, 0, texture_floats(tex[i]) * sizeof(float));
+
+	for (uint32_t i = 0; i < node_count; i++) {
+		const struct rs_bvh_node *n = &nodes[i];
+		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 0), n->lo[0], n->lo[1], n->lo[2],
+		     (float)n->escape);
+		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 1), n->hi[0], n->hi[1], n->hi[2],
+		     (float)n->level);
+		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 2), (float)n->first,
+		     (float)n->count, (float)n->order, 0.0f);
+	}
+
+	const float *pos = rs_scene_positions(scene);
+	const float *nrm = rs_scene_normals(scene);
+	const uint32_t *idx = rs_scene_indices(scene);
+	const uint32_t *mat = rs_scene_triangle_materials(scene);
+	for (uint32_t slot = 0; slot < packed->triangle_count; slot++) {
+		uint32_t tri = triangle_order[slot];
+		const uint32_t *v = idx + 3 * (size_t)tri;
+		for (uint32_t k = 0; k < 3; k++) {
+			const float *p = pos + 3 * (size_t)v[k];
+			const float *nn = nrm + 3 * (size_t)v[k];
+			float w = k == 0 ? (float)tri : k == 1 ? (float)mat[tri] : 0.0f;
+			set4(texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, slot, k), p[0], p[1],
+			     p[2], w);
+			set4(texel(&packed->normals, RS_PACK_NORMAL_TEXELS, slot, k), nn[0], nn[1],
+			     nn[2], 0.0f);
+		}
+	}
+
+	const struct rs_material *m = rs_scene_materials(scene);
+	for (uint32_t i = 0; i < packed->material_count; i++) {
+		float shininess = m[i].shininess == 0.0f ? 1.0f : m[i].shininess;
+		float ior = m[i].ior == 0.0f ? 1.0f : m[i].ior;
+		set4(texel(&packed->materials, RS_PACK_MATERIAL_TEXELS, i, 0), m[i].diffuse[0],
+		     m[i].diffuse[1], m[i].diffuse[2], m[i].specular);
+		set4(texel(&packed->materials, RS_PACK_MATERIAL_TEXELS, i, 1), shininess,
+		     m[i].reflectance, m[i].transmittance, ior);
+		set4(texel(&packed->materials, RS_PACK_MATERIAL_TEXELS, i, 2), (float)m[i].flags,
+		     0.0f, 0.0f, 0.0f);
+	}
+	return RS_OK;
+}

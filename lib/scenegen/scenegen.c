@@ -1,0 +1,85 @@
+/* Scene names and the entry point of the generator. */
+#include <stdio.h>
+#include <string.h>
+
+#include "raystream/rs_scenegen.h"
+#include "scenegen_internal.h"
+
+enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
+                                 struct rs_error *err)
+{
+	unsigned long n = 0;
+	const char *p;
+
+	if (out == NULL)
+		return rs_error_set(err, RS_ERR_INVALID, "no output given");
+	memset(out, 0, sizeof(*out));
+	if (name == NULL)
+		return rs_error_set(err, RS_ERR_INVALID, "no scene name given");
+	if (strcmp(name, "box") == 0) {
+		out->kind = RS_SCENEGEN_BOX;
+		return RS_OK;
+	}
+	if (strncmp(name, "cow", 3) != 0 || name[3] < '1' || name[3] > '9')
+		goto bad;
+	for (p = name + 3; *p != '\0'; p++) {
+		if (*p < '0' || *p > '9')
+			goto bad;
+		n = n * 10 + (unsigned long)(*p - '0');
+		if (n > RS_SCENEGEN_MAX_COWS)
+			goto bad;
+	}
+	out->kind = RS_SCENEGEN_COW;
+	out->cows = (uint32_t)n;
+	return RS_OK;
+bad:
+	return rs_error_set(err, RS_ERR_INVALID,
+	                    "unknown scene '%.64s' (expected box or cowN, N = 1..%u)", name,
+	                    RS_SCENEGEN_MAX_COWS);
+}
+
+enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size)
+{
+	int n;
+
+	if (desc == NULL || out == NULL || desc->cows > RS_SCENEGEN_MAX_COWS)
+		return RS_ERR_INVALID;
+	if (desc->kind == RS_SCENEGEN_BOX)
+		n = snprintf(out, size, "box");
+	else if (desc->kind == RS_SCENEGEN_COW)
+		n = snprintf(out, size, "cow%u", desc->cows == 0 ? 1u : (unsigned)desc->cows);
+	else
+		return RS_ERR_INVALID;
+	return n < 0 || (size_t)n >= size ? RS_ERR_LIMIT : RS_OK;
+}
+
+enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_scene **out,
+                                 struct rs_error *err)
+{
+	struct rs_scene *scene = NULL;
+	enum rs_status st;
+
+	if (out == NULL)
+		return rs_error_set(err, RS_ERR_INVALID, "no output pointer given");
+	*out = NULL;
+	if (desc == NULL)
+		return rs_error_set(err, RS_ERR_INVALID, "no scene description given");
+	if (desc->kind == RS_SCENEGEN_COW && desc->cows > RS_SCENEGEN_MAX_COWS)
+		return rs_error_set(err, RS_ERR_INVALID, "cow scene: %u cows (limit %u)",
+		                    (unsigned)desc->cows, RS_SCENEGEN_MAX_COWS);
+	if (desc->kind != RS_SCENEGEN_COW && desc->kind != RS_SCENEGEN_BOX)
+		return rs_error_set(err, RS_ERR_INVALID, "unknown scene kind %d", (int)desc->kind);
+	st = rs_scene_create(NULL, &scene, err);
+	if (st != RS_OK)
+		return st;
+	if (desc->kind == RS_SCENEGEN_BOX)
+		st = sg_build_box(scene, err);
+	else
+		st = sg_build_cows(scene, desc->cow_path, desc->cows == 0 ? 1 : desc->cows, err);
+	if (st != RS_OK) {
+		rs_scene_destroy(&scene);
+		return st;
+	}
+	*out = scene;
+	return RS_OK;
+}

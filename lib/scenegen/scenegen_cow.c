@@ -1,0 +1,171 @@
+/*
+ * CowN (shared/SCENES.md): a herd of N turned copies of the cow on a 33-triangle stage.
+ * All placement arithmetic is done in double and rounded to float once per coordinate.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "raystream/rs_load.h"
+#include "raystream/rs_scenegen.h"
+#include "scenegen_internal.h"
+
+#define COW_TURN_DEG 37.0
+#define COW_LIFT 3.637
+#define GRID_DX 12.0
+#define GRID_DZ 8.0
+
+/* Light offsets from the herd centre: L1..L4. */
+static const double k_lights[4][3] = {
+    {-10.0, 25.0, 20.0}, {15.0, 20.0, 10.0}, {0.0, 30.0, -15.0}, {-20.0, 12.0, -5.0}};
+
+static void grid_shape(uint32_t n, uint32_t *cols, uint32_t *rows)
+{
+	uint32_t c = 1;
+
+	while (c * c < n) /* ceil(sqrt(n)) without floating point */
+		c++;
+	*cols = c;
+	*rows = (n + c - 1) / c;
+}
+
+/* Adds copy i of the cow (positions/normals from `cow`) with material `mat`. */
+static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *cow, uint32_t i,
+                               uint32_t n, uint32_t mat, float *pos, float *nrm,
+                               struct rs_error *err)
+{
+	const float *p = rs_scene_positions(cow), *q = rs_scene_normals(cow);
+	size_t verts = rs_scene_vertex_count(cow);
+	struct rs_bounds b;
+	struct rs_mesh_desc d;
+	uint32_t cols, rows;
+	double a = (double)i * COW_TURN_DEG * SG_PI / 180.0, cs = cos(a), sn = sin(a);
+	double c[3], gx, gz;
+	enum rs_status st;
+
+	grid_shape(n, &cols, &rows);
+	gx = ((double)(i % cols) - 0.5 * (double)(cols - 1)) * GRID_DX;
+	gz = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * GRID_DZ;
+	rs_scene_bounds(cow, &b);
+	sg_center(&b, c);
+	for (size_t v = 0; v < verts; v++) {
+		double x = p[3 * v] - c[0], z = p[3 * v + 2] - c[2];
+
+		/* Right-handed turn about +y (+x towards -z), pivot on the grid point. */
+		pos[3 * v] = (float)(gx + x * cs + z * sn);
+		pos[3 * v + 1] = (float)(p[3 * v + 1] + COW_LIFT);
+		pos[3 * v + 2] = (float)(gz - x * sn + z * cs);
+		nrm[3 * v] = (float)(q[3 * v] * cs + q[3 * v + 2] * sn);
+		nrm[3 * v + 1] = q[3 * v + 1];
+		nrm[3 * v + 2] = (float)(-q[3 * v] * sn + q[3 * v + 2] * cs);
+	}
+	memset(&d, 0, sizeof(d));
+	d.positions = pos;
+	d.vertex_count = verts;
+	d.normals = nrm;
+	d.indices = rs_scene_indices(cow);
+	d.triangle_count = rs_scene_triangle_count(cow);
+	d.material = mat;
+	st = rs_scene_add_mesh(scene, &d);
+	if (st != RS_OK)
+		return rs_error_set(err, st, "cow copy %u: %s", i, rs_scene_last_error(scene));
+	return RS_OK;
+}
+
+static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uint32_t n,
+                               struct rs_error *err)
+{
+	static const struct rs_material cow_mat = {.diffuse = {0.55f, 0.40f, 0.30f},
+	                                           .specular = 0.3f,
+	                                           .shininess = 32.0f,
+	                                           .reflectance = 0.25f};
+	struct rs_scene *cow = NULL;
+	float *buf = NULL;
+	uint32_t mat;
+	enum rs_status st;
+
+	if (cow_path == NULL)
+		return rs_error_set(err, RS_ERR_INVALID, "cow scene: no cow model path given");
+	st = rs_scene_create(NULL, &cow, err);
+	if (st == RS_OK)
+		st = rs_load_mesh_file(NULL, cow_path, cow, err);
+	if (st == RS_OK)
+		st = sg_material(scene, &cow_mat, &mat, err);
+	if (st == RS_OK) {
+		buf = malloc(rs_scene_vertex_count(cow) * 6 * sizeof(*buf));
+		if (buf == NULL)
+			st = rs_error_set(err, RS_ERR_NO_MEMORY, "cow scene: out of memory");
+	}
+	for (uint32_t i = 0; st == RS_OK && i < n; i++)
+		st =
+		    add_copy(scene, cow, i, n, mat, buf, buf + 3 * rs_scene_vertex_count(cow), err);
+	free(buf);
+	rs_scene_destroy(&cow);
+	return st;
+}
+
+/* Floor slab, mirror panel, glass prism and sail around the herd bounds `h`. */
+static enum rs_status add_stage(struct rs_scene *scene, const struct rs_bounds *h,
+                                struct rs_error *err)
+{
+	static const struct rs_material floor_m = {.diffuse = {0.8f, 0.8f, 0.8f}};
+	static const struct rs_material mirror_m = {.diffuse = {0.1f, 0.1f, 0.1f},
+	                                            .reflectance = 0.9f};
+	static const struct rs_material prism_m = {.transmittance = 0.9f, .ior = 1.5f};
+	static const struct rs_material sail_m = {.diffuse = {0.2f, 0.4f, 0.8f}};
+	const double lean = 30.0 * SG_PI / 180.0;
+	const double sail_x = h->lo[0] + 0.125 * (h->hi[0] - h->lo[0]), sail_y = h->hi[1] + 1.0;
+	const double cx = 0.5 * (h->lo[0] + h->hi[0]), cz = 0.5 * (h->lo[2] + h->hi[2]);
+	/* Floor: top at y = 0, 0.5 thick, 4 larger than the herd on every side. */
+	const double lo[3] = {h->lo[0] - 4.0, -0.5, h->lo[2] - 4.0};
+	const double hi[3] = {h->hi[0] + 4.0, 0.0, h->hi[2] + 4.0};
+	/* Mirror: on the floor's back (-z) edge, as wide as the floor, y 0..8, 0.3 thick. */
+	const double mlo[3] = {lo[0], 0.0, lo[2]}, mhi[3] = {hi[0], 8.0, lo[2] + 0.3};
+	/* Prism: at the herd's x centre, 2 beyond its front (+z), standing on the floor. */
+	const double base[3] = {cx, 0.0, h->hi[2] + 2.0};
+	/* Sail, 5 x 3.5: lowest edge 1 above the herd, centred over its left (-x) quarter at
+	 * the herd's centre z, leaning back 30 degrees so it faces the camera. */
+	const double a[3] = {sail_x - 2.5, sail_y, cz}, b[3] = {sail_x + 2.5, sail_y, cz};
+	const double apex[3] = {sail_x, sail_y + 3.5 * cos(lean), cz - 3.5 * sin(lean)};
+	uint32_t floor_id, mirror_id, prism_id, sail_id;
+	enum rs_status st;
+
+	if ((st = sg_material(scene, &floor_m, &floor_id, err)) != RS_OK ||
+	    (st = sg_material(scene, &mirror_m, &mirror_id, err)) != RS_OK ||
+	    (st = sg_material(scene, &prism_m, &prism_id, err)) != RS_OK ||
+	    (st = sg_material(scene, &sail_m, &sail_id, err)) != RS_OK)
+		return st;
+	if ((st = sg_add_box(scene, lo, hi, 0.0, floor_id, err)) != RS_OK ||
+	    (st = sg_add_box(scene, mlo, mhi, 0.0, mirror_id, err)) != RS_OK ||
+	    (st = sg_add_prism(scene, base, 1.2, 3.0, prism_id, err)) != RS_OK ||
+	    (st = sg_add_triangle(scene, a, b, apex, sail_id, err)) != RS_OK)
+		return st;
+	return RS_OK;
+}
+
+enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
+                             struct rs_error *err)
+{
+	struct rs_bounds herd;
+	double c[3];
+	enum rs_status st = add_herd(scene, cow_path, n, err);
+
+	if (st != RS_OK)
+		return st;
+	rs_scene_bounds(scene, &herd);
+	sg_center(&herd, c);
+	if ((st = add_stage(scene, &herd, err)) != RS_OK ||
+	    (st = sg_frame_camera(scene, &herd, err)) != RS_OK)
+		return st;
+	for (int l = 0; l < 4; l++) {
+		double p[3] = {c[0] + k_lights[l][0], c[1] + k_lights[l][1], c[2] + k_lights[l][2]};
+
+		if ((st = sg_add_light(scene, p, err)) != RS_OK)
+			return st;
+	}
+	if ((st = sg_set_environment(scene, err)) != RS_OK)
+		return st;
+	if ((st = rs_scene_set_ambient(scene, 0.1)) != RS_OK)
+		return rs_error_set(err, st, "%s", rs_scene_last_error(scene));
+	return RS_OK;
+}

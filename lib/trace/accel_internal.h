@@ -1,0 +1,23 @@
+/* Private to rs_trace: per-ray values of the triangle tests computed once per ray rather
+ * than once per triangle (the watertight test's shear, the parallel-test scale), used by
+ * traverse.c. rs_intersect_triangle() is the same code with a one-off preparation. */
+#ifndef RS_TRACE_ACCEL_INTERNAL_H
+#define RS_TRACE_ACCEL_INTERNAL_H
+
+#include "raystream/rs_trace.h"
+
+struct rs__ray_pre {
+	const struct rs_ray *ray; /* tmin/tmax are read from here at each test */
+	double dir_max;           /* max |dir component| */
+	int kx, ky, kz;           /* watertight: dominant axis kz, winding-preserving kx, ky */
+	double sx, sy, sz;        /* watertight shear */
+};
+
+void rs__ray_prepare(const struct rs_ray *ray, struct rs__ray_pre *out);
+
+bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3],
+				const double v1[3], const double v2[3],
+				const struct rs__ray_pre *pre, double *out_t, double *out_u,
+				double *out_v);
+
+#endif

@@ -1,0 +1,44 @@
+/* Ray generation kernel of the reference renderer: pinhole primary rays. */
+#include "render_internal.h"
+
+void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_t height, double px,
+                         double py, struct rs_ray *out_ray)
+{
+	struct rs_camera c;
+	rs_camera_resolve(camera, &c);
+	if (width == 0 || height == 0) {
+		width = c.width;
+		height = c.height;
+	}
+	double fwd[3] = {c.target[0] - c.eye[0], c.target[1] - c.eye[1], c.target[2] - c.eye[2]};
+	double right[3], up[3];
+	if (rs_v3_normalize(fwd) == 0.0) {
+		/* rs_scene_set_camera() refuses this; answer something defined anyway */
+		fwd[0] = 0.0, fwd[1] = 0.0, fwd[2] = -1.0;
+	}
+	rs_v3_cross(fwd, c.up, right);
+	if (rs_v3_normalize(right) == 0.0) {
+		double alt[3] = {fabs(fwd[1]) < 0.9 ? 0.0 : 1.0, fabs(fwd[1]) < 0.9 ? 1.0 : 0.0,
+		                 0.0};
+		rs_v3_cross(fwd, alt, right);
+		rs_v3_normalize(right);
+	}
+	rs_v3_cross(right, fwd, up);
+
+	/* The paper's projection angle 2*atan(b/a): b = half the image plane's height at
+	 * distance a = 1, so b = tan(fov/2); pixels are square. */
+	double b = tan(c.fov_y_deg * (RS_TRACE_PI / 360.0));
+	double sx = (2.0 * px / (double)width - 1.0) * b * ((double)width / (double)height);
+	double sy = (1.0 - 2.0 * py / (double)height) * b;
+	double dir[3];
+	for (int a = 0; a < 3; ++a) {
+		dir[a] = fwd[a] + sx * right[a] + sy * up[a];
+		out_ray->origin[a] = c.eye[a];
+	}
+	rs_v3_normalize(dir);
+	for (int a = 0; a < 3; ++a)
+		out_ray->dir[a] = dir[a];
+	out_ray->tmin = 0.0;
+	out_ray->tmax = INFINITY;
+	out_ray->skip_slot = RS_NO_SLOT;
+}

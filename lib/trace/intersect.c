@@ -1,0 +1,202 @@
+/* Ray/box and ray/triangle tests in double precision: the slab test (robust to zero
+ * direction components and empty boxes), Moller-Trumbore (the paper's) and the watertight
+ * test of Woop, Benthin & Wald 2013. Triangle vertices are floats widened to double, so
+ * edge vectors and the normal's products are (nearly always) exact; that is what makes the
+ * zero-area test below exact. */
+#include <math.h>
+
+#include "raystream/rs_trace.h"
+
+#include "accel_internal.h"
+
+/* Conservative widening of the far slab distance against rounding in (b - o) * inv
+ * (Ize 2013, "Robust BVH ray traversal": 1 + 2 gamma_3 suffices; a little more is free). */
+#define BOX_FAR_SCALE (1.0 + 8.0 * 1.1102230246251565e-16)
+/* A ray this close to the triangle's plane (relative |d.n| / (|d| |n|), max norms) counts
+ * as parallel: t would be dominated by rounding. ~1e-13 rad, far below any real grazing. */
+#define PARALLEL_EPS 1e-13
+
+bool rs_intersect_box(const float lo[3], const float hi[3], const double origin[3],
+		      const double inv_dir[3], double tmin, double tmax)
+{
+	double tn = tmin, tf = tmax;
+	for (int a = 0; a < 3; a++) {
+		double inv = inv_dir[a];
+		if (isinf(inv) || isnan(inv)) {
+			/* Direction component 0: (b - o) * inf could be 0 * inf = NaN. The ray
+			 * stays in its plane; it is inside the slab iff the origin is
+			 * (boundary inclusive; an empty box's lo > hi fails here). */
+			if (!(origin[a] >= lo[a] && origin[a] <= hi[a]))
+				return false;
+			continue;
+		}
+		/* Pick near/far by the direction's sign, never by min/max: an empty box
+		 * (lo > hi) must stay empty instead of being flipped into a huge one. */
+		double t0 = ((double)lo[a] - origin[a]) * inv;
+		double t1 = ((double)hi[a] - origin[a]) * inv;
+		double near = inv >= 0.0 ? t0 : t1;
+		double far = (inv >= 0.0 ? t1 : t0) * BOX_FAR_SCALE;
+		if (far < 0.0)
+			far = (inv >= 0.0 ? t1 : t0) / BOX_FAR_SCALE;
+		tn = near > tn ? near : tn;
+		tf = far < tf ? far : tf;
+		if (tn > tf)
+			return false;
+	}
+	return true;
+}
+
+static void sub3(const double a[3], const double b[3], double out[3])
+{
+	out[0] = a[0] - b[0];
+	out[1] = a[1] - b[1];
+	out[2] = a[2] - b[2];
+}
+
+static void cross3(const double a[3], const double b[3], double out[3])
+{
+	out[0] = a[1] * b[2] - a[2] * b[1];
+	out[1] = a[2] * b[0] - a[0] * b[2];
+	out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double maxabs3(const double a[3])
+{
+	double m = fabs(a[0]);
+	m = fabs(a[1]) > m ? fabs(a[1]) : m;
+	return fabs(a[2]) > m ? fabs(a[2]) : m;
+}
+
+void rs__ray_prepare(const struct rs_ray *ray, struct rs__ray_pre *out)
+{
+	const double *d = ray->dir;
+	out->ray = ray;
+	out->dir_max = maxabs3(d);
+	/* Watertight: project onto the plane orthogonal to the dominant axis kz; swapping
+	 * kx, ky keeps the winding when d[kz] < 0. */
+	int kz = 0;
+	if (fabs(d[1]) > fabs(d[kz]))
+		kz = 1;
+	if (fabs(d[2]) > fabs(d[kz]))
+		kz = 2;
+	int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+	if (d[kz] < 0.0) {
+		int t = kx;
+		kx = ky;
+		ky = t;
+	}
+	out->kx = kx;
+	out->ky = ky;
+	out->kz = kz;
+	out->sx = d[kx] / d[kz];
+	out->sy = d[ky] / d[kz];
+	out->sz = 1.0 / d[kz];
+}
+
+/* Shared rejection: zero-area triangles (exact: the normal of float vertices is computed
+ * from exact edges) and rays (nearly) in the triangle's plane. Returns d.n, or 0. */
+static double plane_facing(const double e1[3], const double e2[3], const struct rs__ray_pre *pre)
+{
+	double n[3];
+	cross3(e1, e2, n);
+	double nm = maxabs3(n);
+	if (nm == 0.0)
+		return 0.0;
+	double dn = dot3(pre->ray->dir, n);
+	return fabs(dn) <= PARALLEL_EPS * pre->dir_max * nm ? 0.0 : dn;
+}
+
+static bool moller_trumbore(const double v0[3], const double v1[3], const double v2[3],
+			    const struct rs__ray_pre *pre, double *out_t, double *out_u,
+			    double *out_v)
+{
+	const struct rs_ray *ray = pre->ray;
+	double e1[3], e2[3], p[3], s[3], q[3];
+	sub3(v1, v0, e1);
+	sub3(v2, v0, e2);
+	if (plane_facing(e1, e2, pre) == 0.0)
+		return false;
+	cross3(ray->dir, e2, p);
+	double det = dot3(e1, p);
+	if (det == 0.0)
+		return false;
+	/* Compare numerators against det (sign-adjusted) and divide only for a hit. */
+	double sign = det > 0.0 ? 1.0 : -1.0, adet = fabs(det);
+	sub3(ray->origin, v0, s);
+	double un = dot3(s, p) * sign;
+	if (un < 0.0 || un > adet)
+		return false;
+	cross3(s, e1, q);
+	double vn = dot3(ray->dir, q) * sign;
+	if (vn < 0.0 || un + vn > adet)
+		return false;
+	double inv = 1.0 / det;
+	double t = dot3(e2, q) * inv;
+	if (!(t > ray->tmin && t < ray->tmax))
+		return false;
+	*out_t = t;
+	*out_u = un * sign * inv;
+	*out_v = vn * sign * inv;
+	return true;
+}
+
+/* Every quantity below depends only on the ray and one vertex, or is an exact sign flip
+ * between the two triangles sharing an edge, so a ray can never pass between them. */
+static bool watertight(const double v0[3], const double v1[3], const double v2[3],
+		       const struct rs__ray_pre *pre, double *out_t, double *out_u, double *out_v)
+{
+	const struct rs_ray *ray = pre->ray;
+	double e1[3], e2[3];
+	sub3(v1, v0, e1);
+	sub3(v2, v0, e2);
+	if (plane_facing(e1, e2, pre) == 0.0)
+		return false;
+	const int kx = pre->kx, ky = pre->ky, kz = pre->kz;
+	double a[3], b[3], c[3];
+	sub3(v0, ray->origin, a);
+	sub3(v1, ray->origin, b);
+	sub3(v2, ray->origin, c);
+	double ax = a[kx] - pre->sx * a[kz], ay = a[ky] - pre->sy * a[kz];
+	double bx = b[kx] - pre->sx * b[kz], by = b[ky] - pre->sy * b[kz];
+	double cx = c[kx] - pre->sx * c[kz], cy = c[ky] - pre->sy * c[kz];
+	double u = cx * by - cy * bx;
+	double v = ax * cy - ay * cx;
+	double w = bx * ay - by * ax;
+	if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0))
+		return false;
+	double det = u + v + w;
+	if (det == 0.0)
+		return false;
+	double sz = pre->sz;
+	double t = (u * sz * a[kz] + v * sz * b[kz] + w * sz * c[kz]) / det;
+	if (!(t > ray->tmin && t < ray->tmax))
+		return false;
+	*out_t = t;
+	*out_u = v / det;
+	*out_v = w / det;
+	return true;
+}
+
+bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3],
+				const double v1[3], const double v2[3],
+				const struct rs__ray_pre *pre, double *out_t, double *out_u,
+				double *out_v)
+{
+	if (test == RS_TRIANGLE_WATERTIGHT)
+		return watertight(v0, v1, v2, pre, out_t, out_u, out_v);
+	return moller_trumbore(v0, v1, v2, pre, out_t, out_u, out_v);
+}
+
+bool rs_intersect_triangle(enum rs_triangle_test test, const double v0[3], const double v1[3],
+			   const double v2[3], const struct rs_ray *ray, double *out_t,
+			   double *out_u, double *out_v)
+{
+	struct rs__ray_pre pre;
+	rs__ray_prepare(ray, &pre);
+	return rs__intersect_triangle_pre(test, v0, v1, v2, &pre, out_t, out_u, out_v);
+}

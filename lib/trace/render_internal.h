@@ -1,0 +1,97 @@
+/* Shared pieces of the reference renderer (Part 2 of rs_trace.h): small double-precision
+ * vector helpers and the per-frame constants every path reads. Not installed. */
+#ifndef RS_TRACE_RENDER_INTERNAL_H
+#define RS_TRACE_RENDER_INTERNAL_H
+
+#include <math.h>
+
+#include "raystream/rs_trace.h"
+
+#define RS_TRACE_PI 3.14159265358979323846
+
+static inline double rs_v3_dot(const double a[3], const double b[3])
+{
+	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void rs_v3_cross(const double a[3], const double b[3], double out[3])
+{
+	double x = a[1] * b[2] - a[2] * b[1];
+	double y = a[2] * b[0] - a[0] * b[2];
+	double z = a[0] * b[1] - a[1] * b[0];
+	out[0] = x;
+	out[1] = y;
+	out[2] = z;
+}
+
+/* out = a + s * b (out may alias a or b) */
+static inline void rs_v3_madd(const double a[3], double s, const double b[3], double out[3])
+{
+	out[0] = a[0] + s * b[0];
+	out[1] = a[1] + s * b[1];
+	out[2] = a[2] + s * b[2];
+}
+
+/* Normalise in place; returns the old length. Zero, tiny or non-finite vectors are left as
+ * they are and 0 is returned, so callers pick a fallback instead of dividing by zero. */
+static inline double rs_v3_normalize(double v[3])
+{
+	double len = sqrt(rs_v3_dot(v, v));
+	if (!(len > 1e-300) || !isfinite(len))
+		return 0.0;
+	v[0] /= len;
+	v[1] /= len;
+	v[2] /= len;
+	return len;
+}
+
+/* Constants of one frame, resolved once by rs_trace_frame_init(). */
+struct rs_trace_frame {
+	const struct rs_packed *packed;
+	enum rs_triangle_test test;
+	uint32_t passes;
+	uint32_t light_count;
+	const struct rs_light *lights;
+	double ambient;
+	double offset;     /* absolute self-hit offset: ray_epsilon * scene extent */
+	bool has_geometry; /* false: every ray misses (empty scene) */
+	struct rs_environment env;
+};
+
+enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs_packed *packed,
+                                   const struct rs_trace_desc *desc, struct rs_trace_frame *out,
+                                   struct rs_error *err);
+
+/* One path: the pass loop. primary->dir must be unit length. segments may be NULL. */
+void rs_trace_path_run(const struct rs_trace_frame *frame, const struct rs_ray *primary,
+                       struct rs_trace_path *out, struct rs_trace_segment *segments);
+
+/* Surface data at a hit, read from the packed textures. */
+struct rs_surface {
+	double point[3];
+	double ng[3]; /* unit geometric normal facing the incoming ray */
+	double n[3];  /* unit shading normal, on ng's side */
+	int entering; /* dir . (v1-v0)x(v2-v0) < 0: the ray enters the closed mesh */
+	float diffuse[3];
+	float specular, shininess, reflectance, transmittance, ior;
+	uint32_t flags;
+};
+
+void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *ray,
+                      const struct rs_hit *hit, struct rs_surface *out);
+
+/* Local shading (ambient + lights seen through shadow feelers) added to rgb * throughput. */
+void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray,
+                    const struct rs_hit *hit, const struct rs_surface *s, double throughput,
+                    double rgb[3], struct rs_trace_path *path);
+
+/* Next-ray step: fills next and its weight; returns RS_RAY_ACTIVE or RS_RAY_DIFFUSE. */
+enum rs_ray_state rs_trace_next_ray(const struct rs_trace_frame *frame, const struct rs_ray *ray,
+                                    const struct rs_hit *hit, const struct rs_surface *s,
+                                    struct rs_ray *next, double *out_weight);
+
+/* Ray leaving a surface point along unit dir: offset to dir's side of ng, skip the slot. */
+void rs_trace_spawn(const struct rs_trace_frame *frame, const double point[3], const double ng[3],
+                    const double dir[3], uint32_t slot, struct rs_ray *out);
+
+#endif

@@ -1,0 +1,133 @@
+/* Shading kernel of the reference renderer: surface data at a hit (read from the packed
+ * textures, as the GLES kernel reads them), Phong lighting with shadow feelers, and the
+ * self-hit rule for rays leaving a surface. */
+#include <string.h>
+
+#include "render_internal.h"
+
+static void texel3(const float *t, double out[3])
+{
+	out[0] = t[0];
+	out[1] = t[1];
+	out[2] = t[2];
+}
+
+void rs_trace_spawn(const struct rs_trace_frame *frame, const double point[3], const double ng[3],
+                    const double dir[3], uint32_t slot, struct rs_ray *out)
+{
+	/* Leave on the side the ray goes to: off the plane by the offset, and never the same
+	 * triangle again (a plane cannot be re-hit by a ray starting on it anyway). */
+	double side = rs_v3_dot(dir, ng) >= 0.0 ? frame->offset : -frame->offset;
+	rs_v3_madd(point, side, ng, out->origin);
+	for (int a = 0; a < 3; ++a)
+		out->dir[a] = dir[a];
+	out->tmin = 0.0;
+	out->tmax = INFINITY;
+	out->skip_slot = slot;
+}
+
+void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *ray,
+                      const struct rs_hit *hit, struct rs_surface *out)
+{
+	const struct rs_packed *p = frame->packed;
+	double v0[3], v1[3], v2[3], e1[3], e2[3], g[3];
+	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 0), v0);
+	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 1), v1);
+	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 2), v2);
+	float material_f = rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 1)[3];
+
+	rs_v3_madd(ray->origin, hit->t, ray->dir, out->point);
+	for (int a = 0; a < 3; ++a) {
+		e1[a] = v1[a] - v0[a];
+		e2[a] = v2[a] - v0[a];
+	}
+	rs_v3_cross(e1, e2, g);
+	if (rs_v3_normalize(g) == 0.0) {
+		/* (near-)zero area: no plane to speak of, face the ray */
+		for (int a = 0; a < 3; ++a)
+			g[a] = -ray->dir[a];
+	}
+	double dg = rs_v3_dot(ray->dir, g);
+	out->entering = dg < 0.0;
+	for (int a = 0; a < 3; ++a)
+		out->ng[a] = dg < 0.0 ? g[a] : -g[a];
+
+	/* Phong normal: the hit's barycentric u, v weight n1, n2 (n0 gets 1 - u - v). The
+	 * surface is double-sided: the normal is turned to the geometric side facing the ray. */
+	double w0 = 1.0 - hit->u - hit->v, n0[3], n1[3], n2[3];
+	texel3(rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, hit->slot, 0), n0);
+	texel3(rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, hit->slot, 1), n1);
+	texel3(rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, hit->slot, 2), n2);
+	for (int a = 0; a < 3; ++a)
+		out->n[a] = w0 * n0[a] + hit->u * n1[a] + hit->v * n2[a];
+	if (rs_v3_normalize(out->n) == 0.0)
+		memcpy(out->n, out->ng, sizeof out->n);
+	else if (rs_v3_dot(out->n, out->ng) < 0.0)
+		for (int a = 0; a < 3; ++a)
+			out->n[a] = -out->n[a];
+
+	memset(out->diffuse, 0, sizeof out->diffuse);
+	out->specular = out->reflectance = out->transmittance = 0.0f;
+	out->shininess = out->ior = 1.0f;
+	out->flags = 0;
+	if (material_f >= 0.0f && material_f < (float)p->material_count) {
+		uint32_t m = (uint32_t)material_f;
+		const float *t0 = rs_pack_texel(&p->materials, RS_PACK_MATERIAL_TEXELS, m, 0);
+		const float *t1 = rs_pack_texel(&p->materials, RS_PACK_MATERIAL_TEXELS, m, 1);
+		const float *t2 = rs_pack_texel(&p->materials, RS_PACK_MATERIAL_TEXELS, m, 2);
+		memcpy(out->diffuse, t0, sizeof out->diffuse);
+		out->specular = t0[3];
+		out->shininess = t1[0] > 0.0f ? t1[0] : 1.0f;
+		out->reflectance = t1[1];
+		out->transmittance = t1[2];
+		out->ior = t1[3] > 0.0f ? t1[3] : 1.0f;
+		out->flags = t2[0] >= 0.0f && t2[0] < 4294967296.0f ? (uint32_t)t2[0] : 0u;
+	}
+}
+
+void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray,
+                    const struct rs_hit *hit, const struct rs_surface *s, double throughput,
+                    double rgb[3], struct rs_trace_path *path)
+{
+	double local[3];
+	for (int c = 0; c < 3; ++c)
+		local[c] = frame->ambient * s->diffuse[c];
+	double view[3] = {-ray->dir[0], -ray->dir[1], -ray->dir[2]};
+
+	for (uint32_t i = 0; i < frame->light_count; ++i) {
+		const struct rs_light *light = &frame->lights[i];
+		double l[3] = {light->position[0] - s->point[0], light->position[1] - s->point[1],
+		               light->position[2] - s->point[2]};
+		if (rs_v3_normalize(l) == 0.0)
+			continue;
+		/* A light behind the surface (geometrically, or for the Phong normal) adds
+		 * nothing, and no feeler is traced for it. */
+		double n_dot_l = rs_v3_dot(s->n, l);
+		if (rs_v3_dot(s->ng, l) <= 0.0 || n_dot_l <= 0.0)
+			continue;
+		struct rs_ray feeler;
+		rs_trace_spawn(frame, s->point, s->ng, l, hit->slot, &feeler);
+		for (int a = 0; a < 3; ++a)
+			feeler.dir[a] = light->position[a] - feeler.origin[a];
+		feeler.tmax = rs_v3_normalize(feeler.dir);
+		if (feeler.tmax == 0.0)
+			continue;
+		path->shadow_rays++;
+		if (frame->has_geometry &&
+		    rs_trace_occluded(frame->packed, frame->test, &feeler, &path->counters))
+			continue;
+		double spec = 0.0;
+		if (s->specular > 0.0f) {
+			double r[3];
+			for (int a = 0; a < 3; ++a)
+				r[a] = 2.0 * n_dot_l * s->n[a] - l[a];
+			double r_dot_v = rs_v3_dot(r, view);
+			if (r_dot_v > 0.0)
+				spec = s->specular * pow(fmin(r_dot_v, 1.0), s->shininess);
+		}
+		for (int c = 0; c < 3; ++c)
+			local[c] += light->color[c] * (s->diffuse[c] * n_dot_l + spec);
+	}
+	for (int c = 0; c < 3; ++c)
+		rgb[c] += throughput * local[c];
+}

@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Usage: render_cli.sh RENDER_BINARY WORK_DIR. Prints "N passed, N failed" and exits non-zero
+# on any failure.
+set -u
+bin=$1
+work=$2
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work" || exit 1
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); echo "ok: $1"; }
+bad() { failed=$((failed + 1)); echo "FAILED: $1"; }
+
+# expect_fail NAME EXPECTED_EXIT MESSAGE_REGEX ARGS...: non-zero exit, exactly one stderr line
+# matching the regex, and no PNG/JSON/PFM output left behind.
+expect_fail() {
+  local name=$1 code=$2 regex=$3
+  shift 3
+  rm -f out.png out.json out.pfm
+  "$bin" --out out.png --stats out.json --depth out.pfm "$@" >stdout.txt 2>stderr.txt
+  local rc=$?
+  local lines
+  lines=$(wc -l <stderr.txt)
+  if [ "$rc" -ne "$code" ]; then bad "$name: exit $rc, wanted $code ($(head -c 300 stderr.txt))"; return; fi
+  if [ "$lines" -ne 1 ]; then bad "$name: $lines stderr lines: $(head -c 300 stderr.txt)"; return; fi
+  if ! grep -Eq -- "$regex" stderr.txt; then bad "$name: message '$(cat stderr.txt)' does not match /$regex/"; return; fi
+  if [ -e out.png ] || [ -e out.json ] || [ -e out.pfm ]; then bad "$name: left an output file"; return; fi
+  if ls ./*.tmp-* >/dev/null 2>&1; then bad "$name: left a temporary file"; return; fi
+  ok "$name"
+}
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >tri.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n' >nan.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n' >range.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' >empty.obj
+printf 'this is { not a mesh\n\x01\x02\x03' >junk.obj
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n' >short.ply
+
+expect_fail "unknown flag" 2 "unknown option '--frobnicate'" --scene box --frobnicate 1
+expect_fail "missing scene flag" 2 "scene is required"
+expect_fail "bad size" 2 "--size" --scene box --size 0x10
+expect_fail "bad passes" 2 "--passes" --scene box --passes many
+expect_fail "bad bvh" 2 "unknown BVH builder" --scene box --bvh octree
+expect_fail "bad backend" 2 "unknown backend" --scene box --backend vulkan
+expect_fail "missing file" 1 "nope.obj" --scene nope.obj
+expect_fail "malformed file" 1 "junk.obj" --scene junk.obj
+expect_fail "NaN vertex" 1 "NaN|nan|finite" --scene nan.obj
+expect_fail "index out of range" 1 "range|vertex|index" --scene range.obj
+expect_fail "zero triangles" 1 "triangle|face|empty|mesh" --scene empty.obj
+expect_fail "truncated ply" 1 "short.ply" --scene short.ply
+expect_fail "too many lights" 1 "lights" --scene tri.obj --lights 9
+expect_fail "unwritable output" 1 "nodir" --scene box --size 8x8 --out nodir/x.png
+
+# A good run: PNG, PFM and a stats file with every documented key.
+rm -f box.png box.json box.pfm
+if "$bin" --scene box --size 32x32 --passes 2 --lights 4 --bvh paper --out box.png \
+    --stats box.json --depth box.pfm >stdout.txt 2>stderr.txt; then
+  missing=""
+  for key in scene triangles bvh passes lights width height hit_numbers box triangle total ms build_ms; do
+    grep -q "\"$key\"" box.json || missing="$missing $key"
+  done
+  if [ -n "$missing" ]; then bad "stats keys missing:$missing"
+  elif ! grep -q '"triangles":[[:space:]]*153' box.json; then bad "box is not 153 triangles: $(cat box.json)"
+  elif [ "$(head -c 8 box.png | od -An -tx1 | tr -d ' \n')" != "89504e470d0a1a0a" ]; then bad "box.png is not a PNG"
+  elif [ "$(head -c 2 box.pfm)" != "Pf" ]; then bad "box.pfm is not a 1-channel PFM"
+  else ok "box render writes png, pfm and stats"; fi
+else
+  bad "box render failed: $(cat stderr.txt)"
+fi
+
+# A user's own mesh file renders with a framed camera.
+if "$bin" --scene tri.obj --size 16x16 --out tri.png >stdout.txt 2>stderr.txt && [ -s tri.png ]; then
+  ok "mesh file renders"
+else
+  bad "mesh file render failed: $(cat stderr.txt)"
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Usage: scene_tool.sh SCENE_BINARY WORK_DIR. Prints "N passed, N failed" and exits non-zero
+# on any failure.
+set -u
+bin=$1
+work=$2
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work" || exit 1
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); echo "ok: $1"; }
+bad() { failed=$((failed + 1)); echo "FAILED: $1"; }
+
+# expect_count NAME SCENE TRIANGLES
+expect_count() {
+  if "$bin" --scene "$2" --info >info.txt 2>err.txt && grep -qx "triangles: $3" info.txt; then
+    ok "$1"
+  else
+    bad "$1: $(head -c 300 err.txt) $(grep triangles info.txt)"
+  fi
+}
+
+# expect_fail NAME EXIT REGEX ARGS...: that exit code and exactly one matching stderr line.
+expect_fail() {
+  local name=$1 code=$2 regex=$3
+  shift 3
+  "$bin" "$@" >out.txt 2>err.txt
+  local rc=$?
+  if [ "$rc" -ne "$code" ]; then bad "$name: exit $rc, wanted $code"; return; fi
+  if [ "$(wc -l <err.txt)" -ne 1 ]; then bad "$name: stderr not one line: $(cat err.txt)"; return; fi
+  if ! grep -Eq -e "$regex" err.txt; then bad "$name: '$(cat err.txt)' !~ /$regex/"; return; fi
+  ok "$name"
+}
+
+expect_count box box 153
+expect_count cow1 cow1 5837
+expect_count cow17 cow17 98701
+
+# Export cow2 and read it back: same counts, camera and lights.
+if "$bin" --scene cow2 --out-obj cow2.obj --info >a.txt 2>err.txt &&
+   [ -s cow2.obj ] && [ -s cow2.mtl ] && [ -s cow2.json ] &&
+   "$bin" --scene cow2.obj --info >b.txt 2>>err.txt &&
+   diff <(grep -v '^scene:' a.txt) <(grep -v '^scene:' b.txt) >diff.txt; then
+  ok "export round trip"
+else
+  bad "export round trip: $(head -c 300 err.txt) $(head -c 600 diff.txt)"
+fi
+if ls ./*.tmp* >/dev/null 2>&1; then bad "temporary file left"; else ok "no temporary files"; fi
+
+expect_fail "missing mesh file" 1 "nothere\.obj" --scene nothere.obj --info
+expect_fail "missing cow model" 1 "nocow\.obj" --scene cow1 --cow nocow.obj --info
+expect_fail "unknown option" 2 "unknown option" --scene box --frobnicate
+expect_fail "no output asked" 2 "--out-obj" --scene box
+printf 'v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n' >nan.obj
+expect_fail "nan vertex" 1 "non-finite" --scene nan.obj --info
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

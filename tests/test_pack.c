@@ -1,0 +1,235 @@
+/* rs_pack: texture sizes, the 2^24 limit, and an exact round trip of every node, triangle,
+ * normal and material field through the float texels. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "raystream/rs_pack.h"
+
+static uint64_t rng_state = 0x2545f4914f6cdd1dull;
+static double rnd(void)
+{
+	rng_state ^= rng_state << 13;
+	rng_state ^= rng_state >> 7;
+	rng_state ^= rng_state << 17;
+	return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+struct fixture {
+	struct rs_scene *scene;
+	struct rs_bvh_node *nodes;
+	uint32_t *order;
+	size_t node_count;
+	struct rs_packed packed;
+};
+
+/* A scene of `tris` random triangles split over two meshes with different materials. */
+static struct fixture make(size_t tris, enum rs_bvh_builder builder)
+{
+	struct fixture f = {0};
+	struct rs_error err;
+	assert_int_equal(rs_scene_create(NULL, &f.scene, &err), RS_OK);
+	uint32_t mat[2];
+	struct rs_material m0 = {.diffuse = {0.5f, 0.25f, 0.125f}, .specular = 0.3f,
+				 .shininess = 32.0f, .reflectance = 0.25f, .flags = RS_MATERIAL_FRESNEL};
+	struct rs_material m1 = {.diffuse = {0.8f, 0.8f, 0.8f}, .transmittance = 0.9f, .ior = 1.5f};
+	assert_int_equal(rs_scene_add_material(f.scene, &m0, &mat[0]), RS_OK);
+	assert_int_equal(rs_scene_add_material(f.scene, &m1, &mat[1]), RS_OK);
+	size_t half = tris / 2;
+	for (int part = 0; part < 2; part++) {
+		size_t n = part ? tris - half : half;
+		if (n == 0)
+			continue;
+		float *pos = malloc(9 * n * sizeof(float));
+		uint32_t *idx = malloc(3 * n * sizeof(uint32_t));
+		for (size_t i = 0; i < 9 * n; i++)
+			pos[i] = (float)(rnd() * 50.0 + (i % 3 == 0 ? 0.0 : (double)(i / 9)));
+		for (size_t i = 0; i < 3 * n; i++)
+			idx[i] = (uint32_t)i;
+		struct rs_mesh_desc md = {.positions = pos, .vertex_count = 3 * n, .indices = idx,
+					  .triangle_count = n, .material = mat[part]};
+		assert_int_equal(rs_scene_add_mesh(f.scene, &md), RS_OK);
+		free(pos);
+		free(idx);
+	}
+	struct rs_bvh_desc d = {.builder = builder};
+	size_t cap = rs_bvh_node_bound(&d, tris);
+	f.nodes = malloc(cap * sizeof *f.nodes);
+	f.order = malloc(tris * sizeof *f.order);
+	assert_int_equal(rs_bvh_build(&d, rs_scene_positions(f.scene), rs_scene_vertex_count(f.scene),
+				      rs_scene_indices(f.scene), tris, f.nodes, cap, f.order,
+				      &f.node_count, &err), RS_OK);
+	assert_int_equal(rs_pack_layout(f.node_count, tris, 2, &f.packed, &err), RS_OK);
+	assert_int_equal(rs_pack_alloc(&f.packed, &err), RS_OK);
+	enum rs_status s = rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err);
+	if (s != RS_OK)
+		fail_msg("pack: %s", err.message);
+	return f;
+}
+
+static void release(struct fixture *f)
+{
+	rs_pack_free(&f->packed);
+	free(f->nodes);
+	free(f->order);
+	rs_scene_destroy(&f->scene);
+}
+
+static void texture_size_rows_of_1024(void **state)
+{
+	uint32_t w, h;
+	rs_pack_texture_size(1, 3, &w, &h);
+	assert_int_equal(w, 3);
+	assert_int_equal(h, 1);
+	rs_pack_texture_size(1024, 3, &w, &h);
+	assert_int_equal(w, 3072);
+	assert_int_equal(h, 1);
+	rs_pack_texture_size(1025, 3, &w, &h);
+	assert_int_equal(w, 3072);
+	assert_int_equal(h, 2);
+	rs_pack_texture_size(0, 3, &w, &h); /* never 0 x 0 */
+	assert_int_equal(w, 3);
+	assert_int_equal(h, 1);
+}
+
+static void layout_refuses_2_pow_24(void **state)
+{
+	struct rs_packed p;
+	struct rs_error err;
+	assert_int_equal(rs_pack_layout(RS_PACK_MAX_ITEMS, 1, 1, &p, &err), RS_ERR_LIMIT);
+	assert_int_equal(rs_pack_layout(1, RS_PACK_MAX_ITEMS, 1, &p, &err), RS_ERR_LIMIT);
+	assert_int_equal(rs_pack_layout(RS_PACK_MAX_ITEMS - 1, RS_PACK_MAX_ITEMS - 1, 1, &p, &err),
+			 RS_OK);
+	assert_int_equal(p.nodes.height, RS_PACK_MAX_ITEMS / RS_PACK_ROW_ITEMS);
+}
+
+/* Every field read back through rs_pack_texel() equals the source exactly: indices are
+ * below 2^24, so float conversion is exact (no tolerance). */
+static void round_trip(enum rs_bvh_builder builder, size_t tris)
+{
+	struct fixture f = make(tris, builder);
+	const struct rs_packed *p = &f.packed;
+	assert_int_equal(p->node_count, f.node_count);
+	for (uint32_t i = 0; i < f.node_count; i++) {
+		const struct rs_bvh_node *n = &f.nodes[i];
+		const float *t0 = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, i, 0);
+		const float *t1 = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, i, 1);
+		const float *t2 = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, i, 2);
+		assert_memory_equal(t0, n->lo, sizeof n->lo);
+		assert_memory_equal(t1, n->hi, sizeof n->hi);
+		assert_int_equal((uint32_t)t0[3], n->escape);
+		assert_int_equal((uint32_t)t1[3], n->level);
+		assert_int_equal((uint32_t)t2[0], n->first);
+		assert_int_equal((uint32_t)t2[1], n->count);
+		assert_int_equal((uint32_t)t2[2], n->order);
+		assert_true(t2[3] == 0.0f);
+	}
+	const float *pos = rs_scene_positions(f.scene);
+	const float *nrm = rs_scene_normals(f.scene);
+	const uint32_t *idx = rs_scene_indices(f.scene);
+	const uint32_t *mat = rs_scene_triangle_materials(f.scene);
+	for (uint32_t s = 0; s < p->triangle_count; s++) {
+		uint32_t tri = f.order[s];
+		for (uint32_t k = 0; k < 3; k++) {
+			const float *t = rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, s, k);
+			const float *nn = rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, s, k);
+			assert_memory_equal(t, pos + 3 * idx[3 * tri + k], 3 * sizeof(float));
+			assert_memory_equal(nn, nrm + 3 * idx[3 * tri + k], 3 * sizeof(float));
+			float w = k == 0 ? (float)tri : k == 1 ? (float)mat[tri] : 0.0f;
+			assert_true(t[3] == w);
+			assert_true(nn[3] == 0.0f);
+		}
+	}
+	release(&f);
+}
+
+static void round_trip_sah(void **state)
+{
+	round_trip(RS_BVH_SAH, 3000); /* > 1024 items: crosses texture rows */
+}
+static void round_trip_paper(void **state)
+{
+	round_trip(RS_BVH_PAPER, 1500);
+}
+static void round_trip_linear_and_none(void **state)
+{
+	round_trip(RS_BVH_LINEAR, 9000);
+	round_trip(RS_BVH_NONE, 5);
+}
+
+static void materials_resolve_defaults(void **state)
+{
+	struct fixture f = make(10, RS_BVH_SAH);
+	const float *a0 = rs_pack_texel(&f.packed.materials, RS_PACK_MATERIAL_TEXELS, 0, 0);
+	const float *a1 = rs_pack_texel(&f.packed.materials, RS_PACK_MATERIAL_TEXELS, 0, 1);
+	const float *a2 = rs_pack_texel(&f.packed.materials, RS_PACK_MATERIAL_TEXELS, 0, 2);
+	const float *b1 = rs_pack_texel(&f.packed.materials, RS_PACK_MATERIAL_TEXELS, 1, 1);
+	assert_true(a0[0] == 0.5f && a0[1] == 0.25f && a0[2] == 0.125f && a0[3] == 0.3f);
+	assert_true(a1[0] == 32.0f && a1[1] == 0.25f && a1[2] == 0.0f && a1[3] == 1.0f);
+	assert_true(a2[0] == (float)RS_MATERIAL_FRESNEL);
+	assert_true(b1[0] == 1.0f && b1[2] == 0.9f && b1[3] == 1.5f); /* shininess 0 -> 1 */
+	release(&f);
+}
+
+static void unused_texels_are_zero(void **state)
+{
+	/* 1500 triangles: the second texture row holds items 1024..1499; items 1500..2047 of
+	 * that row are unused and must come back zeroed even over a garbage-filled buffer. */
+	struct fixture f = make(1500, RS_BVH_PAPER);
+	struct rs_texture *t = &f.packed.triangles;
+	memset(t->texels, 0x7f, (size_t)t->width * t->height * 4 * sizeof(float));
+	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, NULL), RS_OK);
+	for (uint32_t item = 1500; item < 2048; item++)
+		for (uint32_t j = 0; j < RS_PACK_TRIANGLE_TEXELS; j++)
+			for (int c = 0; c < 4; c++)
+				assert_true(rs_pack_texel(t, RS_PACK_TRIANGLE_TEXELS, item, j)[c] == 0.0f);
+	release(&f);
+}
+
+static void pack_rejects_mismatch(void **state)
+{
+	struct fixture f = make(20, RS_BVH_SAH);
+	struct rs_error err;
+	struct rs_packed wrong;
+	assert_int_equal(rs_pack_layout(f.node_count + 1, 20, 2, &wrong, &err), RS_OK);
+	wrong.nodes = f.packed.nodes;
+	wrong.triangles = f.packed.triangles;
+	wrong.normals = f.packed.normals;
+	wrong.materials = f.packed.materials;
+	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &wrong, &err),
+			 RS_ERR_INVALID);
+	f.order[3] = 99;
+	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err),
+			 RS_ERR_BAD_DATA);
+	assert_int_equal(rs_pack_scene(NULL, f.nodes, f.node_count, f.order, &f.packed, &err),
+			 RS_ERR_INVALID);
+	release(&f);
+}
+
+static void free_accepts_zeroed(void **state)
+{
+	struct rs_packed p = {0};
+	rs_pack_free(&p);
+	rs_pack_free(NULL);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(texture_size_rows_of_1024),
+		cmocka_unit_test(layout_refuses_2_pow_24),
+		cmocka_unit_test(round_trip_sah),
+		cmocka_unit_test(round_trip_paper),
+		cmocka_unit_test(round_trip_linear_and_none),
+		cmocka_unit_test(materials_resolve_defaults),
+		cmocka_unit_test(unused_texels_are_zero),
+		cmocka_unit_test(pack_rejects_mismatch),
+		cmocka_unit_test(free_accepts_zeroed),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,184 @@
+/*
+ * raystream-bench: the paper's Table 1 for this project. Hit numbers (mean box + triangle
+ * tests per pixel over all rays of the pixel, 2 passes) per scene and builder beside the
+ * paper's figures, and BVH build times (median of several builds).
+ *
+ * Hit numbers are means per pixel, so the flat builders, whose cost grows with the triangle
+ * count, may be measured on a coarser image of the same camera (--flat-size): the mean is
+ * the same in expectation, and the table says which size was used.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "tool_common.h"
+
+/* Bae & Hong, Table 1 (hit numbers, 2 passes); 0 = "overload" (not measured). */
+static const struct paper_row {
+	const char *scene;
+	double none, linear, tree;
+} paper[] = {
+	{"box", 174.652, 24.315, 3.407},       {"cow1", 12937.57, 1615.989, 49.053},
+	{"cow2", 26524.78, 3211.53, 68.417},   {"cow5", 0, 8007.67, 138.311},
+	{"cow9", 0, 14018.847, 238.444},       {"cow17", 0, 20760.26, 361.564},
+};
+static const enum rs_bvh_builder builders[] = {RS_BVH_NONE, RS_BVH_LINEAR, RS_BVH_PAPER,
+					       RS_BVH_SAH};
+
+struct options {
+	uint32_t size, flat_size, none_max_tris, passes, lights, repeats, threads;
+	const char *only;
+};
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return x < y ? -1 : x > y;
+}
+
+static double median(double *v, uint32_t n)
+{
+	qsort(v, n, sizeof *v, cmp_double);
+	return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static void print_paper(double v)
+{
+	if (v > 0)
+		printf(" %10.3f |", v);
+	else
+		printf(" %10s |", "overload");
+}
+
+static int bench_scene(const struct options *o, const struct paper_row *row, double *build_ms)
+{
+	struct rs_error err = {0};
+	struct rs_scene *scene = NULL;
+	if (rs_tool_load_scene(row->scene, &scene, &err) != RS_OK) {
+		fprintf(stderr, "raystream-bench: %s\n", err.message);
+		return 1;
+	}
+	size_t tris = rs_scene_triangle_count(scene);
+	double hits[4], box[4];
+	uint32_t sizes[4];
+	for (int b = 0; b < 4; ++b) {
+		struct rs_bvh_desc desc = {.builder = builders[b]};
+		double times[32];
+		struct rs_tool_accel accel;
+		for (uint32_t r = 0; r < o->repeats; ++r) {
+			if (rs_tool_accel_build(scene, &desc, &accel, &err) != RS_OK) {
+				fprintf(stderr, "raystream-bench: %s\n", err.message);
+				rs_scene_destroy(&scene);
+				return 1;
+			}
+			times[r] = accel.build_ms;
+			if (r + 1 < o->repeats)
+				rs_tool_accel_free(&accel);
+		}
+		build_ms[b] = median(times, o->repeats);
+		hits[b] = box[b] = NAN;
+		sizes[b] = builders[b] == RS_BVH_NONE || builders[b] == RS_BVH_LINEAR ? o->flat_size
+										       : o->size;
+		if (builders[b] == RS_BVH_NONE && tris > o->none_max_tris) {
+			rs_tool_accel_free(&accel);
+			continue;
+		}
+		struct rs_trace_desc td = {.width = sizes[b], .height = sizes[b],
+					   .passes = o->passes, .lights = o->lights};
+		struct rs_trace_stats st;
+		if (rs_tool_render_cpu(scene, &accel.packed, &td, o->threads, NULL, NULL, &st,
+				       &err) != RS_OK) {
+			fprintf(stderr, "raystream-bench: %s\n", err.message);
+			rs_tool_accel_free(&accel);
+			rs_scene_destroy(&scene);
+			return 1;
+		}
+		hits[b] = st.total_per_pixel;
+		box[b] = st.box_per_pixel;
+		rs_tool_accel_free(&accel);
+	}
+	printf("| %-5s | %6zu |", row->scene, tris);
+	for (int b = 0; b < 4; ++b) {
+		if (isnan(hits[b]))
+			printf(" %10s |", "skipped");
+		else
+			printf(" %10.3f |", hits[b]);
+		if (b < 3)
+			print_paper(b == 0 ? row->none : b == 1 ? row->linear : row->tree);
+	}
+	printf(" %5.1f%% | %6.3f |\n", 100.0 * hits[3] / row->tree, box[3]);
+	fflush(stdout);
+	rs_scene_destroy(&scene);
+	return 0;
+}
+
+static int parse(int argc, char **argv, struct options *o)
+{
+	*o = (struct options){.size = 512, .flat_size = 64, .none_max_tris = 30000, .passes = 2,
+			      .lights = 1, .repeats = 5};
+	for (int i = 1; i < argc; ++i) {
+		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+		uint32_t *dst = !strcmp(a, "--size")        ? &o->size
+				: !strcmp(a, "--flat-size") ? &o->flat_size
+				: !strcmp(a, "--passes")    ? &o->passes
+				: !strcmp(a, "--lights")    ? &o->lights
+				: !strcmp(a, "--repeats")   ? &o->repeats
+				: !strcmp(a, "--threads")   ? &o->threads
+				: !strcmp(a, "--none-max-triangles") ? &o->none_max_tris
+								     : NULL;
+		if (!strcmp(a, "--help")) {
+			puts("usage: raystream-bench [--size N] [--flat-size N] [--passes N] [--lights N]"
+			     " [--repeats N] [--threads N] [--none-max-triangles N] [--scene NAME]");
+			exit(0);
+		}
+		if (!v) {
+			fprintf(stderr, "raystream-bench: unknown option or missing value: %s\n", a);
+			return 2;
+		}
+		++i;
+		if (!strcmp(a, "--scene")) {
+			o->only = v;
+			continue;
+		}
+		uint32_t max = dst == &o->repeats ? 32 : dst == &o->none_max_tris ? 1u << 24 : 16384;
+		if (!dst || !rs_tool_parse_u32(v, 1, max, dst)) {
+			fprintf(stderr, "raystream-bench: bad option %s %s\n", a, v);
+			return 2;
+		}
+	}
+	if (!o->threads)
+		o->threads = (uint32_t)sysconf(_SC_NPROCESSORS_ONLN);
+	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	struct options o;
+	int code = parse(argc, argv, &o);
+	if (code)
+		return code;
+	printf("Hit numbers, %u pass(es), %u light(s): sah/paper at %ux%u, none/linear at %ux%u "
+	       "(none skipped above %u triangles)\n\n",
+	       o.passes, o.lights, o.size, o.size, o.flat_size, o.flat_size, o.none_max_tris);
+	printf("| scene | tris | none | paper: none | linear | paper: linear | paper-tree | "
+	       "paper: tree | sah | sah/paper-tree | sah box |\n");
+	printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+	double build[6][4];
+	int rows = 0;
+	const char *names[6];
+	for (size_t s = 0; s < sizeof paper / sizeof paper[0]; ++s) {
+		if (o.only && strcmp(o.only, paper[s].scene) != 0)
+			continue;
+		if (bench_scene(&o, &paper[s], build[rows]))
+			return 1;
+		names[rows++] = paper[s].scene;
+	}
+	printf("\nBVH build time, ms (median of %u builds, one thread)\n\n", o.repeats);
+	printf("| scene | none | linear | paper | sah |\n|---|---:|---:|---:|---:|\n");
+	for (int r = 0; r < rows; ++r)
+		printf("| %-5s | %.3f | %.3f | %.3f | %.3f |\n", names[r], build[r][0], build[r][1],
+		       build[r][2], build[r][3]);
+	return 0;
+}

@@ -1,0 +1,152 @@
+/* Scene lookup, BVH + packing, strict argument parsing and JSON output for the tools. */
+#include "tool_common.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+double rs_tool_now_ms(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+int rs_tool_parse_u32(const char *text, uint32_t min, uint32_t max, uint32_t *out)
+{
+	if (!text || !*text || *text == '-' || *text == '+')
+		return 0;
+	char *end = NULL;
+	errno = 0;
+	unsigned long long v = strtoull(text, &end, 10);
+	if (errno || *end || v < min || v > max)
+		return 0;
+	*out = (uint32_t)v;
+	return 1;
+}
+
+int rs_tool_parse_size(const char *text, uint32_t *out_w, uint32_t *out_h)
+{
+	if (!text)
+		return 0;
+	const char *x = strchr(text, 'x');
+	if (!x || x == text || (size_t)(x - text) > 10)
+		return 0;
+	char w[16];
+	memcpy(w, text, (size_t)(x - text));
+	w[x - text] = '\0';
+	return rs_tool_parse_u32(w, 1, RS_IMAGE_MAX_SIDE, out_w) &&
+	       rs_tool_parse_u32(x + 1, 1, RS_IMAGE_MAX_SIDE, out_h);
+}
+
+static int is_file(const char *path)
+{
+	struct stat st;
+	return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+int rs_tool_find_cow(char *out, size_t size)
+{
+	const char *dirs[] = {getenv("RS_DATA_DIR"), RS_SOURCE_DATA_DIR, RS_INSTALL_DATA_DIR};
+	for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; ++i) {
+		if (!dirs[i] || !*dirs[i])
+			continue;
+		int n = snprintf(out, size, "%s/cow.obj", dirs[i]);
+		if (n > 0 && (size_t)n < size && is_file(out))
+			return 1;
+	}
+	return 0;
+}
+
+enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struct rs_error *err)
+{
+	struct rs_scenegen_desc gen;
+	struct rs_error gen_err = {0};
+	if (rs_scenegen_parse(name, &gen, &gen_err) == RS_OK) {
+		char cow[4096];
+		if (gen.kind == RS_SCENEGEN_COW) {
+			if (!rs_tool_find_cow(cow, sizeof cow))
+				return rs_error_set(err, RS_ERR_NOT_FOUND,
+						    "cow.obj not found (set RS_DATA_DIR to its folder)");
+			gen.cow_path = cow;
+		}
+		return rs_scenegen_build(&gen, out, err);
+	}
+	if (!is_file(name))
+		return rs_error_set(err, RS_ERR_NOT_FOUND,
+				    "scene '%s' is neither box, cowN nor an existing file", name);
+	return rs_load_scene(NULL, name, out, err);
+}
+
+enum rs_status rs_tool_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *desc,
+				   struct rs_tool_accel *out, struct rs_error *err)
+{
+	memset(out, 0, sizeof *out);
+	size_t tris = rs_scene_triangle_count(scene);
+	size_t cap = rs_bvh_node_bound(desc, tris);
+	out->nodes = malloc(cap * sizeof *out->nodes);
+	out->triangle_order = malloc(tris * sizeof *out->triangle_order);
+	if (!out->nodes || !out->triangle_order) {
+		rs_tool_accel_free(out);
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for the BVH");
+	}
+	double t0 = rs_tool_now_ms();
+	enum rs_status status = rs_bvh_build(desc, rs_scene_positions(scene),
+					     rs_scene_vertex_count(scene), rs_scene_indices(scene),
+					     tris, out->nodes, cap, out->triangle_order,
+					     &out->node_count, err);
+	out->build_ms = rs_tool_now_ms() - t0;
+	if (status == RS_OK)
+		status = rs_pack_layout(out->node_count, tris, rs_scene_material_count(scene),
+					&out->packed, err);
+	if (status == RS_OK)
+		status = rs_pack_alloc(&out->packed, err);
+	double t1 = rs_tool_now_ms();
+	if (status == RS_OK)
+		status = rs_pack_scene(scene, out->nodes, out->node_count, out->triangle_order,
+				       &out->packed, err);
+	out->pack_ms = rs_tool_now_ms() - t1;
+	if (status != RS_OK)
+		rs_tool_accel_free(out);
+	return status;
+}
+
+void rs_tool_accel_free(struct rs_tool_accel *accel)
+{
+	free(accel->nodes);
+	free(accel->triangle_order);
+	rs_pack_free(&accel->packed);
+	memset(accel, 0, sizeof *accel);
+}
+
+enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_error *err)
+{
+	char *text = cJSON_Print(doc);
+	if (!text)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory formatting %s", path);
+	char tmp[4096];
+	int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
+	enum rs_status status = RS_OK;
+	int fd = -1;
+	if (n < 0 || (size_t)n >= sizeof tmp)
+		status = rs_error_set(err, RS_ERR_INVALID, "path too long: %s", path);
+	else if ((fd = mkstemp(tmp)) < 0)
+		status = rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path, strerror(errno));
+	if (status == RS_OK) {
+		(void)fchmod(fd, 0644);
+		size_t len = strlen(text);
+		int ok = write(fd, text, len) == (ssize_t)len && write(fd, "\n", 1) == 1;
+		ok = (close(fd) == 0) && ok;
+		if (!ok || rename(tmp, path) != 0) {
+			status = rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path,
+					      strerror(errno));
+			unlink(tmp);
+		}
+	}
+	cJSON_free(text);
+	return status;
+}

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Install every Debian 12 package raystream builds, tests and runs with. Idempotent: does
+# nothing when all are present. Needs root (CI and the README commands run as root).
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config git
+  libcglm-dev libassimp-dev libcmocka-dev libpng-dev libcjson-dev
+  libhidapi-dev libusb-1.0-0-dev
+  clang-14 libclang-rt-14-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "deps: installing ${missing[*]}"
+if [ "$(id -u)" -ne 0 ]; then
+  echo "deps: need root to install packages (run as root or with sudo)" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "deps: done"

@@ -1,0 +1,311 @@
+/*
+ * raystream-track: open a tracker source from a URI, solve poses (rs_pose), optionally
+ * filter/predict, print them with live fault counters, record to a replay file.
+ * Errors are one line on stderr and a non-zero exit (1 runtime, 2 usage).
+ */
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "raystream/rs_pose.h"
+#include "raystream/rs_track.h"
+#include "rs_tracker.h"
+#include "track_tool.h"
+
+#define TOOL "raystream-track"
+
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	stop_requested = 1;
+}
+
+struct options {
+	const char *uri, *record, *layout;
+	long long count;
+	double duration_s, predict_ms, sigma_mm, stats_every_s, timeout_s;
+	int filter, quiet, reconnect, bench, bench_samples;
+};
+
+static void usage(FILE *f)
+{
+	fprintf(
+	    f, "usage: " TOOL " [options] URI\n"
+	       "  URI: hid:VID:PID[:SERIAL]  usb:VID:PID  serial:/dev/PATH[?baud=N]\n"
+	       "       sim:[seed=N&noise=0.5mm&rate=120&script=walk,turn&realtime=1&...]\n"
+	       "       replay:FILE[?realtime=1]\n"
+	       "  -n, --count N       stop after N samples\n"
+	       "  -d, --duration S    stop after S seconds\n"
+	       "  -r, --record FILE   record every sample (replay with replay:FILE)\n"
+	       "  -l, --layout FILE   marker layout JSON (default: 10 x 8 cm triangle)\n"
+	       "  -f, --filter        1-euro filter the poses\n"
+	       "  -p, --predict MS    predict MS ms ahead of each sample (implies --filter)\n"
+	       "      --sigma MM      expected marker noise for the solver (default 0.5)\n"
+	       "      --stats S       fault counters every S seconds (0: only at the end)\n"
+	       "      --timeout S     give up after S seconds without a sample (default 5)\n"
+	       "      --reconnect     reopen a disconnected device instead of exiting\n"
+	       "  -q, --quiet         no pose lines\n"
+	       "      --bench [N]     protocol throughput and pty latency benchmark (N samples)\n");
+}
+
+static int die_usage(const char *msg, const char *arg)
+{
+	fprintf(stderr, TOOL ": error: %s%s%s (try --help)\n", msg, arg ? ": " : "",
+	        arg ? arg : "");
+	return 2;
+}
+
+static int parse_double(const char *s, double lo, double *out)
+{
+	char *end = NULL;
+	errno = 0;
+	double v = strtod(s, &end);
+	if (!s[0] || *end || errno || !isfinite(v) || v < lo)
+		return 0;
+	*out = v;
+	return 1;
+}
+
+static int parse_args(int argc, char **argv, struct options *o)
+{
+	*o = (struct options){
+	    .sigma_mm = 0.5, .stats_every_s = 1.0, .timeout_s = 5.0, .bench_samples = 2000};
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+		double d;
+#define NEED_VALUE()                                                                               \
+	do {                                                                                       \
+		if (!v)                                                                            \
+			return die_usage("missing value for", a);                                  \
+		i++;                                                                               \
+	} while (0)
+		if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+			usage(stdout);
+			exit(0);
+		} else if (!strcmp(a, "-n") || !strcmp(a, "--count")) {
+			NEED_VALUE();
+			if (!parse_double(v, 1, &d) || d != floor(d))
+				return die_usage("count must be a positive integer", v);
+			o->count = (long long)d;
+		} else if (!strcmp(a, "-d") || !strcmp(a, "--duration")) {
+			NEED_VALUE();
+			if (!parse_double(v, 0, &d) || d == 0)
+				return die_usage("duration must be a positive number of seconds",
+				                 v);
+			o->duration_s = d;
+		} else if (!strcmp(a, "-r") || !strcmp(a, "--record")) {
+			NEED_VALUE();
+			o->record = v;
+		} else if (!strcmp(a, "-l") || !strcmp(a, "--layout")) {
+			NEED_VALUE();
+			o->layout = v;
+		} else if (!strcmp(a, "-f") || !strcmp(a, "--filter")) {
+			o->filter = 1;
+		} else if (!strcmp(a, "-p") || !strcmp(a, "--predict")) {
+			NEED_VALUE();
+			if (!parse_double(v, 0, &o->predict_ms))
+				return die_usage("predict must be >= 0 ms", v);
+			o->filter = 1;
+		} else if (!strcmp(a, "--sigma")) {
+			NEED_VALUE();
+			if (!parse_double(v, 0, &o->sigma_mm) || o->sigma_mm == 0)
+				return die_usage("sigma must be > 0 mm", v);
+		} else if (!strcmp(a, "--stats")) {
+			NEED_VALUE();
+			if (!parse_double(v, 0, &o->stats_every_s))
+				return die_usage("stats interval must be >= 0 s", v);
+		} else if (!strcmp(a, "--timeout")) {
+			NEED_VALUE();
+			if (!parse_double(v, 0, &o->timeout_s) || o->timeout_s == 0)
+				return die_usage("timeout must be > 0 s", v);
+		} else if (!strcmp(a, "--reconnect")) {
+			o->reconnect = 1;
+		} else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+			o->quiet = 1;
+		} else if (!strcmp(a, "--bench")) {
+			o->bench = 1;
+			if (v && v[0] != '-') {
+				if (!parse_double(v, 10, &d) || d != floor(d) || d > 1e7)
+					return die_usage("bench samples must be an integer >= 10",
+					                 v);
+				o->bench_samples = (int)d;
+				i++;
+			}
+		} else if (a[0] == '-' && a[1]) {
+			return die_usage("unknown option", a);
+		} else if (!o->uri) {
+			o->uri = a;
+		} else {
+			return die_usage("more than one source URI", a);
+		}
+#undef NEED_VALUE
+	}
+	if (!o->uri && !o->bench)
+		return die_usage("no source URI", NULL);
+	return 0;
+}
+
+static void print_stats(const struct rs_track_source *src)
+{
+	struct rs_track_source_stats s;
+	rs_track_source_get_stats(src, &s);
+	const struct rs_proto_stats *p = &s.proto;
+	printf("# stats samples=%llu frames=%llu garbage_bytes=%llu crc=%llu short=%llu long=%llu "
+	       "version=%llu duplicate=%llu out_of_order=%llu lost=%llu restarts=%llu "
+	       "disconnects=%llu reopens=%llu\n",
+	       (unsigned long long)s.samples, (unsigned long long)p->frames,
+	       (unsigned long long)p->garbage_bytes, (unsigned long long)p->crc_errors,
+	       (unsigned long long)p->short_frames, (unsigned long long)p->long_frames,
+	       (unsigned long long)p->bad_version, (unsigned long long)p->duplicates,
+	       (unsigned long long)p->out_of_order, (unsigned long long)p->lost_frames,
+	       (unsigned long long)p->restarts, (unsigned long long)s.disconnects,
+	       (unsigned long long)s.reopens);
+	fflush(stdout);
+}
+
+/* sim: gets the tool's layout, so the solver and the simulated markers agree. */
+static enum rs_status open_source(const char *uri, const struct rs_pose_layout *layout,
+                                  struct rs_track_source **src, struct rs_error *err)
+{
+	if (strncmp(uri, "sim:", 4) != 0)
+		return rs_tracker_open(uri, src, err);
+	static char script[512];
+	struct rs_track_sim_source_desc d;
+	enum rs_status st = rs_track_sim_parse_params(uri + 4, &d, script, sizeof script, err);
+	if (st != RS_OK)
+		return st;
+	d.sim.layout = (const double(*)[3])layout->markers;
+	return rs_track_sim_open(&d, src, err);
+}
+
+static void print_pose(const struct rs_marker_sample *s, const struct rs_pose *p,
+                       const struct rs_pose_quality *q)
+{
+	printf("%.6f seq=%u pos=[%+.5f %+.5f %+.5f] quat=[%+.5f %+.5f %+.5f %+.5f] %s "
+	       "rms=%.3fmm h=%.1fmm markers=%u\n",
+	       p->time_s, s->sequence, p->position[0], p->position[1], p->position[2],
+	       p->orientation[0], p->orientation[1], p->orientation[2], p->orientation[3],
+	       rs_pose_status_name(q->status), q->residual_rms_m * 1e3, q->min_height_m * 1e3,
+	       q->markers_used);
+}
+
+static int run(const struct options *o, const struct rs_pose_layout *layout)
+{
+	struct rs_error err;
+	struct rs_track_source *src = NULL;
+	struct rs_pose_solver *solver = NULL;
+	struct rs_pose_filter *filter = NULL;
+	struct rs_track_recorder *rec = NULL;
+	int code = 1;
+	if (open_source(o->uri, layout, &src, &err) != RS_OK) {
+		fprintf(stderr, TOOL ": cannot open '%s': %s\n", o->uri, err.message);
+		return err.status == RS_ERR_PARSE || err.status == RS_ERR_INVALID ? 2 : 1;
+	}
+	struct rs_pose_solver_desc sd = {.noise_sigma_m = o->sigma_mm * 1e-3};
+	if (rs_pose_solver_create(&sd, layout, &solver, &err) != RS_OK ||
+	    (o->filter && rs_pose_filter_create(NULL, &filter, &err) != RS_OK) ||
+	    (o->record && rs_track_recorder_create(o->record, &rec, &err) != RS_OK)) {
+		fprintf(stderr, TOOL ": %s\n", err.message);
+		goto out;
+	}
+	double start = rs_track_now_s(), next_stats = start + o->stats_every_s;
+	double last_sample = start;
+	long long n = 0;
+	for (;;) {
+		if (stop_requested || (o->count && n >= o->count))
+			break;
+		double now = rs_track_now_s();
+		if (o->duration_s > 0 && now - start >= o->duration_s)
+			break;
+		if (o->stats_every_s > 0 && now >= next_stats) {
+			print_stats(src);
+			next_stats = now + o->stats_every_s;
+		}
+		struct rs_marker_sample s;
+		enum rs_status st = rs_track_source_read(src, &s, 100);
+		if (st == RS_TIMEOUT) {
+			if (rs_track_now_s() - last_sample > o->timeout_s) {
+				fprintf(stderr, TOOL ": no sample for %g s from '%s'\n",
+				        o->timeout_s, o->uri);
+				goto out;
+			}
+			continue;
+		}
+		if (st == RS_END)
+			break;
+		if (st == RS_ERR_DISCONNECTED && o->reconnect) {
+			fprintf(stderr, TOOL ": %s; reconnecting\n",
+			        rs_track_source_last_error(src));
+			while (!stop_requested && rs_track_source_reopen(src) != RS_OK) {
+				struct timespec ts = {0, 200000000}; /* 5 tries a second */
+				nanosleep(&ts, NULL);
+			}
+			rs_pose_filter_reset(filter);
+			rs_pose_solver_reset(solver);
+			last_sample = rs_track_now_s();
+			continue;
+		}
+		if (st != RS_OK) {
+			fprintf(stderr, TOOL ": %s\n", rs_track_source_last_error(src));
+			goto out;
+		}
+		last_sample = rs_track_now_s();
+		n++;
+		if (rec && rs_track_recorder_write(rec, &s, &err) != RS_OK) {
+			fprintf(stderr, TOOL ": %s\n", err.message);
+			goto out;
+		}
+		struct rs_pose pose;
+		struct rs_pose_quality q;
+		rs_pose_solver_update(solver, &s, &pose, &q);
+		if (filter && q.status != RS_POSE_NONE) {
+			rs_pose_filter_update(filter, &pose, &pose);
+			if (o->predict_ms > 0)
+				rs_pose_filter_predict(filter, pose.time_s + o->predict_ms * 1e-3,
+				                       &pose);
+		}
+		if (!o->quiet)
+			print_pose(&s, &pose, &q);
+	}
+	print_stats(src);
+	code = 0;
+out:
+	if (rec && rs_track_recorder_destroy(&rec, &err) != RS_OK) {
+		fprintf(stderr, TOOL ": %s\n", err.message);
+		code = 1;
+	}
+	rs_pose_filter_destroy(&filter);
+	rs_pose_solver_destroy(&solver);
+	rs_track_source_destroy(&src);
+	return code;
+}
+
+int main(int argc, char **argv)
+{
+	struct options o;
+	int r = parse_args(argc, argv, &o);
+	if (r)
+		return r;
+	struct rs_pose_layout layout;
+	struct rs_error err;
+	if (o.layout) {
+		if (rs_pose_layout_load(o.layout, &layout, &err) != RS_OK) {
+			fprintf(stderr, TOOL ": layout %s: %s\n", o.layout, err.message);
+			return 1;
+		}
+	} else {
+		rs_pose_layout_default(&layout);
+	}
+	if (o.bench)
+		return track_bench(o.bench_samples, &layout);
+	signal(SIGINT, on_signal);
+	signal(SIGTERM, on_signal);
+	return run(&o, &layout);
+}
