@@ -216,9 +216,10 @@ static void stage_parts_follow_the_spec(void **state)
 	assert_near(mi.hi[1], 8.0, 1e-6);
 	assert_near(mi.lo[2], fl.lo[2], 1e-6);
 	assert_near(mi.hi[2] - mi.lo[2], 0.3, 1e-5);
-	/* prism: 3 high on the floor, circumradius 1.2, vertex towards +z at max z + 2 */
-	assert_near(pr.lo[1], 0.0, 1e-6);
-	assert_near(pr.hi[1], 3.0, 1e-6);
+	/* prism: 3 high, 1 mm above the floor (no coplanar glass face), circumradius 1.2,
+	 * vertex towards +z at max z + 2 */
+	assert_near(pr.lo[1], 1e-3, 1e-6);
+	assert_near(pr.hi[1], 3.0 + 1e-3, 1e-6);
 	assert_near(pr.hi[2], h.hi[2] + 2.0 + 1.2, 1e-5);
 	assert_near(pr.lo[2], h.hi[2] + 2.0 - 0.6, 1e-5);
 	assert_near(0.5 * (pr.lo[0] + pr.hi[0]), hcx, 1e-5);

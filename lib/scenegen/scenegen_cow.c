@@ -121,8 +121,10 @@ static enum rs_status add_stage(struct rs_scene *scene, const struct rs_bounds *
 	const double hi[3] = {h->hi[0] + 4.0, 0.0, h->hi[2] + 4.0};
 	/* Mirror: on the floor's back (-z) edge, as wide as the floor, y 0..8, 0.3 thick. */
 	const double mlo[3] = {lo[0], 0.0, lo[2]}, mhi[3] = {hi[0], 8.0, lo[2] + 0.3};
-	/* Prism: at the herd's x centre, 2 beyond its front (+z), standing on the floor. */
-	const double base[3] = {cx, 0.0, h->hi[2] + 2.0};
+	/* Prism: at the herd's x centre, 2 beyond its front (+z), standing on the floor. It
+	 * floats SG_GLASS_GAP above it: a glass face coplanar with the floor makes the nearer
+	 * of two equal hits a matter of rounding, which no GPU backend could reproduce. */
+	const double base[3] = {cx, SG_GLASS_GAP, h->hi[2] + 2.0};
 	/* Sail, 5 x 3.5: lowest edge 1 above the herd, centred over its left (-x) quarter at
 	 * the herd's centre z, leaning back 30 degrees so it faces the camera. */
 	const double a[3] = {sail_x - 2.5, sail_y, cz}, b[3] = {sail_x + 2.5, sail_y, cz};

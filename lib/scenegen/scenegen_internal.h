@@ -3,6 +3,10 @@
 #ifndef RS_SCENEGEN_INTERNAL_H
 #define RS_SCENEGEN_INTERNAL_H
 
+/* Glass stands this far above the surface it rests on, so that no glass face is coplanar
+ * with another face (see docs/scenes.md). */
+#define SG_GLASS_GAP 1e-3
+
 #include <stdint.h>
 
 #include "raystream/rs_scene.h"
