@@ -29,7 +29,20 @@ ms=$(( ($(date +%s%N) - start) / 1000000 ))
 [ "$ms" -lt 3000 ] || fail "--duration 0.3 took ${ms} ms"
 grep -q '^# stats samples=[1-9]' "$work/dur.txt" || fail "no samples in duration run"
 
-# 4. Bad input: one line on stderr, non-zero exit, nothing on stdout.
+# 4. --pty plays a simulated device into a pseudo-terminal; a second process reads it
+#    through the serial path (tty raw mode, poll, parser) and solves poses.
+"$tool" --pty -d 5 'sim:realtime=1&rate=200&seed=3' > "$work/pty.txt" &
+server=$!
+for _ in $(seq 50); do [ -s "$work/pty.txt" ] && break; sleep 0.1; done
+pty=$(head -n 1 "$work/pty.txt")
+[ -n "$pty" ] || fail "--pty printed no path"
+"$tool" -n 100 --stats 0 "serial:$pty" > "$work/serial.txt"
+kill "$server" 2> /dev/null || true
+wait "$server" 2> /dev/null || true
+[ "$(grep -c 'RS_POSE_OK' "$work/serial.txt")" -ge 99 ] || fail "serial poses"
+grep -q '^# stats samples=100 frames=100' "$work/serial.txt" || fail "serial stats"
+
+# 5. Bad input: one line on stderr, non-zero exit, nothing on stdout.
 check_error() {
   local want=$1; shift
   set +e

@@ -30,7 +30,7 @@ struct options {
 	const char *uri, *record, *layout;
 	long long count;
 	double duration_s, predict_ms, sigma_mm, stats_every_s, timeout_s;
-	int filter, quiet, reconnect, bench, bench_samples;
+	int filter, quiet, reconnect, bench, bench_samples, pty;
 };
 
 static void usage(FILE *f)
@@ -51,6 +51,8 @@ static void usage(FILE *f)
 	       "      --timeout S     give up after S seconds without a sample (default 5)\n"
 	       "      --reconnect     reopen a disconnected device instead of exiting\n"
 	       "  -q, --quiet         no pose lines\n"
+	       "      --pty           play the source into a new pseudo-terminal (its path is\n"
+	       "                      printed) for serial:PATH in another process; no poses\n"
 	       "      --bench [N]     protocol throughput and pty latency benchmark (N samples)\n");
 }
 
@@ -127,6 +129,8 @@ static int parse_args(int argc, char **argv, struct options *o)
 				return die_usage("timeout must be > 0 s", v);
 		} else if (!strcmp(a, "--reconnect")) {
 			o->reconnect = 1;
+		} else if (!strcmp(a, "--pty")) {
+			o->pty = 1;
 		} else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
 			o->quiet = 1;
 		} else if (!strcmp(a, "--bench")) {
@@ -207,6 +211,11 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 	if (open_source(o->uri, layout, &src, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": cannot open '%s': %s\n", o->uri, err.message);
 		return err.status == RS_ERR_PARSE || err.status == RS_ERR_INVALID ? 2 : 1;
+	}
+	if (o->pty) {
+		code = track_serve_pty(src, o->count, o->duration_s, &stop_requested);
+		rs_track_source_destroy(&src);
+		return code;
 	}
 	struct rs_pose_solver_desc sd = {.noise_sigma_m = o->sigma_mm * 1e-3};
 	if (rs_pose_solver_create(&sd, layout, &solver, &err) != RS_OK ||

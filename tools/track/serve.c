@@ -1,0 +1,46 @@
+/*
+ * raystream-track --pty: play any source (typically sim:...&realtime=1) as protocol frames
+ * into a new pseudo-terminal, so another process can open it as serial:PATH. The slave
+ * path is printed first, on a line of its own.
+ */
+#include <stdio.h>
+
+#include "raystream/rs_track.h"
+#include "rs_serial.h"
+#include "track_tool.h"
+
+int track_serve_pty(struct rs_track_source *src, long long count, double duration_s,
+                    volatile sig_atomic_t *stop)
+{
+	struct rs_error err;
+	struct rs_serial_pty *pty = NULL;
+	if (rs_serial_pty_create(&pty, &err) != RS_OK) {
+		fprintf(stderr, "raystream-track: %s\n", err.message);
+		return 1;
+	}
+	printf("%s\n", rs_serial_pty_path(pty));
+	fflush(stdout);
+	int code = 0;
+	long long n = 0;
+	double start = rs_track_now_s();
+	while (!*stop && (!count || n < count) &&
+	       !(duration_s > 0 && rs_track_now_s() - start >= duration_s)) {
+		struct rs_marker_sample s;
+		enum rs_status st = rs_track_source_read(src, &s, 100);
+		if (st == RS_TIMEOUT)
+			continue;
+		if (st == RS_END)
+			break;
+		uint8_t frame[RS_PROTO_FRAME_SIZE];
+		if (st != RS_OK || rs_proto_encode(&s, frame, &err) != RS_OK ||
+		    rs_serial_pty_write(pty, frame, sizeof frame, &err) != RS_OK) {
+			fprintf(stderr, "raystream-track: %s\n",
+			        st != RS_OK ? rs_track_source_last_error(src) : err.message);
+			code = 1;
+			break;
+		}
+		n++;
+	}
+	rs_serial_pty_destroy(&pty);
+	return code;
+}
