@@ -262,6 +262,38 @@ static void sah_handles_coincident_triangles(void **state)
 	mesh_free(&m);
 }
 
+/* A floor far larger than the mesh (the shape that makes the SAH builder put large
+ * triangles aside): the tree stays valid and the floor triangles end up in a subtree of
+ * their own, so their box does not pollute the boxes of the small ones. */
+static void sah_keeps_a_large_floor_apart(void **state)
+{
+	struct mesh m = random_mesh(2000);
+	/* A floor ten times wider than the mesh, under it: a fan of 4 triangles around
+	 * (50, -1, 50), like the stage under the cow herd. */
+	const float corner[5][2] = {{-450, -450}, {550, -450}, {550, 550}, {-450, 550}, {-450, -450}};
+	for (size_t t = 0; t < 4; t++) {
+		const float q[9] = {50, -1, 50, corner[t][0], -1, corner[t][1],
+				    corner[t + 1][0], -1, corner[t + 1][1]};
+		memcpy(&m.pos[9 * t], q, sizeof q);
+	}
+	struct built b = build(RS_BVH_SAH, &m);
+	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, NULL), RS_OK);
+	assert_definition(&b, &m, 0);
+	int found = 0;
+	for (size_t c = 0; c < b.count; c++) {
+		size_t tris = 0, large = 0;
+		for (size_t j = c; j < b.nodes[c].escape; j++)
+			for (uint32_t sl = b.nodes[j].first; sl < b.nodes[j].first + b.nodes[j].count; sl++) {
+				tris++;
+				large += b.order[sl] < 4;
+			}
+		found |= tris == 4 && large == 4;
+	}
+	assert_true(found);
+	built_free(&b);
+	mesh_free(&m);
+}
+
 static void sah_costs_less_than_paper(void **state)
 {
 	struct mesh m = random_mesh(4096);
@@ -289,6 +321,25 @@ static void none_stats_cost_is_one_box_plus_all_triangles(void **state)
 	assert_true(fabs(s.sah_cost - 101.0) < 1e-9);
 	built_free(&b);
 	mesh_free(&m);
+}
+
+/* Coordinates near FLT_MAX (sums overflow float) and near FLT_MIN still give valid trees
+ * from every builder. */
+static void builders_survive_extreme_coordinates(void **state)
+{
+	const float scales[2] = {3e36f, 1e-36f};
+	for (int k = 0; k < 2; k++) {
+		struct mesh m = random_mesh(500);
+		for (size_t i = 0; i < 9 * m.tris; i++)
+			m.pos[i] = (m.pos[i] - 50.0f) * scales[k];
+		for (int b = 0; b <= RS_BVH_PAPER; b++) {
+			struct built bt = build((enum rs_bvh_builder)b, &m);
+			assert_int_equal(rs_bvh_check(bt.nodes, bt.count, m.pos, m.idx, bt.order, m.tris,
+						      NULL), RS_OK);
+			built_free(&bt);
+		}
+		mesh_free(&m);
+	}
 }
 
 static void check_catches_corruption(void **state)
@@ -402,8 +453,10 @@ int main(void)
 		cmocka_unit_test(linear_boxes_hold_consecutive_eights),
 		cmocka_unit_test(sah_leaves_respect_leaf_size),
 		cmocka_unit_test(sah_handles_coincident_triangles),
+		cmocka_unit_test(sah_keeps_a_large_floor_apart),
 		cmocka_unit_test(sah_costs_less_than_paper),
 		cmocka_unit_test(none_stats_cost_is_one_box_plus_all_triangles),
+		cmocka_unit_test(builders_survive_extreme_coordinates),
 		cmocka_unit_test(check_catches_corruption),
 		cmocka_unit_test(build_rejects_bad_input),
 		cmocka_unit_test(zero_triangles_give_zero_nodes),

@@ -16,7 +16,7 @@ static struct cow_ref *refs;
 static int setup(void **state)
 {
 	scene = cow_scene(1);
-	refs = cow_references(scene);
+	refs = cow_references(scene, 0, COW_RAYS);
 	return 0;
 }
 
@@ -30,7 +30,7 @@ static int teardown(void **state)
 static void check(enum rs_bvh_builder builder)
 {
 	struct cow_world w = cow_pack(scene, builder);
-	cow_compare(&w, refs, rs_bvh_builder_name(builder));
+	cow_compare(&w, refs, 0, COW_RAYS, rs_bvh_builder_name(builder));
 	cow_world_free(&w);
 }
 
@@ -38,7 +38,7 @@ static void check(enum rs_bvh_builder builder)
 static void reference_matches_plain_brute_force(void **state)
 {
 	struct cow_world w = cow_pack(scene, RS_BVH_SAH);
-	cow_check_reference(&w, refs, 50);
+	cow_check_reference(&w, refs, 0, COW_RAYS, 50);
 	cow_world_free(&w);
 }
 

@@ -408,6 +408,85 @@ static void unusable_rays_miss(void **state)
 	mesh_free(&m);
 }
 
+/* ---- counting ------------------------------------------------------------------------ */
+
+/* Reference walk: recursive depth-first over the unpacked nodes, children found from the
+ * leaf/interior flags alone (a full binary tree is determined by its pre-order flags),
+ * triangles read from the scene arrays. Returns the end of i's subtree. */
+struct ref_walk {
+	const struct world *w;
+	const float *pos;
+	const uint32_t *idx;
+	struct rs_ray ray;
+	double inv[3];
+	uint64_t boxes, tris;
+	bool found;
+	double t;
+};
+
+static size_t ref_visit(struct ref_walk *rw, size_t i)
+{
+	const struct rs_bvh_node *n = &rw->w->nodes[i];
+	/* Subtree end by decoding (an interior node opens two subtrees, a leaf closes one),
+	 * without reading escapes. */
+	size_t end = i, open = 1;
+	while (open) {
+		open = rw->w->nodes[end].level > 0 ? open + 1 : open - 1;
+		end++;
+	}
+	rw->boxes++;
+	if (!rs_intersect_box(n->lo, n->hi, rw->ray.origin, rw->inv, rw->ray.tmin, rw->ray.tmax))
+		return end;
+	if (n->level > 0) {
+		size_t c = ref_visit(rw, i + 1);
+		ref_visit(rw, c);
+		return end;
+	}
+	for (uint32_t s = n->first; s < n->first + n->count; s++) {
+		double v[3][3], t, u, w;
+		const uint32_t *tri = rw->idx + 3 * (size_t)rw->w->order[s];
+		for (int k = 0; k < 3; k++)
+			for (int a = 0; a < 3; a++)
+				v[k][a] = rw->pos[3 * (size_t)tri[k] + a];
+		rw->tris++;
+		if (rs_intersect_triangle(RS_TRIANGLE_WATERTIGHT, v[0], v[1], v[2], &rw->ray, &t, &u, &w)) {
+			rw->found = true;
+			rw->t = t;
+			rw->ray.tmax = t;
+		}
+	}
+	return end;
+}
+
+/* The threaded walk of the packed textures counts exactly the tests of a depth-first walk
+ * of the tree (same order, same tmax shrinking): the escapes implement the recursion. */
+static void counters_match_a_recursive_walk(void **state)
+{
+	struct mesh m = random_mesh(700, 1.0, 0.0);
+	for (int b = 0; b < 4; b++) {
+		struct world w = make_world(m.pos, m.verts, m.idx, m.tris, builders[b]);
+		for (int i = 0; i < 2000; i++) {
+			struct rs_ray r = random_ray_at(&m);
+			struct ref_walk rw = {&w, rs_scene_positions(w.scene), rs_scene_indices(w.scene),
+					      r, {1.0 / r.dir[0], 1.0 / r.dir[1], 1.0 / r.dir[2]},
+					      0, 0, false, 0.0};
+			/* Flat builders are forests: walk each top-level leaf in turn. */
+			for (size_t top = 0; top < w.node_count;)
+				top = ref_visit(&rw, top);
+			struct rs_trace_counters c = {0};
+			struct rs_hit h;
+			bool found = rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, &h, &c);
+			assert_int_equal(found, rw.found);
+			if (found)
+				assert_true(h.t == rw.t);
+			assert_int_equal(c.box_tests, rw.boxes);
+			assert_int_equal(c.triangle_tests, rw.tris);
+		}
+		free_world(&w);
+	}
+	mesh_free(&m);
+}
+
 /* ---- watertightness ------------------------------------------------------------------ */
 
 struct closed {
@@ -575,6 +654,7 @@ int main(void)
 		cmocka_unit_test(none_counts_one_box_and_every_triangle),
 		cmocka_unit_test(linear_counts_every_box),
 		cmocka_unit_test(tree_miss_costs_one_box),
+		cmocka_unit_test(counters_match_a_recursive_walk),
 		cmocka_unit_test(skip_slot_ignores_the_origin_triangle),
 		cmocka_unit_test(interval_bounds_the_hit),
 		cmocka_unit_test(axis_parallel_rays_match_brute_force),

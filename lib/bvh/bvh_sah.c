@@ -1,7 +1,10 @@
 /* Top-down binned SAH builder (Wald 2007 style): centroids are binned on all three axes,
- * the best plane is found by one sweep over the bins, and the triangle index range is
- * partitioned in place, so no sorting and O(n log n) work. Nodes are emitted in pre-order
- * from an explicit stack (no recursion, so degenerate inputs cannot overflow the C stack).
+ * the best plane is found by one sweep over the bins, and the triangle records are
+ * partitioned in place, so no sorting and O(n log n) work. Records (box, centroid, id) are
+ * moved rather than indexed so every pass reads memory in order; a node's bounds come
+ * from its parent's bins, its centroid bounds from the parent's partition pass, so each
+ * node costs one binning pass and one partition pass. Nodes are emitted in pre-order from
+ * an explicit stack (no recursion: degenerate inputs cannot overflow the C stack).
  *
  * The cost model matches how the traversal counts hit numbers: a leaf hit costs its
  * triangle count; an interior hit costs one box test per child (traversal_cost each) plus
@@ -12,9 +15,19 @@
 
 #include "bvh_internal.h"
 
-struct tri_box {
+/* Which child comes first in the pre-order (the walk meets it first: for closest hit its
+ * hits shrink tmax before the sibling's box is tested, for any hit it may end the walk).
+ * 0 = lower side of the split plane, 1 = larger surface area, 2 = more triangles,
+ * 3 = fewer triangles, 4 = smaller surface area. Hit numbers in docs/bvh.md: 4 is best
+ * on Box, Cow9 and Cow17, 2 on Cow1; 0 is worst (it depends on the view direction). */
+#ifndef RS_BVH_SAH_CHILD_ORDER
+#define RS_BVH_SAH_CHILD_ORDER 4
+#endif
+
+struct item {
 	float lo[3], hi[3];
-	float c[3]; /* centroid times two (lo + hi) */
+	float c[3]; /* centroid */
+	uint32_t id;
 };
 
 struct bin {
@@ -24,13 +37,14 @@ struct bin {
 
 struct task {
 	uint32_t begin, end, parent;
+	float lo[3], hi[3];   /* bounds of the items */
+	float clo[3], chi[3]; /* bounds of their centroids */
 };
 
 struct sah_ctx {
-	const struct tri_box *boxes;
-	uint32_t *idx;
-	struct bin *bins; /* 3 * nbins */
-	double *right_cost;
+	struct item *items;
+	struct bin *bins;  /* 3 * nbins */
+	struct bin *right; /* nbins: suffix unions of the best axis candidates */
 	uint32_t nbins;
 	uint32_t leaf_size;
 	double ct;
@@ -44,103 +58,236 @@ static void grow(float lo[3], float hi[3], const float plo[3], const float phi[3
 	}
 }
 
-/* Decide how to split idx[begin, end): returns the split position (begin < mid < end),
- * or 0 to make a leaf. */
-static uint32_t split_range(struct sah_ctx *s, uint32_t begin, uint32_t end, float lo[3],
-			    float hi[3])
+/* Surface area (inlined copy of rs_bvh__box_area for the sweep; boxes here are never
+ * empty). */
+static inline double box_area(const float lo[3], const float hi[3])
 {
-	uint32_t n = end - begin;
-	float clo[3], chi[3];
-	rs_bvh__box_empty(lo, hi);
-	rs_bvh__box_empty(clo, chi);
-	for (uint32_t i = begin; i < end; i++) {
-		const struct tri_box *b = &s->boxes[s->idx[i]];
-		grow(lo, hi, b->lo, b->hi);
-		grow(clo, chi, b->c, b->c);
-	}
-	if (n == 1)
-		return 0;
-	double area = rs_bvh__box_area(lo, hi);
-	double leaf_cost = (double)n * area;
-	uint32_t nb = s->nbins;
-	double k[3];
+	double x = (double)hi[0] - lo[0], y = (double)hi[1] - lo[1], z = (double)hi[2] - lo[2];
+	return 2.0 * (x * y + y * z + z * x);
+}
+
+static uint32_t bin_of(float c, float clo, float k, uint32_t nb)
+{
+	/* NaN (inf * 0 for coordinates near FLT_MAX) and out-of-range go to an end bin,
+	 * never through an undefined float-to-integer conversion. */
+	float f = (c - clo) * k;
+	return f >= 0.0f && f < (float)nb ? (uint32_t)f : f >= (float)nb ? nb - 1 : 0;
+}
+
+/* A "large" triangle spans at least half the node on some axis. */
+static int is_large(const struct item *it, const float inv_ext[3])
+{
+	for (int a = 0; a < 3; a++)
+		if ((it->hi[a] - it->lo[a]) * inv_ext[a] >= 0.5f)
+			return 1;
+	return 0;
+}
+
+static void inverse_extent(const struct task *t, float inv_ext[3])
+{
 	for (int a = 0; a < 3; a++) {
-		double extent = (double)chi[a] - (double)clo[a];
-		k[a] = extent > 0.0 ? (double)nb * (1.0 - 1e-6) / extent : 0.0;
+		float e = t->hi[a] - t->lo[a];
+		inv_ext[a] = e > 0.0f ? 1.0f / e : 0.0f;
+	}
+}
+
+struct split {
+	int axis;
+	uint32_t bin;
+	float llo[3], lhi[3], rlo[3], rhi[3];
+};
+
+/* Best binned plane of task t, or axis -1 when making a leaf is better (or required). */
+static void find_split(struct sah_ctx *s, const struct task *t, float k[3], struct split *out)
+{
+	uint32_t n = t->end - t->begin, nb = s->nbins;
+	out->axis = -1;
+	if (n == 1)
+		return;
+	int axes = 0;
+	for (int a = 0; a < 3; a++) {
+		float extent = t->chi[a] - t->clo[a];
+		double kk = extent > 0.0f ? (double)nb * (1.0 - 1e-6) / extent : 0.0;
+		/* A tiny extent could make k overflow to inf and (c - clo) * k NaN. */
+		k[a] = kk > 0.0 && kk < 1e30 ? (float)kk : 0.0f;
+		axes += k[a] != 0.0f;
 		for (uint32_t j = 0; j < nb; j++) {
 			struct bin *bn = &s->bins[a * nb + j];
 			rs_bvh__box_empty(bn->lo, bn->hi);
 			bn->count = 0;
 		}
 	}
-	for (uint32_t i = begin; i < end; i++) {
-		const struct tri_box *b = &s->boxes[s->idx[i]];
+	if (axes == 0) {
+		/* All centroids coincide: no plane separates them; split by position in the
+		 * list if the leaf would be too big (marked by bin 0 on axis 3). */
+		if (n > s->leaf_size) {
+			out->axis = 3;
+			out->bin = 0;
+		}
+		return;
+	}
+	for (uint32_t i = t->begin; i < t->end; i++) {
+		const struct item *it = &s->items[i];
 		for (int a = 0; a < 3; a++) {
-			if (k[a] == 0.0)
-				continue;
-			uint32_t j = (uint32_t)(((double)b->c[a] - (double)clo[a]) * k[a]);
-			j = j < nb ? j : nb - 1;
-			struct bin *bn = &s->bins[a * nb + j];
-			grow(bn->lo, bn->hi, b->lo, b->hi);
+			/* k = 0 (a flat axis) puts everything in bin 0; the sweep skips it. */
+			struct bin *bn = &s->bins[a * nb + bin_of(it->c[a], t->clo[a], k[a], nb)];
+			grow(bn->lo, bn->hi, it->lo, it->hi);
 			bn->count++;
 		}
 	}
 	/* Unnormalised costs (times the node area) so flat or point-like nodes (area 0)
 	 * still compare. */
+	double area = rs_bvh__box_area(t->lo, t->hi);
 	double best = DBL_MAX;
-	int best_axis = -1;
-	uint32_t best_bin = 0;
 	for (int a = 0; a < 3; a++) {
-		if (k[a] == 0.0)
+		if (k[a] == 0.0f)
 			continue;
 		struct bin *bins = &s->bins[a * nb];
+		/* Only planes between non-empty bins are distinct splits. */
+		uint32_t ne[256], m = 0;
+		for (uint32_t j = 0; j < nb; j++)
+			if (bins[j].count)
+				ne[m++] = j;
 		float rlo[3], rhi[3];
 		rs_bvh__box_empty(rlo, rhi);
 		uint32_t rn = 0;
-		for (uint32_t j = nb; j-- > 1;) {
-			grow(rlo, rhi, bins[j].lo, bins[j].hi);
-			rn += bins[j].count;
-			s->right_cost[j] = rn ? rs_bvh__box_area(rlo, rhi) * rn : -1.0;
+		double right_cost[256];
+		for (uint32_t i = m; i-- > 1;) {
+			const struct bin *bn = &bins[ne[i]];
+			grow(rlo, rhi, bn->lo, bn->hi);
+			rn += bn->count;
+			right_cost[i] = box_area(rlo, rhi) * rn;
+			memcpy(s->right[i].lo, rlo, sizeof rlo);
+			memcpy(s->right[i].hi, rhi, sizeof rhi);
 		}
 		float llo[3], lhi[3];
 		rs_bvh__box_empty(llo, lhi);
 		uint32_t ln = 0;
-		for (uint32_t j = 1; j < nb; j++) {
-			grow(llo, lhi, bins[j - 1].lo, bins[j - 1].hi);
-			ln += bins[j - 1].count;
-			if (ln == 0 || s->right_cost[j] < 0.0)
-				continue;
-			double c = 2.0 * s->ct * area + rs_bvh__box_area(llo, lhi) * ln +
-				   s->right_cost[j];
+		for (uint32_t i = 1; i < m; i++) {
+			const struct bin *bn = &bins[ne[i - 1]];
+			grow(llo, lhi, bn->lo, bn->hi);
+			ln += bn->count;
+			double c = 2.0 * s->ct * area + box_area(llo, lhi) * ln + right_cost[i];
 			if (c < best) {
 				best = c;
-				best_axis = a;
-				best_bin = j;
+				out->axis = a;
+				out->bin = ne[i];
+				memcpy(out->llo, llo, sizeof llo);
+				memcpy(out->lhi, lhi, sizeof lhi);
+				memcpy(out->rlo, s->right[i].lo, sizeof rlo);
+				memcpy(out->rhi, s->right[i].hi, sizeof rhi);
 			}
 		}
 	}
-	if (best_axis < 0) {
-		/* All centroids coincide: only an arbitrary split is possible. */
-		return n <= s->leaf_size ? 0 : begin + n / 2;
-	}
-	if (n <= s->leaf_size && leaf_cost <= best)
-		return 0;
-	uint32_t i = begin, j = end;
-	double ka = k[best_axis];
-	double ca = clo[best_axis];
-	while (i < j) {
-		const struct tri_box *b = &s->boxes[s->idx[i]];
-		uint32_t bin = (uint32_t)(((double)b->c[best_axis] - ca) * ka);
-		bin = bin < nb ? bin : nb - 1;
-		if (bin < best_bin) {
-			i++;
+	/* Size split (axis 4): the few large triangles (floor, walls) against the rest.
+	 * Centroid planes leave such triangles in children whose boxes then overlap
+	 * everything; one more pass prices putting them aside. Only when they are at most a
+	 * quarter of the node: a node made mostly of large triangles is a room, whose rays
+	 * start inside it, where the SAH's outside-ray model misleads (measured on Box,
+	 * docs/bvh.md). */
+	float inv_ext[3];
+	inverse_extent(t, inv_ext);
+	float blo[3], bhi[3], slo[3], shi[3];
+	rs_bvh__box_empty(blo, bhi);
+	rs_bvh__box_empty(slo, shi);
+	uint32_t large = 0;
+	for (uint32_t i = t->begin; i < t->end; i++) {
+		const struct item *it = &s->items[i];
+		if (is_large(it, inv_ext)) {
+			grow(blo, bhi, it->lo, it->hi);
+			large++;
 		} else {
-			uint32_t t = s->idx[i];
-			s->idx[i] = s->idx[--j];
-			s->idx[j] = t;
+			grow(slo, shi, it->lo, it->hi);
 		}
 	}
-	return i;
+	if (large > 0 && large < n && (size_t)large * 4 <= n) {
+		double cost = 2.0 * s->ct * area + box_area(blo, bhi) * large +
+			      box_area(slo, shi) * (n - large);
+		if (cost < best) {
+			best = cost;
+			out->axis = 4;
+			out->bin = 0;
+			memcpy(out->llo, blo, sizeof blo);
+			memcpy(out->lhi, bhi, sizeof bhi);
+			memcpy(out->rlo, slo, sizeof slo);
+			memcpy(out->rhi, shi, sizeof shi);
+		}
+	}
+	if (n <= s->leaf_size && (double)n * area <= best)
+		out->axis = -1;
+}
+
+/* Partition t's items by the split; fills the two child tasks (bounds and centroid
+ * bounds) in list order. */
+static void partition(struct sah_ctx *s, const struct task *t, const float k[3],
+		      const struct split *sp, struct task *left, struct task *right)
+{
+	*left = (struct task){.begin = t->begin};
+	*right = (struct task){.end = t->end};
+	rs_bvh__box_empty(left->clo, left->chi);
+	rs_bvh__box_empty(right->clo, right->chi);
+	uint32_t i = t->begin, j = t->end;
+	if (sp->axis == 3) {
+		i = t->begin + (t->end - t->begin) / 2;
+	} else if (sp->axis == 4) {
+		float inv_ext[3];
+		inverse_extent(t, inv_ext);
+		while (i < j) {
+			struct item *it = &s->items[i];
+			if (is_large(it, inv_ext)) {
+				i++;
+			} else {
+				struct item tmp = *it;
+				*it = s->items[--j];
+				s->items[j] = tmp;
+			}
+		}
+	} else {
+		int a = sp->axis;
+		while (i < j) {
+			struct item *it = &s->items[i];
+			if (bin_of(it->c[a], t->clo[a], k[a], s->nbins) < sp->bin) {
+				i++;
+			} else {
+				struct item tmp = *it;
+				*it = s->items[--j];
+				s->items[j] = tmp;
+			}
+		}
+	}
+	left->end = right->begin = i;
+	rs_bvh__box_empty(left->lo, left->hi);
+	rs_bvh__box_empty(right->lo, right->hi);
+	for (uint32_t m = t->begin; m < t->end; m++) {
+		const struct item *it = &s->items[m];
+		struct task *side = m < i ? left : right;
+		grow(side->clo, side->chi, it->c, it->c);
+		if (sp->axis == 3)
+			grow(side->lo, side->hi, it->lo, it->hi);
+	}
+	if (sp->axis != 3) {
+		memcpy(left->lo, sp->llo, sizeof left->lo);
+		memcpy(left->hi, sp->lhi, sizeof left->hi);
+		memcpy(right->lo, sp->rlo, sizeof right->lo);
+		memcpy(right->hi, sp->rhi, sizeof right->hi);
+	}
+}
+
+static int second_first(const struct task *l, const struct task *r)
+{
+#if RS_BVH_SAH_CHILD_ORDER == 1
+	return rs_bvh__box_area(r->lo, r->hi) > rs_bvh__box_area(l->lo, l->hi);
+#elif RS_BVH_SAH_CHILD_ORDER == 2
+	return r->end - r->begin > l->end - l->begin;
+#elif RS_BVH_SAH_CHILD_ORDER == 3
+	return r->end - r->begin < l->end - l->begin;
+#elif RS_BVH_SAH_CHILD_ORDER == 4
+	return rs_bvh__box_area(r->lo, r->hi) < rs_bvh__box_area(l->lo, l->hi);
+#else
+	(void)l;
+	(void)r;
+	return 0;
+#endif
 }
 
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
@@ -150,59 +297,75 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 {
 	size_t n = triangle_count;
 	size_t cap = 2 * n - 1;
-	struct tri_box *boxes = malloc(n * sizeof *boxes);
-	struct bin *bins = malloc(3 * (size_t)desc->sah_bins * sizeof *bins);
-	double *right_cost = malloc((size_t)desc->sah_bins * sizeof *right_cost);
+	struct item *items = malloc(n * sizeof *items);
+	struct bin *bins = malloc(4 * (size_t)desc->sah_bins * sizeof *bins);
 	uint32_t *parent = malloc(cap * sizeof *parent);
 	struct task *stack = malloc((n + 1) * sizeof *stack);
 	enum rs_status status = RS_OK;
-	if (!boxes || !bins || !right_cost || !parent || !stack) {
+	if (!items || !bins || !parent || !stack) {
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory (%zu triangles)",
 				      n);
 		goto done;
 	}
+	struct task root = {0, (uint32_t)n, RS_BVH_NO_PARENT, {0}, {0}, {0}, {0}};
+	rs_bvh__box_empty(root.lo, root.hi);
+	rs_bvh__box_empty(root.clo, root.chi);
 	for (size_t t = 0; t < n; t++) {
-		struct tri_box *b = &boxes[t];
-		rs_bvh__box_empty(b->lo, b->hi);
-		rs_bvh__box_add_triangle(b->lo, b->hi, positions, indices, (uint32_t)t);
+		struct item *it = &items[t];
+		rs_bvh__box_empty(it->lo, it->hi);
+		rs_bvh__box_add_triangle(it->lo, it->hi, positions, indices, (uint32_t)t);
 		for (int a = 0; a < 3; a++)
-			b->c[a] = b->lo[a] + b->hi[a];
-		order[t] = (uint32_t)t;
+			it->c[a] = 0.5f * it->lo[a] + 0.5f * it->hi[a]; /* no overflow */
+		it->id = (uint32_t)t;
+		grow(root.lo, root.hi, it->lo, it->hi);
+		grow(root.clo, root.chi, it->c, it->c);
 	}
-	struct sah_ctx s = {boxes, order, bins, right_cost, desc->sah_bins, desc->leaf_size,
-			    desc->traversal_cost};
+	struct sah_ctx s = {items, bins, bins + 3 * (size_t)desc->sah_bins, desc->sah_bins,
+			    desc->leaf_size, desc->traversal_cost};
 	size_t top = 0, count = 0;
-	stack[top++] = (struct task){0, (uint32_t)n, RS_BVH_NO_PARENT};
+	stack[top++] = root;
 	while (top > 0) {
 		struct task t = stack[--top];
 		uint32_t k = (uint32_t)count++;
 		struct rs_bvh_node *node = &nodes[k];
 		parent[k] = t.parent;
-		float lo[3], hi[3];
-		uint32_t mid = split_range(&s, t.begin, t.end, lo, hi);
+		float kk[3];
+		struct split sp;
+		find_split(&s, &t, kk, &sp);
 		node->first = 0;
 		node->count = 0;
-		if (mid == 0) {
-			memcpy(node->lo, lo, sizeof lo);
-			memcpy(node->hi, hi, sizeof hi);
+		if (sp.axis < 0) {
+			memcpy(node->lo, t.lo, sizeof t.lo);
+			memcpy(node->hi, t.hi, sizeof t.hi);
 			node->first = t.begin;
 			node->count = t.end - t.begin;
 			continue;
 		}
 		rs_bvh__box_empty(node->lo, node->hi);
+		struct task l, r;
+		partition(&s, &t, kk, &sp, &l, &r);
+		l.parent = r.parent = k;
 		/* LIFO: push the second child first so the first child follows its parent. */
-		stack[top++] = (struct task){mid, t.end, k};
-		stack[top++] = (struct task){t.begin, mid, k};
+		if (second_first(&l, &r)) {
+			stack[top++] = l;
+			stack[top++] = r;
+		} else {
+			stack[top++] = r;
+			stack[top++] = l;
+		}
 	}
 	if (!rs_bvh__finalize(nodes, count, parent)) {
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory");
 		goto done;
 	}
+	/* Leaves own contiguous record ranges; when the right child is emitted first the
+	 * ranges are no longer increasing in pre-order, which the layout allows. */
+	for (size_t t = 0; t < n; t++)
+		order[t] = items[t].id;
 	*out_count = count;
 done:
-	free(boxes);
+	free(items);
 	free(bins);
-	free(right_cost);
 	free(parent);
 	free(stack);
 	return status;

@@ -1,8 +1,8 @@
 /* Ray/box and ray/triangle tests in double precision: the slab test (robust to zero
  * direction components and empty boxes), Moller-Trumbore (the paper's) and the watertight
  * test of Woop, Benthin & Wald 2013. Triangle vertices are floats widened to double, so
- * edge vectors and the normal's products are (nearly always) exact; that is what makes the
- * zero-area test below exact. */
+ * edge vectors are exact and the rounding of det-like quantities is known; that is what
+ * the zero-area and parallel rejections below rely on. Details: docs/bvh.md. */
 #include <math.h>
 
 #include "raystream/rs_trace.h"
@@ -13,7 +13,8 @@
  * (Ize 2013, "Robust BVH ray traversal": 1 + 2 gamma_3 suffices; a little more is free). */
 #define BOX_FAR_SCALE (1.0 + 8.0 * 1.1102230246251565e-16)
 /* A ray this close to the triangle's plane (relative |d.n| / (|d| |n|), max norms) counts
- * as parallel: t would be dominated by rounding. ~1e-13 rad, far below any real grazing. */
+ * as parallel: t would be dominated by rounding. ~1e-13 rad, far below any real grazing.
+ * Moller-Trumbore scales it by |e1| |e2| instead of |n| (no extra cross product). */
 #define PARALLEL_EPS 1e-13
 
 bool rs_intersect_box(const float lo[3], const float hi[3], const double origin[3],
@@ -98,8 +99,8 @@ void rs__ray_prepare(const struct rs_ray *ray, struct rs__ray_pre *out)
 	out->sz = 1.0 / d[kz];
 }
 
-/* Shared rejection: zero-area triangles (exact: the normal of float vertices is computed
- * from exact edges) and rays (nearly) in the triangle's plane. Returns d.n, or 0. */
+/* Watertight rejection of zero-area triangles (exact: the normal of float vertices is
+ * computed from exact edges) and rays (nearly) in the triangle's plane. Returns d.n or 0. */
 static double plane_facing(const double e1[3], const double e2[3], const struct rs__ray_pre *pre)
 {
 	double n[3];
@@ -119,11 +120,12 @@ static bool moller_trumbore(const double v0[3], const double v1[3], const double
 	double e1[3], e2[3], p[3], s[3], q[3];
 	sub3(v1, v0, e1);
 	sub3(v2, v0, e2);
-	if (plane_facing(e1, e2, pre) == 0.0)
-		return false;
 	cross3(ray->dir, e2, p);
 	double det = dot3(e1, p);
-	if (det == 0.0)
+	/* det = -d.(e1 x e2): zero for a zero-area triangle and for a ray in its plane. The
+	 * edges are exact, so its rounding stays near 1e-16 |d| |e1| |e2|; 1e-13 of that
+	 * rejects both cases (and slivers met within ~1e-13 / sin(edge angle) of parallel). */
+	if (fabs(det) <= PARALLEL_EPS * pre->dir_max * maxabs3(e1) * maxabs3(e2))
 		return false;
 	/* Compare numerators against det (sign-adjusted) and divide only for a hit. */
 	double sign = det > 0.0 ? 1.0 : -1.0, adet = fabs(det);
