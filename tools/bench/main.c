@@ -108,7 +108,7 @@ static int bench_scene(const struct options *o, const struct paper_row *row, dou
 		if (b < 3)
 			print_paper(b == 0 ? row->none : b == 1 ? row->linear : row->tree);
 	}
-	printf(" %5.1f%% | %6.3f |\n", 100.0 * hits[3] / row->tree, box[3]);
+	printf(" %5.1f%% | %6.3f |\n", 100.0 * hits[3] / hits[2], box[3]);
 	fflush(stdout);
 	rs_scene_destroy(&scene);
 	return 0;
@@ -214,8 +214,8 @@ int main(int argc, char **argv)
 	printf("Hit numbers, %u pass(es), %u light(s): sah/paper at %ux%u, none/linear at %ux%u "
 	       "(none skipped above %u triangles)\n\n",
 	       o.passes, o.lights, o.size, o.size, o.flat_size, o.flat_size, o.none_max_tris);
-	printf("| scene | tris | none | paper: none | linear | paper: linear | paper-tree | "
-	       "paper: tree | sah | sah/paper-tree | sah box |\n");
+	printf("| scene | tris | none | paper's none | linear | paper's linear | paper tree | "
+	       "paper's tree | sah | sah / paper tree | sah box tests |\n");
 	printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
 	double build[6][4];
 	int rows = 0;
