@@ -141,6 +141,26 @@ static void serial_number_is_passed(void **state)
 	rs_track_source_destroy(&src);
 }
 
+/* A serial that could never match (cut to fit, or bytes widened as Latin-1) is refused
+ * with a message instead of being tried. */
+static void unusable_serial_is_invalid(void **state)
+{
+	char longer[200];
+	memset(longer, 'A', sizeof longer - 1);
+	longer[sizeof longer - 1] = '\0';
+	const char *bad[] = {longer, "caf\xc3\xa9"};
+	for (int i = 0; i < 2; i++) {
+		struct rs_hid_desc d = {
+		    .vid = 0x1234, .pid = 0xabcd, .serial = bad[i], .api = &api};
+		struct rs_track_source *src = NULL;
+		struct rs_error err;
+		assert_int_equal(rs_hid_open(&d, &src, &err), RS_ERR_INVALID);
+		assert_null(src);
+		assert_non_null(strstr(err.message, "serial"));
+	}
+	assert_int_equal(fake.opens, 0);
+}
+
 static void unplug_and_replug(void **state)
 {
 	push_report(1, 64);
@@ -198,6 +218,7 @@ int main(void)
 	    cmocka_unit_test_setup(reports_become_samples, setup),
 	    cmocka_unit_test_setup(corrupt_report_is_counted, setup),
 	    cmocka_unit_test_setup(serial_number_is_passed, setup),
+	    cmocka_unit_test_setup(unusable_serial_is_invalid, setup),
 	    cmocka_unit_test_setup(unplug_and_replug, setup),
 	    cmocka_unit_test_setup(missing_device_is_not_found, setup),
 	    cmocka_unit_test_setup(uri_parsing, setup),

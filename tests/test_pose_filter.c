@@ -263,6 +263,64 @@ static void test_nonpositive_dt_and_gaps(void **state)
 	rs_pose_filter_destroy(&f);
 }
 
+/* Samples a denormal time apart (1e-310 s) with a 1 m jump: the speed estimate must not
+ * overflow (1 m / 1e-310 s is infinite) and turn the state into NaN. With dt ~ 0 the
+ * jump barely moves the output (alpha ~ dt / tau ~ 1e-309), so the state stays at the
+ * first pose (1e-9: rounding) and predictions stay finite. */
+static void test_denormal_dt_stays_finite(void **state)
+{
+	(void)state;
+	struct rs_pose_filter *f = make(NULL);
+	struct rs_pose in = pose_z(0.0, 0.0, 0.0), out, pred;
+	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	for (int i = 1; i <= 3; ++i) {
+		in = pose_z(1e-310 * i, (double)(i % 2), 3.0 * (i % 2));
+		assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+		assert_true(isfinite(out.position[0]) && isfinite(out.orientation[3]));
+		assert_true(fabs(out.position[0]) < 1e-9);
+	}
+	assert_int_equal(rs_pose_filter_predict(f, 0.02, &pred), RS_OK);
+	for (int k = 0; k < 3; ++k)
+		assert_true(isfinite(pred.position[k]));
+	assert_true(isfinite(pred.orientation[3]) && pred.orientation[3] >= 0.0);
+	rs_pose_filter_destroy(&f);
+}
+
+/* Positions beyond RS_POSE_MAX_COORD_M are refused like non-finite ones (their differences
+ * could overflow); the state is unchanged. */
+static void test_huge_position_refused(void **state)
+{
+	(void)state;
+	struct rs_pose_filter *f = make(NULL);
+	struct rs_pose in = pose_z(0.0, 1.0, 0.0), out, p;
+	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	in = pose_z(0.01, -1.7e308, 0.0);
+	assert_int_equal(rs_pose_filter_update(f, &in, &p), RS_ERR_BAD_DATA);
+	assert_memory_equal(&p, &out, sizeof p);
+	in = pose_z(0.02, 1.7e308, 0.0);
+	assert_int_equal(rs_pose_filter_update(f, &in, &p), RS_ERR_BAD_DATA);
+	assert_memory_equal(&p, &out, sizeof p);
+	rs_pose_filter_destroy(&f);
+}
+
+/* An absurd prediction cap cannot push the prediction past the double range: the
+ * state itself is returned then. */
+static void test_absurd_prediction_cap_stays_finite(void **state)
+{
+	(void)state;
+	struct rs_pose_filter_desc d = {.max_prediction_s = 1e308};
+	struct rs_pose_filter *f = make(&d);
+	struct rs_pose in, out, pred;
+	for (int i = 0; i <= 100; ++i) {
+		in = pose_z(0.005 * i, 5.0 * 0.005 * i, 0.0);
+		assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	}
+	assert_int_equal(rs_pose_filter_predict(f, 1e308, &pred), RS_OK);
+	assert_true(isfinite(pred.position[0]) && isfinite(pred.time_s));
+	assert_true(pred.position[0] == out.position[0] && pred.time_s == out.time_s);
+	rs_pose_filter_destroy(&f);
+}
+
 static void test_bad_input(void **state)
 {
 	(void)state;
@@ -306,6 +364,9 @@ int main(void)
 	    cmocka_unit_test(test_prediction_capped),
 	    cmocka_unit_test(test_disabled_filter_passes_through),
 	    cmocka_unit_test(test_nonpositive_dt_and_gaps),
+	    cmocka_unit_test(test_denormal_dt_stays_finite),
+	    cmocka_unit_test(test_huge_position_refused),
+	    cmocka_unit_test(test_absurd_prediction_cap_stays_finite),
 	    cmocka_unit_test(test_bad_input),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -389,6 +389,48 @@ static void test_predict_when_lost_is_capped(void **state)
 	teardown(f);
 }
 
+/* Two solved samples a denormal time apart (1e-310 s) and 0.1 m apart: the velocity for
+ * PREDICTED must stay finite (a naive 0.1 m / 1e-310 s overflows to infinity), so the
+ * prediction of the next lost sample is a finite pose. */
+static void test_tiny_dt_velocity_stays_finite(void **state)
+{
+	(void)state;
+	struct rs_pose_solver_desc d = {.predict_when_lost = 1};
+	struct fixture *f = setup_with(&d);
+	solve_good(f, 0.0);
+	f->truth.position[0] += 0.1;
+	solve_good(f, 1e-310);
+	struct rs_marker_sample smp;
+	struct rs_pose out;
+	make_sample(&f->L, &f->truth, 0.0, &f->r, 0.01, &smp);
+	smp.marker_count = 0;
+	assert_int_equal(run(f, &smp, &out), RS_POSE_PREDICTED);
+	/* The smoothed velocity is at most 0.1 m / 0.05 s (the time constant): 2 m/s, so the
+	 * 10 ms extrapolation moves it by at most 20 mm. */
+	assert_true(pos_error(&out, &f->truth) <= 0.02 + 1e-9);
+	teardown(f);
+}
+
+/* max_prediction_s and hold_timeout_s near DBL_MAX: an extrapolation that would leave the
+ * double range is not handed out; the last pose is held instead (and said so). */
+static void test_absurd_prediction_horizon_holds(void **state)
+{
+	(void)state;
+	struct rs_pose_solver_desc d = {
+	    .predict_when_lost = 1, .max_prediction_s = 1e308, .hold_timeout_s = 1e308};
+	struct fixture *f = setup_with(&d);
+	solve_good(f, 0.0);
+	f->truth.position[0] += 1.0; /* 100 m/s between the two samples */
+	struct rs_pose good = solve_good(f, 0.01);
+	struct rs_marker_sample smp;
+	struct rs_pose out;
+	make_sample(&f->L, &f->truth, 0.0, &f->r, 1e308, &smp);
+	smp.marker_count = 0;
+	assert_int_equal(run(f, &smp, &out), RS_POSE_HELD);
+	assert_true(pos_error(&out, &good) == 0.0);
+	teardown(f);
+}
+
 /* Rotations near 180 degrees (w ~ 0, either sign of the truth quaternion): the output is
  * always in the w >= 0 hemisphere, the same for q and -q, and the right rotation. */
 static void test_output_hemisphere_canonical(void **state)
@@ -413,8 +455,9 @@ static void test_output_hemisphere_canonical(void **state)
 }
 
 /* 2 x 51100 x 49/50 > 10^5 random degenerate samples (exactly or nearly collinear, coincident,
- * NaN/Inf/huge coordinates, too few or invalid markers, garbage ids), interleaved with a good
- * sample every 50: never NaN, and exactly HELD/PREDICTED once a pose exists, NONE before. */
+ * NaN/Inf/huge coordinates, too few or invalid markers; garbage ids on the collinear ones),
+ * interleaved with a good sample every 50: never NaN, and exactly HELD/PREDICTED once a
+ * pose exists, NONE before. */
 static void test_random_degenerate_configurations(void **state)
 {
 	(void)state;
@@ -446,7 +489,13 @@ static void test_random_degenerate_configurations(void **state)
 				perp[k] = gauss(&f->r);
 			}
 			int kind = (int)(uniform01(&f->r) * 6.0);
-			for (int j = 0; j < 3; ++j) {
+			/* Kinds 2..5 damage an otherwise solvable sample (the layout at a random
+			 * pose up to 10 km out), so the fault itself must be what stops the fit. */
+			struct rs_pose T;
+			random_pose(&f->r, scale, &T);
+			if (kind >= 2)
+				make_sample(&f->L, &T, 0.0, &f->r, t, &smp);
+			for (int j = 0; j < 3 && kind < 2; ++j) {
 				struct rs_marker *m = &smp.markers[j];
 				m->id = (uint32_t)(uniform01(&f->r) * 5.0);
 				m->flags = RS_MARKER_VALID;
@@ -533,6 +582,8 @@ int main(void)
 	    cmocka_unit_test(test_nan_timestamp_holds_at_last_time),
 	    cmocka_unit_test(test_hold_timeout_gives_none),
 	    cmocka_unit_test(test_predict_when_lost_is_capped),
+	    cmocka_unit_test(test_tiny_dt_velocity_stays_finite),
+	    cmocka_unit_test(test_absurd_prediction_horizon_holds),
 	    cmocka_unit_test(test_output_hemisphere_canonical),
 	    cmocka_unit_test(test_random_degenerate_configurations),
 	    cmocka_unit_test(test_bad_arguments),

@@ -219,6 +219,10 @@ static void test_layout_check_rejects_isosceles(void **state)
 	rs_pose_layout_default(&L);
 	L.T_markers_display.orientation[3] = 2.0;
 	assert_int_equal(rs_pose_layout_check(&L, &err), RS_ERR_BAD_DATA);
+	/* A finite but huge calibration offset would overflow the composed pose. */
+	rs_pose_layout_default(&L);
+	L.T_markers_display.position[1] = 1e307;
+	assert_int_equal(rs_pose_layout_check(&L, &err), RS_ERR_BAD_DATA);
 }
 
 static const char *write_tmp(const char *name, const char *text)

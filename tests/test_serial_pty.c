@@ -132,6 +132,26 @@ static void reopen_resumes_reading(void **state)
 	assert_int_equal(st.reopens, 1);
 }
 
+/* Nobody reads the slave: once the line is full a bounded write returns RS_TIMEOUT
+ * after about its timeout instead of blocking for ever (what let raystream-track --pty
+ * hang, deaf to Ctrl-C, when no reader was attached). */
+static void full_line_write_times_out(void **state)
+{
+	struct rig *r = *state;
+	enum { BIG = 1 << 20 }; /* far more than any pty buffers */
+	static uint8_t junk[BIG];
+	size_t written = 0;
+	double t0 = rs_track_now_s();
+	struct rs_error err;
+	assert_int_equal(rs_serial_pty_write_timeout(r->pty, junk, BIG, 50, &written, &err),
+	                 RS_TIMEOUT);
+	double dt = rs_track_now_s() - t0;
+	assert_true(written > 0 && written < BIG);
+	/* At least the timeout (5 ms clock granularity below), and nowhere near for ever:
+	 * 2 s is 40 timeouts of slack for a loaded machine. */
+	assert_true(dt >= 0.045 && dt < 2.0);
+}
+
 static void open_errors(void **state)
 {
 	struct rs_track_source *src = NULL;
@@ -182,6 +202,7 @@ int main(void)
 	    cmocka_unit_test_setup_teardown(silence_times_out, setup, teardown),
 	    cmocka_unit_test_setup_teardown(hangup_is_disconnect, setup, teardown),
 	    cmocka_unit_test_setup_teardown(reopen_resumes_reading, setup, teardown),
+	    cmocka_unit_test_setup_teardown(full_line_write_times_out, setup, teardown),
 	    cmocka_unit_test(open_errors),
 	    cmocka_unit_test(uri_parsing),
 	};

@@ -120,6 +120,40 @@ static void encode_rejects_unencodable(void **state)
 	assert_int_equal(rs_proto_encode(&s, f, &err), RS_ERR_BAD_DATA);
 }
 
+/* A device may send any int32 coordinate, e.g. INT32_MIN as a "no data" sentinel under
+ * flags 0. Whatever the parser accepts must encode again byte for byte, or recording a
+ * real device (--record) would fail on valid input. */
+static void extreme_coordinates_round_trip(void **state)
+{
+	uint8_t f[RS_PROTO_FRAME_SIZE], g[RS_PROTO_FRAME_SIZE];
+	frame_of(4, f);
+	static const uint8_t int32_min[4] = {0x00, 0x00, 0x00, 0x80};
+	static const uint8_t int32_max[4] = {0xff, 0xff, 0xff, 0x7f};
+	memcpy(f + 16 + 2, int32_min, 4);       /* marker 0 x */
+	memcpy(f + 16 + 14 + 6, int32_max, 4);  /* marker 1 y */
+	f[16 + 28 + 1] = 0;                     /* marker 2 not valid */
+	memcpy(f + 16 + 28 + 10, int32_min, 4); /* ... with a sentinel z */
+	uint32_t crc = rs_proto_crc32(f, RS_PROTO_FRAME_SIZE - 4);
+	for (int i = 0; i < 4; i++)
+		f[RS_PROTO_FRAME_SIZE - 4 + i] = (uint8_t)(crc >> (8 * i));
+	struct rs_proto_parser p;
+	rs_proto_parser_init(&p);
+	struct rs_marker_sample s;
+	const uint8_t *d = f;
+	size_t n = sizeof f;
+	assert_int_equal(rs_proto_parser_feed(&p, &d, &n, &s), 1);
+	assert_true(s.markers[0].position[0] == -2147.483648);
+	assert_true(s.markers[1].position[1] == 2147.483647);
+	assert_int_equal(rs_proto_encode(&s, g, NULL), RS_OK);
+	assert_memory_equal(f, g, sizeof f);
+	/* One micrometre beyond either end does not fit. */
+	struct rs_error err;
+	s.markers[0].position[0] = -2147.483649;
+	assert_int_equal(rs_proto_encode(&s, g, &err), RS_ERR_BAD_DATA);
+	s.markers[0].position[0] = 2147.483648;
+	assert_int_equal(rs_proto_encode(&s, g, &err), RS_ERR_BAD_DATA);
+}
+
 static void missing_markers_are_sent_invalid(void **state)
 {
 	struct rs_marker_sample in = make_sample(3), out;
@@ -273,6 +307,34 @@ static void jump_back_beyond_window_is_restart(void **state)
 	assert_int_equal(rs_proto_stats_faults(rs_proto_parser_stats(&p)), 0);
 }
 
+/* A device that restarts its count without a reconnect (last 500, then 0, 1, 2, ...):
+ * the first RS_PROTO_RESTART_RUN - 1 frames are out of order, the next one and all after
+ * it are accepted, instead of the next 500 being refused. */
+static void restart_within_window_recovers(void **state)
+{
+	uint32_t seqs[12];
+	seqs[0] = 500;
+	for (uint32_t i = 1; i < 12; i++)
+		seqs[i] = i - 1;
+	struct rs_proto_parser p;
+	rs_proto_parser_init(&p);
+	assert_int_equal(feed_seqs(&p, seqs, 12), 12 - (RS_PROTO_RESTART_RUN - 1));
+	assert_int_equal(rs_proto_parser_stats(&p)->out_of_order, RS_PROTO_RESTART_RUN - 1);
+	assert_int_equal(rs_proto_parser_stats(&p)->restarts, 1);
+	assert_int_equal(rs_proto_parser_stats(&p)->lost_frames, 0);
+}
+
+/* Stale frames that do not count up one by one are never taken for a restart. */
+static void scattered_stale_frames_stay_rejected(void **state)
+{
+	const uint32_t seqs[] = {500, 10, 12, 14, 16, 18, 20, 20, 21, 21, 501};
+	struct rs_proto_parser p;
+	rs_proto_parser_init(&p);
+	assert_int_equal(feed_seqs(&p, seqs, 11), 2);
+	assert_int_equal(rs_proto_parser_stats(&p)->out_of_order, 9);
+	assert_int_equal(rs_proto_parser_stats(&p)->restarts, 0);
+}
+
 static void sequence_wrap_is_accepted(void **state)
 {
 	const uint32_t seqs[] = {0xFFFFFFFEu, 0xFFFFFFFFu, 0, 1};
@@ -381,6 +443,7 @@ int main(void)
 	    cmocka_unit_test(encode_matches_documented_example),
 	    cmocka_unit_test(encode_parse_round_trip),
 	    cmocka_unit_test(encode_rejects_unencodable),
+	    cmocka_unit_test(extreme_coordinates_round_trip),
 	    cmocka_unit_test(missing_markers_are_sent_invalid),
 	    cmocka_unit_test(garbage_is_counted_and_skipped),
 	    cmocka_unit_test(lone_sync_byte_is_garbage),
@@ -393,6 +456,8 @@ int main(void)
 	    cmocka_unit_test(duplicate_sequence_is_rejected),
 	    cmocka_unit_test(backwards_sequence_is_rejected),
 	    cmocka_unit_test(jump_back_beyond_window_is_restart),
+	    cmocka_unit_test(restart_within_window_recovers),
+	    cmocka_unit_test(scattered_stale_frames_stay_rejected),
 	    cmocka_unit_test(sequence_wrap_is_accepted),
 	    cmocka_unit_test(wrap_behind_is_out_of_order),
 	    cmocka_unit_test(gaps_count_lost_frames),

@@ -6,6 +6,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <cmocka.h>
 #include <math.h>
@@ -13,6 +17,20 @@
 #include "raystream/rs_track.h"
 
 static char path[256];
+
+/* Temporary files the recorder may have left next to `path`. */
+static int count_tmp_files(void)
+{
+	char prefix[300];
+	snprintf(prefix, sizeof prefix, "%s.tmp-", path);
+	DIR *d = opendir(".");
+	assert_non_null(d);
+	int n = 0;
+	for (struct dirent *e; (e = readdir(d)) != NULL;)
+		n += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+	closedir(d);
+	return n;
+}
 
 static int setup(void **state)
 {
@@ -184,6 +202,110 @@ static void recorder_reports_unwritable_path(void **state)
 	assert_null(rec);
 }
 
+/* The recording appears under its name only once it is complete: an existing file is
+ * untouched while recording, and the recorder leaves no stray temporary file. */
+static void recording_appears_only_when_finished(void **state)
+{
+	FILE *f = fopen(path, "wb");
+	assert_non_null(f);
+	fputs("old", f);
+	fclose(f);
+	struct rs_track_recorder *rec = NULL;
+	assert_int_equal(rs_track_recorder_create(path, &rec, NULL), RS_OK);
+	struct rs_marker_sample s = {.sequence = 1, .marker_count = 3};
+	for (int i = 0; i < 100; i++) {
+		s.sequence = (uint32_t)i;
+		assert_int_equal(rs_track_recorder_write(rec, &s, NULL), RS_OK);
+	}
+	struct stat sb;
+	assert_int_equal(stat(path, &sb), 0);
+	assert_int_equal(sb.st_size, 3); /* still the old file */
+	assert_int_equal(rs_track_recorder_destroy(&rec, NULL), RS_OK);
+	assert_int_equal(stat(path, &sb), 0);
+	assert_int_equal(sb.st_size, 16 + 100 * 70);
+	assert_int_equal(count_tmp_files(), 0);
+}
+
+/* A write that fails (here: the file size limit) must not leave a partial recording. */
+static void failed_recording_leaves_no_file(void **state)
+{
+	struct rlimit old, small;
+	assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+	void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+	small = old;
+	small.rlim_cur = 4096;
+	assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+	struct rs_track_recorder *rec = NULL;
+	assert_int_equal(rs_track_recorder_create(path, &rec, NULL), RS_OK);
+	struct rs_marker_sample s = {.marker_count = 3};
+	enum rs_status st = RS_OK;
+	for (int i = 0; i < 1000 && st == RS_OK; i++) { /* 70 kB: far past the limit */
+		s.sequence = (uint32_t)i;
+		st = rs_track_recorder_write(rec, &s, NULL);
+	}
+	struct rs_error err;
+	enum rs_status fin = rs_track_recorder_destroy(&rec, &err);
+	setrlimit(RLIMIT_FSIZE, &old);
+	signal(SIGXFSZ, old_handler);
+	assert_true(st == RS_ERR_IO || fin == RS_ERR_IO);
+	assert_int_equal(fin, RS_ERR_IO);
+	assert_null(rec);
+	assert_int_equal(access(path, F_OK), -1);
+	assert_int_equal(count_tmp_files(), 0);
+}
+
+static void recorder_rejects_directory(void **state)
+{
+	struct rs_track_recorder *rec = NULL;
+	struct rs_error err;
+	assert_int_equal(rs_track_recorder_create(".", &rec, &err), RS_ERR_IO);
+	assert_null(rec);
+	assert_non_null(strstr(err.message, "directory"));
+}
+
+/* A record whose host time is NaN, infinite or absurd (a damaged or hand-made file) is
+ * replayed with its device time instead, so no non-finite time reaches the caller. */
+static void bad_recorded_time_falls_back_to_device_time(void **state)
+{
+	struct rs_track_recorder *rec = NULL;
+	assert_int_equal(rs_track_recorder_create(path, &rec, NULL), RS_OK);
+	const double times[] = {NAN, INFINITY, -1e300, 12.5};
+	for (uint32_t i = 0; i < 4; i++) {
+		struct rs_marker_sample s = {
+		    .sequence = i, .device_time_us = 2000000 + i, .marker_count = 3};
+		s.host_time_s = times[i];
+		assert_int_equal(rs_track_recorder_write(rec, &s, NULL), RS_OK);
+	}
+	assert_int_equal(rs_track_recorder_destroy(&rec, NULL), RS_OK);
+	for (int realtime = 0; realtime < 2; realtime++) {
+		struct rs_track_replay_desc d = {.realtime = realtime};
+		struct rs_track_source *src = NULL;
+		assert_int_equal(rs_track_replay_open(path, &d, &src, NULL), RS_OK);
+		struct rs_marker_sample s;
+		for (uint32_t i = 0; i < 4; i++) {
+			assert_int_equal(rs_track_source_read(src, &s, -1), RS_OK);
+			double want = i < 3 ? 2.0 + i * 1e-6 : 12.5;
+			assert_true(fabs(s.host_time_s - want) < 1e-9);
+		}
+		rs_track_source_destroy(&src);
+	}
+}
+
+/* An endless input without frames must not trap a read: it comes back as RS_TIMEOUT
+ * (after at most 1 MiB) so the caller keeps its timeouts and signals. */
+static void endless_frameless_input_times_out(void **state)
+{
+	struct rs_track_source *src = NULL;
+	assert_int_equal(rs_track_replay_open("/dev/zero", NULL, &src, NULL), RS_OK);
+	struct rs_marker_sample s;
+	for (int i = 0; i < 3; i++)
+		assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+	struct rs_track_source_stats st;
+	rs_track_source_get_stats(src, &st);
+	assert_true(st.proto.garbage_bytes >= 3u << 20);
+	rs_track_source_destroy(&src);
+}
+
 static void realtime_replay_keeps_recorded_spacing(void **state)
 {
 	/* 11 records 10 ms apart replay in >= 95 ms of host time. */
@@ -213,6 +335,12 @@ int main(void)
 	                                    teardown),
 	    cmocka_unit_test_setup_teardown(unencodable_sample_is_not_recorded, setup, teardown),
 	    cmocka_unit_test_setup_teardown(recorder_reports_unwritable_path, setup, teardown),
+	    cmocka_unit_test_setup_teardown(recording_appears_only_when_finished, setup, teardown),
+	    cmocka_unit_test_setup_teardown(failed_recording_leaves_no_file, setup, teardown),
+	    cmocka_unit_test_setup_teardown(recorder_rejects_directory, setup, teardown),
+	    cmocka_unit_test_setup_teardown(bad_recorded_time_falls_back_to_device_time, setup,
+	                                    teardown),
+	    cmocka_unit_test_setup_teardown(endless_frameless_input_times_out, setup, teardown),
 	    cmocka_unit_test_setup_teardown(realtime_replay_keeps_recorded_spacing, setup,
 	                                    teardown),
 	};

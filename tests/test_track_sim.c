@@ -109,6 +109,30 @@ static void turn_rotates_a_quarter(void **state)
 	assert_true(fabs(angle - 90) < 0.5);
 }
 
+/* A shake segment wobbles the orientation (peak body rates 1.5 and 1 rad/s at 4-5 Hz give
+ * swings of a few degrees) and moves the position by about a centimetre, then settles:
+ * bounds 1 deg < peak angle < 20 deg, lateral excursion < 3 cm, and the next still
+ * segment does not move at all (1e-12: rounding). */
+static void shake_wobbles_then_settles(void **state)
+{
+	struct rs_sim_desc d = {.script = "shake:1,still:1", .rate_hz = 200};
+	static struct rs_marker_sample s[400];
+	static struct rs_pose t[400];
+	run(&d, 400, s, t);
+	double peak = 0, excursion = 0;
+	for (int i = 0; i < 200; i++) {
+		double a = 2 * acos(fmin(1.0, t[i].orientation[3])) * 180 / M_PI;
+		peak = fmax(peak, a);
+		excursion = fmax(excursion, fabs(t[i].position[1] - t[0].position[1]));
+	}
+	assert_true(peak > 1.0 && peak < 20.0);
+	assert_true(excursion > 0.0 && excursion < 0.03);
+	for (int i = 201; i < 400; i++) {
+		assert_true(fabs(t[i].position[1] - t[201].position[1]) < 1e-12);
+		assert_true(fabs(t[i].orientation[3] - t[201].orientation[3]) < 1e-12);
+	}
+}
+
 static void noise_has_requested_sigma(void **state)
 {
 	/* Still script: marker scatter is pure noise; 3 x 3 x 2000 draws give the sample
@@ -222,6 +246,14 @@ static void bad_descriptors_are_rejected(void **state)
 	assert_int_equal(rs_sim_create(&d, &sim, &err), RS_ERR_INVALID);
 	d = (struct rs_sim_desc){.rate_hz = -5};
 	assert_int_equal(rs_sim_create(&d, &sim, &err), RS_ERR_INVALID);
+	/* So slow that one step leaves the wire format's range (and the timestamp's). */
+	d = (struct rs_sim_desc){.rate_hz = 1e-300};
+	assert_int_equal(rs_sim_create(&d, &sim, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "rate"));
+	d = (struct rs_sim_desc){.clock_jitter_s = 1e300};
+	assert_int_equal(rs_sim_create(&d, &sim, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "jitter"));
+	assert_null(sim);
 }
 
 static void params_parse_units(void **state)
@@ -312,6 +344,7 @@ int main(void)
 	    cmocka_unit_test(noiseless_markers_follow_truth),
 	    cmocka_unit_test(script_moves_and_rests),
 	    cmocka_unit_test(turn_rotates_a_quarter),
+	    cmocka_unit_test(shake_wobbles_then_settles),
 	    cmocka_unit_test(noise_has_requested_sigma),
 	    cmocka_unit_test(faults_appear_at_their_rates),
 	    cmocka_unit_test(occlusion_hides_one_marker_with_stale_position),

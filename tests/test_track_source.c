@@ -146,6 +146,28 @@ static void quiet_transport_times_out(void **state)
 	rs_track_source_destroy(&src);
 }
 
+/* A transport that comes back early with nothing (a spurious wake-up) does not end a
+ * read before the caller's timeout, nor a read that waits for ever. */
+static void early_empty_transport_read_keeps_waiting(void **state)
+{
+	struct fake *f = new_fake();
+	uint8_t fr[RS_PROTO_FRAME_SIZE];
+	add_status(f, RS_TIMEOUT);
+	frame(7, fr);
+	add_bytes(f, fr, sizeof fr);
+	add_status(f, RS_TIMEOUT);
+	add_status(f, RS_TIMEOUT);
+	frame(8, fr);
+	add_bytes(f, fr, sizeof fr);
+	struct rs_track_source *src = open_fake(f);
+	struct rs_marker_sample s;
+	assert_int_equal(rs_track_source_read(src, &s, 1000), RS_OK);
+	assert_int_equal(s.sequence, 7);
+	assert_int_equal(rs_track_source_read(src, &s, -1), RS_OK);
+	assert_int_equal(s.sequence, 8);
+	rs_track_source_destroy(&src);
+}
+
 static void disconnect_then_reopen(void **state)
 {
 	struct fake *f = new_fake();
@@ -202,6 +224,7 @@ int main(void)
 	    cmocka_unit_test(frame_split_across_reads),
 	    cmocka_unit_test(several_frames_in_one_read),
 	    cmocka_unit_test(quiet_transport_times_out),
+	    cmocka_unit_test(early_empty_transport_read_keeps_waiting),
 	    cmocka_unit_test(disconnect_then_reopen),
 	    cmocka_unit_test(transport_errors_pass_through),
 	    cmocka_unit_test(destroy_accepts_null),

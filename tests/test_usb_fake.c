@@ -16,6 +16,7 @@ struct fake_usb {
 	int plugged, has_endpoint, claim_error;
 	int handles, claimed, inits, exits;
 	unsigned last_timeout;
+	int last_len;
 	uint8_t stream[1024];
 	size_t len, pos, chunk;
 	int token;
@@ -66,6 +67,7 @@ static int f_transfer(void *ctx, void *h, uint8_t ep, int interrupt, unsigned ch
 {
 	assert_int_equal(ep, 0x81);
 	fake.last_timeout = timeout;
+	fake.last_len = len;
 	*out = 0;
 	if (!fake.plugged)
 		return LIBUSB_ERROR_NO_DEVICE;
@@ -97,8 +99,9 @@ static const char *f_name(void *ctx, int code)
 	return code == LIBUSB_ERROR_NO_DEVICE ? "LIBUSB_ERROR_NO_DEVICE" : "LIBUSB_ERROR_OTHER";
 }
 
-static const struct rs_usb_api api = {NULL,    f_init,     f_exit,    f_open,  f_find,
-                                      f_claim, f_transfer, f_release, f_close, f_name};
+/* No max_packet_size: the backend falls back to 512-byte reads. */
+static const struct rs_usb_api api = {NULL,       f_init,    f_exit,  f_open, f_find, f_claim,
+                                      f_transfer, f_release, f_close, f_name, NULL};
 
 static int setup(void **state)
 {
@@ -141,6 +144,30 @@ static void bulk_stream_becomes_samples(void **state)
 	assert_int_equal(fake.claimed, 0);
 	assert_int_equal(fake.handles, 0);
 	assert_int_equal(fake.exits, 1);
+}
+
+static int f_mps(void *ctx, void *h, uint8_t ep)
+{
+	return ep == 0x81 ? 64 : LIBUSB_ERROR_NOT_FOUND;
+}
+
+/* Reads are one max-size packet long: a 512-byte read of a full-speed device that fills
+ * its 64-byte packets would wait for 8 of them. Without the query: 512 bytes. */
+static void reads_are_one_packet_long(void **state)
+{
+	struct rs_usb_api with_mps = api;
+	with_mps.max_packet_size = f_mps;
+	struct rs_usb_desc d = {.vid = 0x0483, .pid = 0x5740, .api = &with_mps};
+	struct rs_track_source *src = NULL;
+	assert_int_equal(rs_usb_open(&d, &src, NULL), RS_OK);
+	struct rs_marker_sample s;
+	assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+	assert_int_equal(fake.last_len, 64);
+	rs_track_source_destroy(&src);
+	src = open_fake();
+	assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+	assert_int_equal(fake.last_len, 512);
+	rs_track_source_destroy(&src);
 }
 
 static void poll_uses_shortest_libusb_timeout(void **state)
@@ -199,7 +226,8 @@ static void uri_parsing(void **state)
 	struct rs_error err;
 	assert_int_equal(rs_usb_parse_uri("0483:5740", &d, NULL), RS_OK);
 	assert_true(d.vid == 0x0483 && d.pid == 0x5740);
-	const char *bad[] = {"", "0483", "0483:", ":5740", "10000:1", "04z3:1", "1:2:3", "-1:2"};
+	const char *bad[] = {"",      "0483", "0483:",  ":5740",  "10000:1", "04z3:1",
+	                     "1:2:3", "-1:2", "0x12:1", "1:0x34", "\t1:2",   "1:+2"};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
 		assert_int_equal(rs_usb_parse_uri(bad[i], &d, &err), RS_ERR_PARSE);
 		assert_true(err.message[0] != '\0');
@@ -211,6 +239,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test_setup(bulk_stream_becomes_samples, setup),
 	    cmocka_unit_test_setup(poll_uses_shortest_libusb_timeout, setup),
+	    cmocka_unit_test_setup(reads_are_one_packet_long, setup),
 	    cmocka_unit_test_setup(unplug_and_replug, setup),
 	    cmocka_unit_test_setup(open_failures, setup),
 	    cmocka_unit_test_setup(uri_parsing, setup),

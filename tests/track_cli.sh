@@ -22,6 +22,14 @@ grep -q '^# stats samples=300 frames=300' "$work/replay.txt" || fail "replay cou
 diff <(grep ' seq=' "$work/live.txt") <(grep ' seq=' "$work/replay.txt") > /dev/null \
   || fail "replayed poses differ from the live run"
 
+# 2b. A closed output pipe ends the run cleanly: the recording is complete and in place
+#     (the recorder renames its temporary file only when finished).
+"$tool" -r "$work/pipe.rec" 'sim:rate=1000' | head -n 3 > /dev/null \
+  || fail "closed pipe: non-zero exit"
+ls "$work"/pipe.rec.tmp-* > /dev/null 2>&1 && fail "closed pipe left a temporary file"
+grep -q '^# stats samples=[1-9]' <("$tool" --stats 0 "replay:$work/pipe.rec") \
+  || fail "closed pipe: recording unreadable"
+
 # 3. --duration stops a realtime source on time.
 start=$(date +%s%N)
 "$tool" -q -d 0.3 --stats 0 'sim:realtime=1&rate=100' > "$work/dur.txt"
@@ -42,6 +50,40 @@ wait "$server" 2> /dev/null || true
 [ "$(grep -c 'RS_POSE_OK' "$work/serial.txt")" -ge 99 ] || fail "serial poses"
 grep -q '^# stats samples=100 frames=100' "$work/serial.txt" || fail "serial stats"
 
+# 4b. --pty with nobody reading fills the line; SIGINT must still end it promptly.
+"$tool" --pty 'sim:realtime=1&rate=5000' > "$work/pty_idle.txt" &
+server=$!
+sleep 1.5
+kill -INT "$server"
+for _ in $(seq 30); do kill -0 "$server" 2> /dev/null || break; sleep 0.1; done
+if kill -0 "$server" 2> /dev/null; then
+  kill -KILL "$server"
+  fail "--pty with no reader ignored SIGINT"
+fi
+wait "$server" || fail "--pty interrupted exited non-zero"
+
+# 4c. --reconnect: the device (a pty behind a symlink, removed before the hang-up so no
+#     other pty can be opened by mistake) goes away; the tool reports it, keeps trying,
+#     and --duration still ends the run cleanly.
+"$tool" --pty -d 3 'sim:realtime=1&rate=200&seed=4' > "$work/pty_rc.txt" &
+server=$!
+for _ in $(seq 50); do [ -s "$work/pty_rc.txt" ] && break; sleep 0.1; done
+ln -sf "$(head -n 1 "$work/pty_rc.txt")" "$work/tty"
+"$tool" -q --stats 0.2 --reconnect -d 5 "serial:$work/tty" > "$work/rc.txt" 2> "$work/rc.err" &
+client=$!
+# Remove the link once the client reads through it (it holds the open line).
+for _ in $(seq 50); do grep -q 'samples=[1-9]' "$work/rc.txt" && break; sleep 0.1; done
+rm -f "$work/tty"
+wait "$server" || fail "--pty server failed"
+for _ in $(seq 100); do kill -0 "$client" 2> /dev/null || break; sleep 0.1; done
+if kill -0 "$client" 2> /dev/null; then
+  kill -KILL "$client"
+  fail "--reconnect ignored --duration while the device was away"
+fi
+wait "$client" || fail "--reconnect run exited non-zero"
+grep -q 'reconnecting' "$work/rc.err" || fail "no reconnect message"
+tail -n 1 "$work/rc.txt" | grep -q 'disconnects=1 ' || fail "disconnect not counted"
+
 # 5. Bad input: one line on stderr, non-zero exit, nothing on stdout.
 check_error() {
   local want=$1; shift
@@ -59,6 +101,10 @@ check_error 2 'sim:script=fly'
 check_error 2 -n 0 sim:
 check_error 2 --frobnicate sim:
 check_error 2
+check_error 2 --pty -r "$work/x.rec" sim:
+check_error 2 -n 1e30 sim:
+check_error 2 'sim:rate=1e-300'
+check_error 1 --stats 0 --timeout 0.5 replay:/dev/zero
 check_error 1 replay:/nonexistent/raystream.rec
 check_error 1 serial:/dev/raystream-none
 check_error 1 -l /nonexistent/layout.json sim:

@@ -108,6 +108,19 @@ enum rs_status rs_hid_open(const struct rs_hid_desc *desc, struct rs_track_sourc
 	*out_source = NULL;
 	if (!desc || (desc->vid == 0 && desc->pid == 0))
 		return rs_error_set(err, RS_ERR_INVALID, "hid: vendor and product id required");
+	/* Widened byte by byte below: a longer (silently cut) or non-ASCII serial could
+	 * never match the device's, so say so instead of "not found". */
+	if (desc->serial) {
+		size_t i = 0;
+		for (; desc->serial[i]; i++)
+			if ((unsigned char)desc->serial[i] > 127)
+				return rs_error_set(err, RS_ERR_INVALID,
+				                    "hid: serial number must be ASCII");
+		if (i >= sizeof((struct hid *)0)->serial / sizeof(wchar_t))
+			return rs_error_set(err, RS_ERR_INVALID,
+			                    "hid: serial number longer than %zu characters",
+			                    sizeof((struct hid *)0)->serial / sizeof(wchar_t) - 1);
+	}
 	struct hid *h = calloc(1, sizeof *h);
 	if (!h)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "hid: out of memory");

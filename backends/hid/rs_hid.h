@@ -39,7 +39,8 @@ const struct rs_hid_api *rs_hid_api_default(void);
 /** HID options; vid and pid are required. */
 struct rs_hid_desc {
 	uint16_t vid, pid;
-	const char *serial;           /**< NULL or "": first matching device; copied */
+	const char *serial;           /**< NULL or "": first matching device; ASCII, at most 127
+	                                   characters (else RS_ERR_INVALID); copied */
 	const struct rs_hid_api *api; /**< NULL: rs_hid_api_default(); must outlive the source */
 };
 

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "rs_serial.h"
@@ -47,7 +48,15 @@ enum rs_status rs_serial_pty_create(struct rs_serial_pty **out, struct rs_error 
 		return rs_error_set(err, RS_ERR_IO, "pty: cannot configure: %s", strerror(e));
 	}
 	cfmakeraw(&t);
-	tcsetattr(p->slave_keep, TCSANOW, &t);
+	/* The master is non-blocking so that a write to a line nobody reads can time out
+	 * (rs_serial_pty_write_timeout) instead of hanging the writer, signals included. */
+	int fl = fcntl(p->master, F_GETFL);
+	if (tcsetattr(p->slave_keep, TCSANOW, &t) != 0 || fl < 0 ||
+	    fcntl(p->master, F_SETFL, fl | O_NONBLOCK) != 0) {
+		int e = errno;
+		rs_serial_pty_destroy(&p);
+		return rs_error_set(err, RS_ERR_IO, "pty: cannot configure: %s", strerror(e));
+	}
 	*out = p;
 	return RS_OK;
 }
@@ -57,28 +66,60 @@ const char *rs_serial_pty_path(const struct rs_serial_pty *pty)
 	return pty->path;
 }
 
+enum rs_status rs_serial_pty_write_timeout(struct rs_serial_pty *p, const uint8_t *data, size_t len,
+                                           int timeout_ms, size_t *out_written,
+                                           struct rs_error *err)
+{
+	RS_ASSERT(p && (data || len == 0));
+	size_t done = 0;
+	if (out_written)
+		*out_written = 0;
+	if (p->master < 0)
+		return rs_error_set(err, RS_ERR_DISCONNECTED, "pty: master side closed");
+	struct timespec t0;
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	enum rs_status st = RS_OK;
+	while (done < len) {
+		ssize_t n = write(p->master, data + done, len - done);
+		if (n > 0) {
+			done += (size_t)n;
+			continue;
+		}
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK) {
+			st = rs_error_set(err, RS_ERR_IO, "pty: write: %s", strerror(errno));
+			break;
+		}
+		/* The line is full: wait for room, at most until the deadline. */
+		int wait = -1;
+		if (timeout_ms >= 0) {
+			struct timespec now;
+			clock_gettime(CLOCK_MONOTONIC, &now);
+			double spent = (double)(now.tv_sec - t0.tv_sec) * 1e3 +
+			               (double)(now.tv_nsec - t0.tv_nsec) * 1e-6;
+			if (spent >= timeout_ms) {
+				st = rs_error_set(err, RS_TIMEOUT, "pty: line full for %d ms",
+				                  timeout_ms);
+				break;
+			}
+			wait = (int)(timeout_ms - spent) + 1;
+		}
+		struct pollfd pfd = {.fd = p->master, .events = POLLOUT};
+		if (poll(&pfd, 1, wait) < 0 && errno != EINTR) {
+			st = rs_error_set(err, RS_ERR_IO, "pty: poll: %s", strerror(errno));
+			break;
+		}
+	}
+	if (out_written)
+		*out_written = done;
+	return st;
+}
+
 enum rs_status rs_serial_pty_write(struct rs_serial_pty *p, const uint8_t *data, size_t len,
                                    struct rs_error *err)
 {
-	RS_ASSERT(p && (data || len == 0));
-	if (p->master < 0)
-		return rs_error_set(err, RS_ERR_DISCONNECTED, "pty: master side closed");
-	while (len > 0) {
-		ssize_t n = write(p->master, data, len);
-		if (n < 0) {
-			if (errno == EINTR)
-				continue;
-			if (errno == EAGAIN) {
-				struct pollfd pfd = {.fd = p->master, .events = POLLOUT};
-				poll(&pfd, 1, 100);
-				continue;
-			}
-			return rs_error_set(err, RS_ERR_IO, "pty: write: %s", strerror(errno));
-		}
-		data += n;
-		len -= (size_t)n;
-	}
-	return RS_OK;
+	return rs_serial_pty_write_timeout(p, data, len, -1, NULL, err);
 }
 
 void rs_serial_pty_hangup(struct rs_serial_pty *p)

@@ -56,6 +56,16 @@ const char *rs_serial_pty_path(const struct rs_serial_pty *pty);
 enum rs_status rs_serial_pty_write(struct rs_serial_pty *pty, const uint8_t *data, size_t len,
                                    struct rs_error *err);
 
+/**
+ * As rs_serial_pty_write(), but waits at most `timeout_ms` (< 0: for ever) for room while
+ * the line is full (nobody reads the slave). `*out_written` (may be NULL) receives the
+ * bytes taken. RS_OK when all were written, RS_TIMEOUT when the line stayed full (write
+ * the rest later to keep the frame whole), RS_ERR_DISCONNECTED / RS_ERR_IO otherwise.
+ */
+enum rs_status rs_serial_pty_write_timeout(struct rs_serial_pty *pty, const uint8_t *data,
+                                           size_t len, int timeout_ms, size_t *out_written,
+                                           struct rs_error *err);
+
 /** Close the master side only: readers of the slave see a hang-up (disconnect). */
 void rs_serial_pty_hangup(struct rs_serial_pty *pty);
 

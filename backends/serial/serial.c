@@ -97,10 +97,11 @@ static enum rs_status serial_read(void *impl, uint8_t *buf, size_t cap, int time
 	if (s->fd < 0)
 		return rs_error_set(err, RS_ERR_DISCONNECTED, "serial: %s is closed", s->path);
 	struct pollfd pfd = {.fd = s->fd, .events = POLLIN};
-	int r;
-	do
-		r = poll(&pfd, 1, timeout_ms);
-	while (r < 0 && errno == EINTR);
+	int r = poll(&pfd, 1, timeout_ms);
+	/* A signal ends this wait early; the stream source waits again for what is left of
+	 * the caller's timeout (restarting poll() here would restart the whole timeout). */
+	if (r < 0 && errno == EINTR)
+		return rs_error_set(err, RS_TIMEOUT, "serial: interrupted");
 	if (r < 0)
 		return rs_error_set(err, RS_ERR_IO, "serial: poll on %s: %s", s->path,
 		                    strerror(errno));

@@ -42,6 +42,10 @@ struct rs_usb_api {
 	void (*close)(void *ctx, void *handle);
 	/** libusb_error_name(); may be NULL. */
 	const char *(*error_name)(void *ctx, int code);
+	/** libusb_get_max_packet_size() of `endpoint`: > 0, or an error code. May be NULL
+	 *  (reads then ask for 512 bytes). Reads are one packet long, so a device that fills
+	 *  its packets is read as each packet lands instead of after several. */
+	int (*max_packet_size)(void *ctx, void *handle, uint8_t endpoint);
 };
 
 /** The table that calls libusb itself (static storage). */

@@ -9,7 +9,8 @@
 
 #include "rs_usb.h"
 
-/* A multiple of every full/high-speed max packet size, so a bulk read cannot overflow. */
+/* Read length when the endpoint's max packet size is unknown: a multiple of every
+ * full/high-speed bulk packet size, so a read cannot overflow on those. */
 #define USB_READ 512
 
 struct usb {
@@ -20,6 +21,7 @@ struct usb {
 	int interface;
 	uint8_t endpoint;
 	int interrupt;
+	int packet; /* bytes per read: the endpoint's max packet size, else USB_READ */
 };
 
 static const char *ename(const struct usb *u, int code)
@@ -52,6 +54,13 @@ static enum rs_status usb_open_dev(struct usb *u, struct rs_error *err)
 		    err, r == LIBUSB_ERROR_NOT_FOUND ? RS_ERR_UNSUPPORTED : RS_ERR_DEVICE,
 		    "usb: %04x:%04x has no usable IN endpoint (%s)", u->vid, u->pid, ename(u, r));
 	}
+	/* One packet per read: a larger read of a device that fills its packets would wait
+	 * for several (8 ms for 512 bytes of 64-byte packets at 1 kHz), a smaller one could
+	 * overflow on a 1024-byte (SuperSpeed bulk, high-speed interrupt) endpoint. */
+	int mps = u->api->max_packet_size
+	              ? u->api->max_packet_size(u->api->ctx, u->handle, u->endpoint)
+	              : 0;
+	u->packet = mps > 0 && mps <= 4096 ? mps : USB_READ;
 	r = u->api->claim_interface(u->api->ctx, u->handle, u->interface);
 	if (r != LIBUSB_SUCCESS) {
 		u->api->close(u->api->ctx, u->handle);
@@ -69,7 +78,7 @@ static enum rs_status usb_read(void *impl, uint8_t *buf, size_t cap, int timeout
 	*out_n = 0;
 	if (!u->handle)
 		return rs_error_set(err, RS_ERR_DISCONNECTED, "usb: device closed");
-	int len = cap < USB_READ ? (int)cap : USB_READ;
+	int len = cap < (size_t)u->packet ? (int)cap : u->packet;
 	/* libusb reads 0 as "forever"; our 0 means "poll", the closest is 1 ms. */
 	unsigned t = timeout_ms < 0 ? 0u : timeout_ms == 0 ? 1u : (unsigned)timeout_ms;
 	int got = 0;
@@ -141,17 +150,22 @@ enum rs_status rs_usb_open(const struct rs_usb_desc *desc, struct rs_track_sourc
 	return rs_track_stream_create(&usb_transport, u, out_source, err);
 }
 
+/* 1-4 hex digits and nothing else (strtoul would also take "0x", signs and blanks). */
 static int hex16(const char *s, size_t n, uint16_t *out)
 {
 	if (n == 0 || n > 4)
 		return 0;
-	char tmp[5];
-	memcpy(tmp, s, n);
-	tmp[n] = '\0';
-	char *end = NULL;
-	unsigned long v = strtoul(tmp, &end, 16);
-	if (*end || tmp[0] == '-' || tmp[0] == '+' || tmp[0] == ' ')
-		return 0;
+	unsigned v = 0;
+	for (size_t i = 0; i < n; i++) {
+		char c = s[i];
+		unsigned d = c >= '0' && c <= '9'   ? (unsigned)(c - '0')
+		             : c >= 'a' && c <= 'f' ? (unsigned)(c - 'a' + 10)
+		             : c >= 'A' && c <= 'F' ? (unsigned)(c - 'A' + 10)
+		                                    : 16u;
+		if (d > 15)
+			return 0;
+		v = v * 16 + d;
+	}
 	*out = (uint16_t)v;
 	return 1;
 }

@@ -94,6 +94,12 @@ static const char *real_error_name(void *ctx, int code)
 	return libusb_error_name(code);
 }
 
+static int real_max_packet_size(void *ctx, void *handle, uint8_t endpoint)
+{
+	(void)ctx;
+	return libusb_get_max_packet_size(libusb_get_device(handle), endpoint);
+}
+
 const struct rs_usb_api *rs_usb_api_default(void)
 {
 	static const struct rs_usb_api api = {
@@ -106,6 +112,7 @@ const struct rs_usb_api *rs_usb_api_default(void)
 	    .release_interface = real_release,
 	    .close = real_close,
 	    .error_name = real_error_name,
+	    .max_packet_size = real_max_packet_size,
 	};
 	return &api;
 }

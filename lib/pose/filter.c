@@ -148,10 +148,15 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 	}
 	double q[4], x[3], t = in->time_s;
 	memcpy(x, in->position, sizeof x);
-	int ok = isfinite(t) && pm_finite3(x) && pm_qnormalize(in->orientation, q);
+	/* Positions beyond RS_POSE_MAX_COORD_M are refused like the solver's markers: their
+	 * differences could overflow and turn the state into NaN. */
+	int ok = isfinite(t) && fabs(x[0]) <= RS_POSE_MAX_COORD_M &&
+	         fabs(x[1]) <= RS_POSE_MAX_COORD_M && fabs(x[2]) <= RS_POSE_MAX_COORD_M &&
+	         pm_qnormalize(in->orientation, q);
 	if (!ok) {
-		snprintf(f->message, sizeof f->message,
-		         "pose filter: non-finite input or zero quaternion ignored");
+		snprintf(
+		    f->message, sizeof f->message,
+		    "pose filter: non-finite or out-of-range input or zero quaternion ignored");
 		if (f->have) {
 			state_out(f, out);
 		} else {
@@ -174,10 +179,13 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 	}
 	const struct rs_pose_filter_desc *d = &f->desc;
 
-	double ad = alpha(d->position_d_cutoff_hz, dt), speed2 = 0.0;
+	/* Derivative low-pass dx_hat += alpha (dx / dt - dx_hat), alpha = dt / (dt + tau),
+	 * evaluated as tau / (dt + tau) * dx_hat + dx / (dt + tau): the same value, but dx / dt
+	 * would overflow (and then turn into NaN) for a denormal dt. */
+	double tau_d = 1.0 / (2.0 * RS_POSE_PI * d->position_d_cutoff_hz);
+	double inv = 1.0 / (dt + tau_d), keep = tau_d * inv, speed2 = 0.0;
 	for (int k = 0; k < 3; ++k) {
-		double dx = (x[k] - f->x_raw[k]) / dt;
-		f->dx_hat[k] += ad * (dx - f->dx_hat[k]);
+		f->dx_hat[k] = keep * f->dx_hat[k] + (x[k] - f->x_raw[k]) * inv;
 		speed2 += f->dx_hat[k] * f->dx_hat[k];
 	}
 	double a = alpha(d->position_min_cutoff_hz + d->position_beta * sqrt(speed2), dt);
@@ -194,10 +202,12 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 	pm_qconj(f->q_raw, rc);
 	pm_qmul(q, rc, rel);
 	pm_qlog(rel, w);
-	ad = alpha(d->orientation_d_cutoff_hz, dt);
+	tau_d = 1.0 / (2.0 * RS_POSE_PI * d->orientation_d_cutoff_hz);
+	inv = 1.0 / (dt + tau_d);
+	keep = tau_d * inv;
 	speed2 = 0.0;
 	for (int k = 0; k < 3; ++k) {
-		f->w_hat[k] += ad * (w[k] / dt - f->w_hat[k]);
+		f->w_hat[k] = keep * f->w_hat[k] + w[k] * inv;
 		speed2 += f->w_hat[k] * f->w_hat[k];
 	}
 	a = alpha(d->orientation_min_cutoff_hz + d->orientation_beta * sqrt(speed2), dt);
@@ -238,5 +248,9 @@ enum rs_status rs_pose_filter_predict(const struct rs_pose_filter *f, double dis
 	pm_qcanonical(q);
 	memcpy(out->orientation, q, sizeof q);
 	out->time_s = f->t + h;
+	/* Only an absurd max_prediction_s can push this past the double range; then the
+	 * unextrapolated state is the one defined answer. */
+	if (!pm_finite3(out->position) || !isfinite(out->time_s))
+		state_out(f, out);
 	return RS_OK;
 }

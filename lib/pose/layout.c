@@ -53,10 +53,13 @@ enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct 
 			                    "layout: marker %d has a non-finite or huge coordinate",
 			                    i);
 	const struct rs_pose *T = &layout->T_markers_display;
-	if (!pm_finite3(T->position) || !isfinite(T->orientation[0]) ||
+	if (!pm_finite3(T->position) || fabs(T->position[0]) > RS_POSE_MAX_COORD_M ||
+	    fabs(T->position[1]) > RS_POSE_MAX_COORD_M ||
+	    fabs(T->position[2]) > RS_POSE_MAX_COORD_M || !isfinite(T->orientation[0]) ||
 	    !isfinite(T->orientation[1]) || !isfinite(T->orientation[2]) ||
 	    !isfinite(T->orientation[3]))
-		return rs_error_set(err, RS_ERR_BAD_DATA, "layout: non-finite T_markers_display");
+		return rs_error_set(err, RS_ERR_BAD_DATA,
+		                    "layout: non-finite or huge T_markers_display");
 	double qn = sqrt(pm_qdot(T->orientation, T->orientation));
 	/* All zero is a zero-initialised struct: identity, like every zero default. */
 	if (qn != 0.0 && fabs(qn - 1.0) > 1e-6)

@@ -173,6 +173,13 @@ static void lost(struct rs_pose_solver *s, double t, struct rs_pose *out, struct
 	pm_qnormalize(out->orientation, out->orientation);
 	pm_qcanonical(out->orientation);
 	q->status = RS_POSE_PREDICTED;
+	/* An absurd configuration (max_prediction_s and hold_timeout_s near DBL_MAX) could
+	 * extrapolate past the double range: never hand that out, hold instead. */
+	if (!pm_finite3(out->position) || !isfinite(pm_qdot(out->orientation, out->orientation))) {
+		*out = s->last_good;
+		out->time_s = t;
+		q->status = RS_POSE_HELD;
+	}
 }
 
 /* Exponentially smoothed finite-difference velocities, for PREDICTED only: the smoothing
@@ -185,15 +192,18 @@ static void update_velocity(struct rs_pose_solver *s, const struct rs_pose *p)
 		memset(s->angular_velocity, 0, sizeof s->angular_velocity);
 		return;
 	}
-	double a = dt / (dt + s->desc.velocity_time_constant_s);
+	/* v += a (d / dt - v) with a = dt / (dt + tc), written as (1 - a) v + d / (dt + tc):
+	 * the same value, but d / dt would overflow for a (denormal) dt near 0. */
+	double inv = 1.0 / (dt + s->desc.velocity_time_constant_s);
+	double keep = s->desc.velocity_time_constant_s * inv;
 	double qc[4], dq[4], w[3];
 	pm_qconj(s->last_good.orientation, qc);
 	pm_qmul(p->orientation, qc, dq);
 	pm_qlog(dq, w);
 	for (int k = 0; k < 3; ++k) {
-		double v = (p->position[k] - s->last_good.position[k]) / dt;
-		s->velocity[k] += a * (v - s->velocity[k]);
-		s->angular_velocity[k] += a * (w[k] / dt - s->angular_velocity[k]);
+		double d = p->position[k] - s->last_good.position[k];
+		s->velocity[k] = keep * s->velocity[k] + d * inv;
+		s->angular_velocity[k] = keep * s->angular_velocity[k] + w[k] * inv;
 	}
 }
 

@@ -118,11 +118,14 @@ enum rs_status rs_proto_encode(const struct rs_marker_sample *sample, uint8_t *o
 		p[0] = (uint8_t)mk->id;
 		p[1] = (uint8_t)mk->flags;
 		for (int a = 0; a < 3; a++) {
-			double v = mk->position[a];
-			if (!isfinite(v) || fabs(v) > RS_PROTO_MAX_COORD_M)
+			/* The whole int32 range is accepted (not just +-RS_PROTO_MAX_COORD_M), so
+			 * every frame the parser accepts, e.g. a device's INT32_MIN "no data"
+			 * sentinel, encodes again: the recorder must not fail on real input. */
+			double v = mk->position[a], um = isfinite(v) ? round(v * 1e6) : 0.0;
+			if (!isfinite(v) || !(um >= -2147483648.0 && um <= 2147483647.0))
 				return rs_error_set(err, RS_ERR_BAD_DATA,
 				                    "marker %u: coordinate %g not encodable", m, v);
-			put_u32(p + 2 + 4 * a, (uint32_t)(int32_t)lround(v * 1e6));
+			put_u32(p + 2 + 4 * a, (uint32_t)(int32_t)um);
 		}
 	}
 	put_u32(f + OFF_CRC, rs_proto_crc32(f, OFF_CRC));
@@ -142,6 +145,7 @@ void rs_proto_parser_reset(struct rs_proto_parser *parser)
 	parser->len = 0;
 	parser->have_sequence = 0;
 	parser->last_sequence = 0;
+	parser->run_length = 0;
 }
 
 const struct rs_proto_stats *rs_proto_parser_stats(const struct rs_proto_parser *parser)
@@ -179,7 +183,8 @@ static void decode(const uint8_t *f, struct rs_marker_sample *s)
 }
 
 /* Sequence policy (docs/protocol.md): equal = duplicate, 1..WINDOW-1 behind = out of
- * order, further behind = device restart (accepted); forward gaps count lost frames.
+ * order (unless RS_PROTO_RESTART_RUN of them in a row count up: a restart), further
+ * behind = device restart (accepted); forward gaps count lost frames.
  * Unsigned differences make the 2^32 wrap just another step forward. */
 static int accept_sequence(struct rs_proto_parser *p, uint32_t seq)
 {
@@ -191,8 +196,20 @@ static int accept_sequence(struct rs_proto_parser *p, uint32_t seq)
 			return 0;
 		}
 		if (behind < RS_PROTO_SEQ_WINDOW) {
-			p->stats.out_of_order++;
-			return 0;
+			/* A device that restarted its count without a reconnect would be
+			 * refused for up to a whole window (8 s at 120 Hz); a run of
+			 * consecutive sequences behind is that restart, not stale frames. */
+			p->run_length =
+			    p->run_length && seq == p->run_sequence + 1 ? p->run_length + 1 : 1;
+			p->run_sequence = seq;
+			if (p->run_length < RS_PROTO_RESTART_RUN) {
+				p->stats.out_of_order++;
+				return 0;
+			}
+			p->stats.restarts++;
+			p->run_length = 0;
+			p->last_sequence = seq;
+			return 1;
 		}
 		if (ahead < 0x80000000u)
 			p->stats.lost_frames += ahead - 1;
@@ -201,6 +218,7 @@ static int accept_sequence(struct rs_proto_parser *p, uint32_t seq)
 	}
 	p->have_sequence = 1;
 	p->last_sequence = seq;
+	p->run_length = 0;
 	return 1;
 }
 

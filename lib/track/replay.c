@@ -4,10 +4,13 @@
  * like a noisy line. Files without the header are read as raw frame dumps.
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "raystream/rs_track.h"
 
@@ -15,10 +18,29 @@
 #define HEADER_SIZE 16
 #define RECORD_SIZE (8 + RS_PROTO_FRAME_SIZE)
 #define RAW_CHUNK 4096
+/* Recorded host times beyond this (about 3000 years) are not CLOCK_MONOTONIC readings. */
+#define MAX_TIME_S 1e11
+/* Longest single sleep of realtime pacing; keeps the timespec conversion in range. */
+#define MAX_SLEEP_S 1e6
+/* Bytes one read may examine without finding a frame (see replay_next()). */
+#define MAX_SCAN (1 << 20)
 
+static void sleep_s(double s)
+{
+	if (!(s > 0))
+		return;
+	if (s > MAX_SLEEP_S)
+		s = MAX_SLEEP_S;
+	struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
+	nanosleep(&ts, NULL);
+}
+
+/* The recording goes to a temporary file next to `path` and is renamed over it only when
+ * the recorder is finished without a write error, so a failed run never leaves a partial
+ * or half-overwritten file under the real name. */
 struct rs_track_recorder {
 	FILE *f;
-	char path[256];
+	char *path, *tmp;
 };
 
 static void put_le(uint8_t *p, uint64_t v, int n)
@@ -35,30 +57,64 @@ static uint64_t get_le(const uint8_t *p, int n)
 	return v;
 }
 
+static void recorder_free(struct rs_track_recorder *r)
+{
+	free(r->path);
+	free(r->tmp);
+	free(r);
+}
+
 enum rs_status rs_track_recorder_create(const char *path, struct rs_track_recorder **out,
                                         struct rs_error *err)
 {
 	RS_ASSERT(path && out);
 	*out = NULL;
+	if (!path[0])
+		return rs_error_set(err, RS_ERR_INVALID, "record: empty file name");
+	struct stat sb;
+	if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+		return rs_error_set(err, RS_ERR_IO, "record: cannot create %s: Is a directory",
+		                    path);
 	struct rs_track_recorder *r = calloc(1, sizeof *r);
-	if (!r)
+	size_t n = strlen(path);
+	if (r) {
+		r->path = malloc(n + 1);
+		r->tmp = malloc(n + sizeof ".tmp-XXXXXX");
+	}
+	if (!r || !r->path || !r->tmp) {
+		if (r)
+			recorder_free(r);
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "record: out of memory");
-	r->f = fopen(path, "wb");
-	if (!r->f) {
+	}
+	memcpy(r->path, path, n + 1);
+	memcpy(r->tmp, path, n);
+	memcpy(r->tmp + n, ".tmp-XXXXXX", sizeof ".tmp-XXXXXX");
+	int fd = mkstemp(r->tmp);
+	if (fd < 0) {
 		enum rs_status st = rs_error_set(err, RS_ERR_IO, "record: cannot create %s: %s",
 		                                 path, strerror(errno));
-		free(r);
+		recorder_free(r);
 		return st;
 	}
-	snprintf(r->path, sizeof r->path, "%s", path);
+	/* mkstemp makes the file private; a recording is an ordinary output file. */
+	(void)fchmod(fd, 0644);
+	r->f = fdopen(fd, "wb");
+	if (!r->f) {
+		close(fd);
+		unlink(r->tmp);
+		recorder_free(r);
+		return rs_error_set(err, RS_ERR_IO, "record: cannot create %s", path);
+	}
 	uint8_t h[HEADER_SIZE];
 	memcpy(h, MAGIC, 8);
 	put_le(h + 8, 1, 4);                    /* file format version */
 	put_le(h + 12, RS_PROTO_FRAME_SIZE, 4); /* record payload size */
 	if (fwrite(h, 1, sizeof h, r->f) != sizeof h) {
 		fclose(r->f);
-		free(r);
-		return rs_error_set(err, RS_ERR_IO, "record: cannot write %s", path);
+		unlink(r->tmp);
+		enum rs_status st = rs_error_set(err, RS_ERR_IO, "record: cannot write %s", path);
+		recorder_free(r);
+		return st;
 	}
 	*out = r;
 	return RS_OK;
@@ -86,9 +142,18 @@ enum rs_status rs_track_recorder_destroy(struct rs_track_recorder **rec, struct 
 		return RS_OK;
 	struct rs_track_recorder *r = *rec;
 	enum rs_status st = RS_OK;
-	if (fclose(r->f) != 0)
+	/* A write that failed earlier left ferror() set: the file is incomplete, drop it. */
+	int write_error = ferror(r->f);
+	if (fclose(r->f) != 0 || write_error) {
+		unlink(r->tmp);
 		st = rs_error_set(err, RS_ERR_IO, "record: cannot finish %s", r->path);
-	free(r);
+	} else if (rename(r->tmp, r->path) != 0) {
+		int e = errno;
+		unlink(r->tmp);
+		st = rs_error_set(err, RS_ERR_IO, "record: cannot finish %s: %s", r->path,
+		                  strerror(e));
+	}
+	recorder_free(r);
 	*rec = NULL;
 	return st;
 }
@@ -104,6 +169,7 @@ struct replay {
 	uint8_t chunk[RAW_CHUNK];
 	size_t pos, len;
 	double chunk_time;
+	int time_ok;      /* chunk_time is finite and sane */
 	int have_pending; /* realtime: a parsed sample waiting for its time */
 	struct rs_marker_sample pending;
 	int have_origin;
@@ -128,21 +194,31 @@ static enum rs_status replay_rewind(struct replay *r, struct rs_error *err)
 	return RS_OK;
 }
 
-/* Next sample in file order, ignoring pacing. */
+/* Next sample in file order, ignoring pacing. At most MAX_SCAN bytes are examined per
+ * call: an endless frameless input (replay:/dev/zero, a FIFO of noise) then reads as
+ * RS_TIMEOUT, so callers keep control (timeouts, signals) instead of spinning inside. */
 static enum rs_status replay_next(struct replay *r, struct rs_marker_sample *out,
                                   struct rs_error *err)
 {
+	size_t scanned = 0;
 	for (;;) {
 		const uint8_t *p = r->chunk + r->pos;
 		size_t n = r->len - r->pos;
 		int got = rs_proto_parser_feed(&r->parser, &p, &n, out);
 		r->pos = r->len - n;
 		if (got) {
-			out->host_time_s =
-			    r->raw ? (double)out->device_time_us * 1e-6 : r->chunk_time;
+			/* A damaged or hand-made file may hold a NaN/Inf/absurd host time: such a
+			 * record falls back to its device time, as a raw dump does, so no
+			 * non-finite time reaches the caller or the realtime pacing. */
+			out->host_time_s = r->raw || !r->time_ok
+			                       ? (double)out->device_time_us * 1e-6
+			                       : r->chunk_time;
 			return RS_OK;
 		}
 		r->pos = r->len = 0;
+		if (scanned >= MAX_SCAN)
+			return rs_error_set(err, RS_TIMEOUT, "replay: %s: no frame in %d bytes",
+			                    r->path, MAX_SCAN);
 		if (r->raw) {
 			r->len = fread(r->chunk, 1, sizeof r->chunk, r->f);
 		} else {
@@ -154,7 +230,9 @@ static enum rs_status replay_next(struct replay *r, struct rs_marker_sample *out
 				memcpy(r->chunk, rec + 8, RS_PROTO_FRAME_SIZE);
 				r->len = RS_PROTO_FRAME_SIZE;
 			}
+			r->time_ok = isfinite(r->chunk_time) && fabs(r->chunk_time) <= MAX_TIME_S;
 		}
+		scanned += r->len;
 		if (r->len == 0) {
 			if (ferror(r->f))
 				return rs_error_set(err, RS_ERR_IO, "replay: %s: read error",
@@ -185,13 +263,10 @@ static enum rs_status replay_read(void *impl, struct rs_marker_sample *out, int 
 	double wait = r->host_origin + (r->pending.host_time_s - r->rec_origin) - now;
 	if (wait > 0) {
 		if (timeout_ms >= 0 && wait > timeout_ms * 1e-3) {
-			double t = timeout_ms * 1e-3;
-			struct timespec ts = {(time_t)t, (long)((t - (double)(time_t)t) * 1e9)};
-			nanosleep(&ts, NULL);
+			sleep_s(timeout_ms * 1e-3);
 			return rs_error_set(err, RS_TIMEOUT, "replay: next sample not due yet");
 		}
-		struct timespec ts = {(time_t)wait, (long)((wait - (double)(time_t)wait) * 1e9)};
-		nanosleep(&ts, NULL);
+		sleep_s(wait);
 	}
 	*out = r->pending;
 	r->have_pending = 0;

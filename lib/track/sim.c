@@ -85,8 +85,11 @@ enum rs_status rs_sim_create(const struct rs_sim_desc *desc, struct rs_sim **out
 	*out_sim = NULL;
 	struct rs_sim_desc d;
 	rs_sim_desc_resolve(desc, &d);
-	if (bad_nonneg(d.rate_hz) || d.rate_hz > 1e6)
-		return rs_error_set(err, RS_ERR_INVALID, "sim: rate %g Hz out of range", d.rate_hz);
+	/* Below 0.01 Hz a single step would carry the motion (and the device clock) out of
+	 * the wire format's range; nothing real samples that slowly anyway. */
+	if (bad_nonneg(d.rate_hz) || d.rate_hz < 0.01 || d.rate_hz > 1e6)
+		return rs_error_set(err, RS_ERR_INVALID, "sim: rate %g Hz out of range [0.01, 1e6]",
+		                    d.rate_hz);
 	if (bad_nonneg(d.noise_sigma_m) || d.noise_sigma_m > 1.0)
 		return rs_error_set(err, RS_ERR_INVALID, "sim: noise %g m out of range",
 		                    d.noise_sigma_m);
@@ -96,6 +99,9 @@ enum rs_status rs_sim_create(const struct rs_sim_desc *desc, struct rs_sim **out
 	if (bad_nonneg(d.occlusion_s) || bad_nonneg(d.clock_jitter_s) || bad_nonneg(d.duration_s))
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "sim: occlusion_time, jitter and duration must be >= 0");
+	if (d.clock_jitter_s > 1.0)
+		return rs_error_set(err, RS_ERR_INVALID, "sim: jitter %g s out of range [0, 1]",
+		                    d.clock_jitter_s);
 	for (int a = 0; a < 3; a++)
 		if (!isfinite(d.start_position[a]))
 			return rs_error_set(err, RS_ERR_INVALID, "sim: start position not finite");
@@ -172,7 +178,10 @@ enum rs_status rs_sim_next(struct rs_sim *s, struct rs_marker_sample *out, struc
 	double jitter =
 	    s->desc.clock_jitter_s > 0 ? rng_gauss(&s->rng) * s->desc.clock_jitter_s : 0;
 	double dev_t = t + jitter;
-	uint64_t dev_us = dev_t > 0 ? (uint64_t)llround(dev_t * 1e6) : 0;
+	/* Clamped (at ~31700 years) so the conversion stays defined however long the run. */
+	uint64_t dev_us = dev_t <= 0     ? 0
+	                  : dev_t < 1e12 ? (uint64_t)llround(dev_t * 1e6)
+	                                 : (uint64_t)1e18;
 	if (s->k > 0 && dev_us <= s->last_device_us)
 		dev_us = s->last_device_us + 1;
 	s->last_device_us = dev_us;

@@ -24,6 +24,10 @@ struct sim_source {
 
 static void sleep_s(double s)
 {
+	if (!(s > 0))
+		return;
+	if (s > 1e6) /* keeps the timespec conversion in range */
+		s = 1e6;
 	struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
 	nanosleep(&ts, NULL);
 }

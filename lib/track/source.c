@@ -2,6 +2,7 @@
  * The generic tracker source (a function table plus bookkeeping) and the stream source
  * that turns any byte transport into samples through the protocol parser.
  */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -112,7 +113,7 @@ struct stream {
 static int remaining_ms(double deadline)
 {
 	double left = (deadline - rs_track_now_s()) * 1e3;
-	return left <= 0 ? 0 : (int)(left + 0.999);
+	return left <= 0 ? 0 : left >= INT_MAX - 1 ? INT_MAX : (int)(left + 0.999);
 }
 
 static enum rs_status stream_read(void *impl, struct rs_marker_sample *out, int timeout_ms,
@@ -139,9 +140,10 @@ static enum rs_status stream_read(void *impl, struct rs_marker_sample *out, int 
 		enum rs_status s =
 		    st->transport.read(st->impl, st->chunk, sizeof st->chunk, wait, &got_n, err);
 		st->pos = st->len = 0;
+		/* A transport may come back early with nothing (a tty read of 0 bytes after a
+		 * spurious wake-up): keep waiting until the caller's deadline, or for ever. */
 		if (s == RS_TIMEOUT)
-			return rs_error_set(err, RS_TIMEOUT, "track: no sample within %d ms",
-			                    timeout_ms);
+			continue;
 		if (s != RS_OK)
 			return s;
 		st->chunk_time = rs_track_now_s();

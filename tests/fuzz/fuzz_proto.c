@@ -41,6 +41,17 @@ static size_t build(const uint8_t *p, size_t n)
 				s.markers[m].position[m] = (op >> 2) * 1e-3;
 			}
 			CHECK(rs_proto_encode(&s, stream + len, NULL) == RS_OK);
+			if (op % 4 == 0 && (op & 0x80) && i + 4 <= n) {
+				/* A valid frame with a fuzz-chosen int32 coordinate (marker 0 x),
+				 * so the whole coordinate range reaches the re-encode check. */
+				memcpy(stream + len + 18, p + i, 4);
+				i += 4;
+				uint32_t crc =
+				    rs_proto_crc32(stream + len, RS_PROTO_FRAME_SIZE - 4);
+				for (int b = 0; b < 4; b++)
+					stream[len + RS_PROTO_FRAME_SIZE - 4 + b] =
+					    (uint8_t)(crc >> (8 * b));
+			}
 			if (op % 4 == 1 && i + 1 < n) {
 				stream[len + p[i] % RS_PROTO_FRAME_SIZE] ^= p[i + 1];
 				i += 2;
@@ -94,9 +105,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			for (int m = 0; m < RS_TRACK_MARKERS; m++)
 				for (int a = 0; a < 3; a++)
 					CHECK(isfinite(s.markers[m].position[a]) &&
-					      fabs(s.markers[m].position[a]) <=
-					          RS_PROTO_MAX_COORD_M);
-			/* Whatever was accepted must re-encode to a frame that parses the same. */
+					      fabs(s.markers[m].position[a]) <= 2147.483648);
+			/* Whatever was accepted must re-encode to a frame that parses the same
+			 * (docs/protocol.md: every accepted frame encodes again). */
 			uint8_t f[RS_PROTO_FRAME_SIZE];
 			CHECK(rs_proto_encode(&s, f, NULL) == RS_OK);
 			struct rs_proto_parser q;

@@ -2,6 +2,7 @@
  * several runs), and a Monte Carlo table of pose error versus marker noise, printed as
  * markdown. A benchmark, not a test: nothing here is asserted. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -238,30 +239,51 @@ static void usage(void)
 	                "  --trials  Monte Carlo trials per noise level (default 20000)\n");
 }
 
+/* A whole decimal number in [lo, hi], or 0 (strtol, unlike atol, reports overflow). */
+static int parse_count(const char *s, long lo, long hi, long *out)
+{
+	char *end = NULL;
+	errno = 0;
+	long v = strtol(s, &end, 10);
+	if (!s[0] || *end || errno || v < lo || v > hi)
+		return 0;
+	*out = v;
+	return 1;
+}
+
 int main(int argc, char **argv)
 {
-	long iters = 1000000, trials = 20000;
-	int runs = 7;
+	long iters = 1000000, trials = 20000, runs = 7;
 	for (int i = 1; i < argc; ++i) {
-		if (i + 1 < argc && strcmp(argv[i], "--iters") == 0)
-			iters = atol(argv[++i]);
-		else if (i + 1 < argc && strcmp(argv[i], "--runs") == 0)
-			runs = atoi(argv[++i]);
-		else if (i + 1 < argc && strcmp(argv[i], "--trials") == 0)
-			trials = atol(argv[++i]);
-		else {
+		const char *a = argv[i];
+		long *dst = !strcmp(a, "--iters")    ? &iters
+		            : !strcmp(a, "--runs")   ? &runs
+		            : !strcmp(a, "--trials") ? &trials
+		                                     : NULL;
+		if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
 			usage();
+			return 0;
+		}
+		if (!dst) {
+			fprintf(stderr,
+			        "raystream-posebench: error: unknown option: %s (try --help)\n", a);
 			return 2;
 		}
-	}
-	if (iters < 1 || runs < 1 || runs > 64 || trials < 1) {
-		usage();
-		return 2;
+		long hi = dst == &runs ? 64 : 1000000000L;
+		if (i + 1 >= argc || !parse_count(argv[i + 1], 1, hi, dst)) {
+			fprintf(
+			    stderr,
+			    "raystream-posebench: error: %s needs a whole number in [1, %ld]%s%s\n",
+			    a, hi, i + 1 < argc ? ", got " : "", i + 1 < argc ? argv[i + 1] : "");
+			return 2;
+		}
+		++i;
 	}
 	double solver_rate, filter_rate;
-	if (bench_solver(iters, runs, &solver_rate) || bench_filter(iters, runs, &filter_rate))
+	if (bench_solver(iters, (int)runs, &solver_rate) ||
+	    bench_filter(iters, (int)runs, &filter_rate))
 		return 1;
-	printf("### rs_pose throughput (median of %d runs x %ld updates, one thread)\n\n", runs,
+	printf("### rs_pose throughput (median of %ld runs x %ld updates, one thread)\n\n", runs,
 	       iters);
 	printf("| stage | poses/s | ns/pose |\n|---|---:|---:|\n");
 	printf("| solver (validate, gate, relabel check, Horn fit, calibration) | %.3g | %.0f |\n",

@@ -175,7 +175,10 @@ static void *writer_main(void *arg)
 		uint8_t frame[RS_PROTO_FRAME_SIZE];
 		s.device_time_us = (uint64_t)(rs_track_now_s() * 1e6);
 		rs_proto_encode(&s, frame, NULL);
-		if (rs_serial_pty_write(w->pty, frame, sizeof frame, NULL) != RS_OK) {
+		/* Bounded: if the reader gave up, a full line must not keep this thread (and
+		 * the pthread_join() waiting for it) blocked for ever. */
+		if (rs_serial_pty_write_timeout(w->pty, frame, sizeof frame, 3000, NULL, NULL) !=
+		    RS_OK) {
 			w->failed = 1;
 			break;
 		}

@@ -93,8 +93,10 @@ static int parse_args(int argc, char **argv, struct options *o)
 			exit(0);
 		} else if (!strcmp(a, "-n") || !strcmp(a, "--count")) {
 			NEED_VALUE();
-			if (!parse_double(v, 1, &d) || d != floor(d))
-				return die_usage("count must be a positive integer", v);
+			/* 1e18 keeps the conversion to long long defined. */
+			if (!parse_double(v, 1, &d) || d != floor(d) || d > 1e18)
+				return die_usage("count must be a positive integer (at most 1e18)",
+				                 v);
 			o->count = (long long)d;
 		} else if (!strcmp(a, "-d") || !strcmp(a, "--duration")) {
 			NEED_VALUE();
@@ -153,6 +155,13 @@ static int parse_args(int argc, char **argv, struct options *o)
 	}
 	if (!o->uri && !o->bench)
 		return die_usage("no source URI", NULL);
+	if (o->bench && o->uri)
+		return die_usage("--bench takes no source URI", o->uri);
+	/* --pty only plays the source into the pseudo-terminal: say so rather than silently
+	 * ignoring a recording or filter the user asked for. */
+	if (o->pty && (o->record || o->filter))
+		return die_usage("--pty cannot be combined with --record, --filter or --predict",
+		                 NULL);
 	return 0;
 }
 
@@ -252,7 +261,19 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 		if (st == RS_ERR_DISCONNECTED && o->reconnect) {
 			fprintf(stderr, TOOL ": %s; reconnecting\n",
 			        rs_track_source_last_error(src));
-			while (!stop_requested && rs_track_source_reopen(src) != RS_OK) {
+			enum rs_status rs;
+			/* --duration still ends the run while the device stays away. */
+			while (!stop_requested &&
+			       !(o->duration_s > 0 && rs_track_now_s() - start >= o->duration_s) &&
+			       (rs = rs_track_source_reopen(src)) != RS_OK) {
+				/* Absent or busy devices come back; a source that cannot be
+				 * reopened at all never will. */
+				if (rs == RS_ERR_UNSUPPORTED || rs == RS_ERR_INVALID ||
+				    rs == RS_ERR_PARSE || rs == RS_ERR_NO_MEMORY) {
+					fprintf(stderr, TOOL ": %s\n",
+					        rs_track_source_last_error(src));
+					goto out;
+				}
 				struct timespec ts = {0, 200000000}; /* 5 tries a second */
 				nanosleep(&ts, NULL);
 			}
@@ -314,7 +335,12 @@ int main(int argc, char **argv)
 	}
 	if (o.bench)
 		return track_bench(o.bench_samples, &layout);
+	/* Every way a run can be ended from outside finishes it cleanly (final counters, a
+	 * complete --record file): a closed output pipe (SIGPIPE) or terminal (SIGHUP)
+	 * included, instead of killing the tool with its recording unfinished. */
 	signal(SIGINT, on_signal);
 	signal(SIGTERM, on_signal);
+	signal(SIGHUP, on_signal);
+	signal(SIGPIPE, on_signal);
 	return run(&o, &layout);
 }

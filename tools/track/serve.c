@@ -32,14 +32,30 @@ int track_serve_pty(struct rs_track_source *src, long long count, double duratio
 		if (st == RS_END)
 			break;
 		uint8_t frame[RS_PROTO_FRAME_SIZE];
-		if (st != RS_OK || rs_proto_encode(&s, frame, &err) != RS_OK ||
-		    rs_serial_pty_write(pty, frame, sizeof frame, &err) != RS_OK) {
+		if (st != RS_OK || rs_proto_encode(&s, frame, &err) != RS_OK) {
 			fprintf(stderr, "raystream-track: %s\n",
 			        st != RS_OK ? rs_track_source_last_error(src) : err.message);
 			code = 1;
 			break;
 		}
-		n++;
+		/* While nobody reads the slave the line fills up: wait in short steps so a
+		 * signal or the duration still ends the run, and keep each frame whole. */
+		size_t done = 0;
+		enum rs_status ws = RS_TIMEOUT;
+		while (ws == RS_TIMEOUT && !*stop &&
+		       !(duration_s > 0 && rs_track_now_s() - start >= duration_s)) {
+			size_t k = 0;
+			ws = rs_serial_pty_write_timeout(pty, frame + done, sizeof frame - done,
+			                                 100, &k, &err);
+			done += k;
+		}
+		if (ws != RS_OK && ws != RS_TIMEOUT) {
+			fprintf(stderr, "raystream-track: %s\n", err.message);
+			code = 1;
+			break;
+		}
+		if (ws == RS_OK)
+			n++;
 	}
 	rs_serial_pty_destroy(&pty);
 	return code;

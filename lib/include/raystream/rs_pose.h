@@ -53,7 +53,8 @@ enum rs_status rs_pose_layout_load(const char *path, struct rs_pose_layout *out_
                                    struct rs_error *err);
 
 /**
- * Reject non-scalene or degenerate layouts: all coordinates finite, smallest triangle height
+ * Reject non-scalene or degenerate layouts: all coordinates finite (and, like the
+ * calibration offset, within RS_POSE_MAX_COORD_M), smallest triangle height
  * > RS_POSE_LAYOUT_MIN_HEIGHT_M, every two sides differ by > RS_POSE_LAYOUT_MIN_SIDE_DIFF_M
  * (so swapped marker ids can be told apart by side lengths), unit (or all-zero = identity)
  * calibration quaternion.
@@ -204,9 +205,9 @@ void rs_pose_filter_destroy(struct rs_pose_filter **filter);
  * canonical (w >= 0). A sample whose time is not after the previous one (dt <= 0) leaves the
  * state unchanged and returns it; a gap > reset_gap_s restarts the filter at the input.
  * @param out  may alias `in`
- * @return RS_OK; RS_ERR_INVALID (NULL); RS_ERR_BAD_DATA (non-finite input or zero
- *         quaternion: state unchanged, *out = current state, or the identity at time 0 if
- *         the filter is empty).
+ * @return RS_OK; RS_ERR_INVALID (NULL); RS_ERR_BAD_DATA (non-finite input, |position|
+ *         > RS_POSE_MAX_COORD_M or zero quaternion: state unchanged, *out = current state,
+ *         or the identity at time 0 if the filter is empty).
  */
 enum rs_status rs_pose_filter_update(struct rs_pose_filter *filter, const struct rs_pose *in,
                                      struct rs_pose *out);

@@ -27,7 +27,12 @@ extern "C" {
 /** Sequence numbers this far behind (or equal to) the last accepted one are rejected;
  *  a jump further back is taken as a device restart. */
 #define RS_PROTO_SEQ_WINDOW 1024u
-/** Largest |coordinate| a frame can carry: int32 micrometres. */
+/** A run of this many valid frames, each one after the previous but all behind the last
+ *  accepted one, is a device that restarted its count without a reconnect (an MCU reset
+ *  behind a USB-serial adapter): the last of them is accepted as a restart. */
+#define RS_PROTO_RESTART_RUN 4u
+/** |coordinate| up to this always fits a frame (int32 micrometres; the exact range is
+ *  -2147.483648 .. +2147.483647 m, and every coordinate the parser returns lies in it). */
 #define RS_PROTO_MAX_COORD_M 2147.0
 
 /** Fault and traffic counters; every rejected byte or frame lands in exactly one. */
@@ -50,6 +55,8 @@ struct rs_proto_parser {
 	size_t len;
 	uint32_t last_sequence;
 	int have_sequence;
+	uint32_t run_sequence; /* last frame rejected as out of order */
+	uint32_t run_length;   /* consecutive sequences among the rejected ones */
 	struct rs_proto_stats stats;
 };
 
@@ -79,7 +86,8 @@ const struct rs_proto_stats *rs_proto_parser_stats(const struct rs_proto_parser 
  * Encode `sample` into exactly RS_PROTO_FRAME_SIZE bytes at `out_frame` (caller-owned).
  * Positions are rounded to micrometres; markers beyond sample->marker_count are sent with
  * flags 0 (not valid). Marker ids must fit a byte. Returns RS_ERR_BAD_DATA (and writes
- * nothing) for NaN/Inf or |coordinate| > RS_PROTO_MAX_COORD_M of a marker, or id > 255.
+ * nothing) for NaN/Inf or a coordinate outside int32 micrometres (see
+ * RS_PROTO_MAX_COORD_M) of a marker, or id > 255. Every sample the parser returns encodes.
  */
 enum rs_status rs_proto_encode(const struct rs_marker_sample *sample, uint8_t *out_frame,
                                struct rs_error *err);

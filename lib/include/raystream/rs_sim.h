@@ -29,13 +29,14 @@ extern "C" {
 /** Simulation options; zero = defaults (rs_sim_desc_resolve()). */
 struct rs_sim_desc {
 	uint64_t seed;         /**< generator seed; 0 means 1 */
-	double rate_hz;        /**< samples per second, default 120 */
+	double rate_hz;        /**< samples per second, default 120, range [0.01, 1e6] */
 	double noise_sigma_m;  /**< per-axis Gaussian marker noise, default 0 */
 	double dropout_prob;   /**< per marker and sample: reported not valid, default 0 */
 	double occlusion_prob; /**< per sample: one marker starts an occlusion, default 0 */
 	double occlusion_s;    /**< length of an occlusion, default 0.3 s */
 	double swap_prob;      /**< per sample: two marker ids exchanged, default 0 */
-	double clock_jitter_s; /**< sigma of device timestamp jitter, default 0 (kept monotonic) */
+	double clock_jitter_s; /**< sigma of device timestamp jitter, default 0, at most 1 s
+	                            (kept monotonic) */
 	double duration_s; /**< simulated time after which rs_sim_next() says RS_END; 0: endless */
 	uint32_t first_sequence; /**< sequence number of the first sample, default 0 */
 	/** Motion script: comma-separated `name[:seconds]`, names still, walk, turn, shake.

@@ -129,15 +129,25 @@ enum rs_status rs_track_replay_open(const char *path, const struct rs_track_repl
 /** Writes samples (as protocol frames with their host times) to a replay file. */
 struct rs_track_recorder;
 
-/** Create/truncate `path` and write the file header. Caller destroys the recorder. */
+/**
+ * Start a recording for `path`: samples go to a temporary file `path.tmp-XXXXXX` next to
+ * it, which rs_track_recorder_destroy() renames to `path` (so a failed or interrupted run
+ * never leaves a partial file under that name). RS_ERR_IO when it cannot be created (a
+ * directory, no such folder, no permission). Caller destroys the recorder.
+ */
 enum rs_status rs_track_recorder_create(const char *path, struct rs_track_recorder **out,
                                         struct rs_error *err);
 
-/** Append one sample. RS_ERR_BAD_DATA for unencodable samples (nothing written). */
+/** Append one sample. RS_ERR_BAD_DATA for unencodable samples (nothing written), RS_ERR_IO
+ *  when the write fails (the recording is then dropped at destroy). */
 enum rs_status rs_track_recorder_write(struct rs_track_recorder *rec,
                                        const struct rs_marker_sample *sample, struct rs_error *err);
 
-/** Flush and close; reports a failed flush. `*rec` NULL allowed; set to NULL. */
+/**
+ * Finish: flush, close and rename the file to its name. After any failed write or flush
+ * the temporary file is removed instead, an existing file of that name is left as it
+ * was, and RS_ERR_IO is returned. `*rec` NULL allowed; set to NULL.
+ */
 enum rs_status rs_track_recorder_destroy(struct rs_track_recorder **rec, struct rs_error *err);
 
 /* ---- Simulator source ------------------------------------------------------------------ */
