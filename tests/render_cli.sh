@@ -52,6 +52,15 @@ expect_fail "zero triangles" 1 "triangle|face|empty|mesh" --scene empty.obj
 expect_fail "truncated ply" 1 "short.ply" --scene short.ply
 expect_fail "too many lights" 1 "lights" --scene tri.obj --lights 9
 expect_fail "unwritable output" 1 "nodir" --scene box --size 8x8 --out nodir/x.png
+# The PNG and PFM are written before the stats: a failing stats file must take them back.
+expect_fail "unwritable stats removes the image" 1 "nodir" --scene box --size 8x8 --stats nodir/x.json
+# Renaming over a FIFO or device replaced the node itself (--out /dev/null as root).
+mkfifo fifo.json
+expect_fail "stats onto a fifo" 1 "fifo.json.*not a regular file" --scene box --size 8x8 --stats fifo.json
+if [ -p fifo.json ]; then ok "fifo kept"; else bad "fifo replaced"; fi
+# A 200-byte PLY declaring 3e8 faces made assimp reserve and touch over 8 GB.
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 300000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >lie.ply
+expect_fail "ply header lying about its size" 1 "lie.ply.*face" --scene lie.ply
 
 # A good run: PNG, PFM and a stats file with every documented key.
 rm -f box.png box.json box.pfm
@@ -75,6 +84,16 @@ if "$bin" --scene tri.obj --size 16x16 --out tri.png >stdout.txt 2>stderr.txt &&
   ok "mesh file renders"
 else
   bad "mesh file render failed: $(cat stderr.txt)"
+fi
+
+# A view file may list no lights; without --lights the scene renders (ambient only).
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >dark.obj
+printf '{"camera": {"eye": [0.3, 0.3, 2], "target": [0.3, 0.3, 0]}, "lights": []}' >dark.json
+if "$bin" --scene dark.obj --size 8x8 --out dark.png --stats dark.json.out >stdout.txt 2>stderr.txt &&
+    [ -s dark.png ] && grep -q '"lights":[[:space:]]*0' dark.json.out; then
+  ok "scene without lights renders"
+else
+  bad "scene without lights: $(cat stderr.txt)"
 fi
 
 echo "$passed passed, $failed failed"

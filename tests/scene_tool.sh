@@ -56,5 +56,14 @@ expect_fail "no output asked" 2 "--out-obj" --scene box
 printf 'v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n' >nan.obj
 expect_fail "nan vertex" 1 "non-finite" --scene nan.obj --info
 
+expect_fail "cow0 is no scene" 1 "cow0.*neither box, cowN" --scene cow0 --info
+# rename() over a FIFO or device replaced the node itself (--out-obj /dev/null as root).
+mkfifo fifo.obj
+expect_fail "export onto a fifo" 1 "fifo\.obj: not a regular file" --scene box --out-obj fifo.obj
+if [ -p fifo.obj ] && [ ! -e fifo.mtl ]; then ok "fifo kept, no mtl"; else bad "fifo replaced or mtl left"; fi
+# An unwritable view file leaves no OBJ/MTL half set behind.
+expect_fail "unwritable view" 1 "nodir/v\.json" --scene box --out-obj half.obj --out-view nodir/v.json
+if [ -e half.obj ] || [ -e half.mtl ]; then bad "unwritable view left half.obj/mtl"; else ok "no half set"; fi
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,4 +1,5 @@
 /* rs_image: PNG and PFM round trips, atomic writes, accuracy figures. */
+#define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -7,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <cmocka.h>
 
@@ -90,6 +92,24 @@ static void unwritable_path_fails_cleanly(void **state)
 	assert_non_null(strstr(err.message, "/nonexistent-dir/x.png"));
 }
 
+/* Write-then-rename over a device or FIFO replaced the node itself: `--out /dev/null` run
+ * as root turned /dev/null into a regular file. Such targets are refused and kept. */
+static void fifo_target_is_refused_and_kept(void **state)
+{
+	float rgb[3] = {1, 1, 1};
+	char path[300];
+	struct stat st;
+	struct rs_error err = {0};
+	path_in_dir(path, sizeof path, "fifo.png");
+	assert_int_equal(mkfifo(path, 0600), 0);
+	assert_int_equal(rs_image_write_png(path, rgb, 1, 1, &err), RS_ERR_IO);
+	assert_non_null(strstr(err.message, "not a regular file"));
+	assert_int_equal(rs_image_write_pfm(path, rgb, 1, 1, 1, NULL), RS_ERR_IO);
+	assert_int_equal(stat(path, &st), 0);
+	assert_true(S_ISFIFO(st.st_mode));
+	unlink(path);
+}
+
 static void reading_garbage_is_a_parse_error(void **state)
 {
 	char path[300];
@@ -129,6 +149,7 @@ int main(void)
 		cmocka_unit_test(pfm_round_trip_keeps_rows_and_infinity),
 		cmocka_unit_test(nan_is_refused_without_leaving_a_file),
 		cmocka_unit_test(unwritable_path_fails_cleanly),
+		cmocka_unit_test(fifo_target_is_refused_and_kept),
 		cmocka_unit_test(reading_garbage_is_a_parse_error),
 		cmocka_unit_test(compare_reports_psnr_max_and_bad_share),
 	};

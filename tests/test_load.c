@@ -391,6 +391,71 @@ static void ply_without_faces_is_no_triangles(void **state)
 	expect_rejected("p.ply", text, RS_ERR_BAD_DATA, "no triangles");
 }
 
+/* assimp reserves memory for every declared element before reading one: a 200-byte file
+ * declaring 3*10^8 faces made it take over 8 GB. Such headers are refused up front. */
+static void ply_face_count_beyond_file_size_is_refused(void **state)
+{
+	char text[512];
+
+	snprintf(text, sizeof(text),
+	         "%selement face 300000000\nproperty list uchar int vertex_indices\n"
+	         "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+	         ply_head);
+	expect_rejected("lie.ply", text, RS_ERR_PARSE, "'face'");
+}
+
+static void binary_ply_vertex_count_beyond_file_size_is_refused(void **state)
+{
+	/* 4e9 vertices of 12 bytes each, and no payload at all. */
+	expect_rejected("lie_bin.ply",
+	                "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+	                "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+	                "property list uchar int vertex_indices\nend_header\n",
+	                RS_ERR_PARSE, "'vertex'");
+}
+
+/* The guard must not refuse a file that holds exactly what it declares, even without a
+ * final newline (ASCII: the smallest element is one character and a separator per
+ * property, the last line's separator may be missing). */
+static void ply_with_exact_counts_and_no_final_newline_loads(void **state)
+{
+	char text[512];
+	struct rs_scene *s;
+	struct rs_error err;
+
+	snprintf(text, sizeof(text),
+	         "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+	         "0 0 0\n1 0 0\n0 1 0\n3 0 1 2",
+	         ply_head);
+	assert_int_equal(load_text(NULL, "exact.ply", text, &s, &err), RS_OK);
+	assert_int_equal(rs_scene_triangle_count(s), 1);
+	rs_scene_destroy(&s);
+}
+
+/* assimp's PLY reader never returned from a header whose end_header line is misspelt. */
+static void ply_without_end_header_is_refused(void **state)
+{
+	char text[512];
+
+	snprintf(text, sizeof(text),
+	         "%selement face 1\nproperty list uchar int vertex_indices\nen4_header\n"
+	         "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+	         ply_head);
+	expect_rejected("noend.ply", text, RS_ERR_PARSE, "end_header");
+}
+
+/* A face list of length 0 made assimp's Triangulate step abort() on an assertion. */
+static void ply_empty_face_is_refused(void **state)
+{
+	char text[512];
+
+	snprintf(text, sizeof(text),
+	         "%selement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+	         "0 0 0\n1 0 0\n0 1 0\n0\n0\n",
+	         ply_head);
+	expect_rejected("emptyface.ply", text, RS_ERR_PARSE, "no vertices");
+}
+
 static void too_large_file_is_refused(void **state)
 {
 	struct rs_load_desc desc = {.max_file_bytes = 16};
@@ -438,6 +503,11 @@ int main(void)
 	    cmocka_unit_test(vertices_only_is_no_triangles),
 	    cmocka_unit_test(lines_only_is_no_triangles),
 	    cmocka_unit_test(ply_without_faces_is_no_triangles),
+	    cmocka_unit_test(ply_face_count_beyond_file_size_is_refused),
+	    cmocka_unit_test(binary_ply_vertex_count_beyond_file_size_is_refused),
+	    cmocka_unit_test(ply_with_exact_counts_and_no_final_newline_loads),
+	    cmocka_unit_test(ply_without_end_header_is_refused),
+	    cmocka_unit_test(ply_empty_face_is_refused),
 	    cmocka_unit_test(too_large_file_is_refused),
 	    cmocka_unit_test(bad_second_object_adds_nothing),
 	};

@@ -127,6 +127,32 @@ static void bad_camera_is_rejected(void **state)
 	rs_scene_destroy(&scene);
 }
 
+/* eye 1e308 and target -1e308 are finite but their difference is not: the up/parallel
+ * checks then compared NaN and let the camera through. */
+static void camera_with_infinite_view_vector_is_rejected(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	struct rs_camera cam = {.eye = {1e308, 0, 5}, .target = {-1e308, 0, 0}, .up = {0, 1, 0}};
+	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(rs_scene_last_error(scene), "too large"));
+	rs_scene_destroy(&scene);
+}
+
+/* The bounds of an empty scene (lo = +inf, hi = -inf) must not put NaN into the camera. */
+static void camera_frame_of_empty_bounds_is_finite(void **state)
+{
+	struct rs_scene *scene = NULL;
+	assert_int_equal(rs_scene_create(NULL, &scene, NULL), RS_OK);
+	struct rs_bounds empty;
+	rs_scene_bounds(scene, &empty);
+	struct rs_camera cam = {0};
+	rs_camera_frame(&empty, 30.0, &cam);
+	for (int a = 0; a < 3; ++a)
+		assert_true(isfinite(cam.eye[a]) && isfinite(cam.target[a]));
+	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_OK);
+	rs_scene_destroy(&scene);
+}
+
 /* The view cone of half-angle fov/2 touches the bounding sphere: distance r / sin(fov/2). */
 static void camera_frame_touches_bounding_sphere(void **state)
 {
@@ -160,6 +186,8 @@ int main(void)
 		cmocka_unit_test(zero_triangles_and_unknown_material_are_rejected),
 		cmocka_unit_test(degenerate_triangle_gets_finite_normals),
 		cmocka_unit_test(bad_camera_is_rejected),
+		cmocka_unit_test(camera_with_infinite_view_vector_is_rejected),
+		cmocka_unit_test(camera_frame_of_empty_bounds_is_finite),
 		cmocka_unit_test(camera_frame_touches_bounding_sphere),
 		cmocka_unit_test(environment_defaults_follow_bounds),
 	};

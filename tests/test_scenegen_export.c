@@ -9,6 +9,7 @@
 #include <math.h>
 #include <string.h>
 #include <cmocka.h>
+#include <sys/stat.h>
 
 #include "raystream/rs_load.h"
 #include "raystream/rs_scene.h"
@@ -164,6 +165,69 @@ static void failed_export_leaves_nothing(void **state)
 	rs_scene_destroy(&s);
 }
 
+/* The OBJ and MTL used to be renamed into place before the view file was opened: an
+ * unwritable view path left a half set behind. */
+static void unwritable_view_leaves_no_obj_or_mtl(void **state)
+{
+	struct fx fx;
+	struct rs_scene *s = build(RS_SCENEGEN_BOX, 0);
+	struct rs_error err;
+	char obj[1024], view[1024];
+
+	fx_init(&fx);
+	snprintf(obj, sizeof(obj), "%s", fx_path(&fx, "scene.obj"));
+	snprintf(view, sizeof(view), "%s", fx_path(&fx, "missing/scene.json"));
+	assert_int_equal(rs_scene_export(s, obj, view, &err), RS_ERR_IO);
+	assert_one_line(&err);
+	assert_non_null(strstr(err.message, "scene.json"));
+	assert_int_equal(fx_count(&fx), 0);
+	fx_cleanup(&fx);
+	rs_scene_destroy(&s);
+}
+
+/* rename() over a FIFO or device replaces the node (as root: /dev/null itself). */
+static void fifo_target_is_refused_and_kept(void **state)
+{
+	struct fx fx;
+	struct rs_scene *s = build(RS_SCENEGEN_BOX, 0);
+	struct rs_error err;
+	struct stat st;
+	char obj[1024];
+
+	fx_init(&fx);
+	snprintf(obj, sizeof(obj), "%s", fx_path(&fx, "scene.obj"));
+	assert_int_equal(mkfifo(obj, 0600), 0);
+	assert_int_equal(rs_scene_export(s, obj, NULL, &err), RS_ERR_IO);
+	assert_one_line(&err);
+	assert_non_null(strstr(err.message, "not a regular file"));
+	assert_int_equal(stat(obj, &st), 0);
+	assert_true(S_ISFIFO(st.st_mode));
+	assert_int_equal(fx_count(&fx), 1); /* the FIFO only: no MTL, no temporaries */
+	fx_cleanup(&fx);
+	rs_scene_destroy(&s);
+}
+
+/* "--out-obj scene.json" made the view file overwrite the OBJ (same sidecar name) and
+ * still reported success. */
+static void clashing_names_are_refused(void **state)
+{
+	struct fx fx;
+	struct rs_scene *s = build(RS_SCENEGEN_BOX, 0);
+	struct rs_error err;
+	char obj[1024];
+
+	fx_init(&fx);
+	snprintf(obj, sizeof(obj), "%s", fx_path(&fx, "scene.json"));
+	assert_int_equal(rs_scene_export(s, obj, obj, &err), RS_ERR_INVALID);
+	assert_one_line(&err);
+	assert_non_null(strstr(err.message, "distinct"));
+	snprintf(obj, sizeof(obj), "%s", fx_path(&fx, "scene.mtl"));
+	assert_int_equal(rs_scene_export(s, obj, NULL, &err), RS_ERR_INVALID);
+	assert_int_equal(fx_count(&fx), 0);
+	fx_cleanup(&fx);
+	rs_scene_destroy(&s);
+}
+
 /* An existing file is replaced as a whole (rename), not overwritten in place. */
 static void export_replaces_existing_files(void **state)
 {
@@ -208,6 +272,9 @@ int main(void)
 	    cmocka_unit_test(box_round_trips),
 	    cmocka_unit_test(unusual_materials_round_trip),
 	    cmocka_unit_test(failed_export_leaves_nothing),
+	    cmocka_unit_test(unwritable_view_leaves_no_obj_or_mtl),
+	    cmocka_unit_test(fifo_target_is_refused_and_kept),
+	    cmocka_unit_test(clashing_names_are_refused),
 	    cmocka_unit_test(export_replaces_existing_files),
 	    cmocka_unit_test(empty_scene_is_refused),
 	};

@@ -13,6 +13,11 @@ enum rs_status rs_atomic_open(const char *path, char *tmp_path, size_t tmp_size,
 	*out = NULL;
 	if (!path || !*path)
 		return rs_error_set(err, RS_ERR_INVALID, "no output path given");
+	/* Renaming over a device or FIFO (say --out /dev/null, run as root) would replace the
+	 * node itself with a regular file; only regular files (or nothing) are replaced. */
+	struct stat st;
+	if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+		return rs_error_set(err, RS_ERR_IO, "cannot write %s: not a regular file", path);
 	int n = snprintf(tmp_path, tmp_size, "%s.tmp-XXXXXX", path);
 	if (n < 0 || (size_t)n >= tmp_size)
 		return rs_error_set(err, RS_ERR_INVALID, "output path is too long: %s", path);

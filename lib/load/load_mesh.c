@@ -111,6 +111,12 @@ static enum rs_status check_mesh(const char *path, unsigned index, const struct 
 	for (unsigned f = 0; f < mesh->mNumFaces; f++) {
 		const struct aiFace *face = &mesh->mFaces[f];
 
+		/* An empty face (a PLY list of length 0, or a misread binary body) makes the
+		 * mesh claim polygons it does not have, and assimp's Triangulate step then
+		 * aborts the process on an assertion. */
+		if (face->mNumIndices == 0)
+			return rs_error_set(err, RS_ERR_PARSE, "%s: mesh %u face %u has no vertices",
+			                    path, index, f);
 		for (unsigned k = 0; k < face->mNumIndices; k++)
 			if (face->mIndices[k] >= mesh->mNumVertices)
 				return rs_error_set(err, RS_ERR_BAD_DATA,
@@ -262,14 +268,16 @@ enum rs_status rs_load_mesh_file(const struct rs_load_desc *desc, const char *pa
 	static const struct rs_load_desc defaults;
 	const struct aiScene *ai;
 	enum rs_status st;
-	size_t total = 0;
+	size_t total = 0, file_size = 0;
 	int use_normals = 1;
 
 	if (desc == NULL)
 		desc = &defaults;
 	if (scene == NULL)
 		return rs_error_set(err, RS_ERR_INVALID, "no scene given");
-	st = rs_load_check_file(path, desc->max_file_bytes, NULL, err);
+	st = rs_load_check_file(path, desc->max_file_bytes, &file_size, err);
+	if (st == RS_OK)
+		st = rs_load_check_ply_header(path, file_size, err);
 	if (st != RS_OK)
 		return st;
 	ai = aiImportFile(path, 0);

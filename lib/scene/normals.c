@@ -28,20 +28,13 @@ static double corner_angle(const double *e1, const double *e2)
 	return acos(c < -1.0 ? -1.0 : c > 1.0 ? 1.0 : c);
 }
 
-void rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
-				     size_t triangle_count, size_t first_vertex,
-				     size_t vertex_count, float *out)
+int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
+				    size_t triangle_count, size_t first_vertex,
+				    size_t vertex_count, float *out)
 {
 	double *acc = calloc(vertex_count * 3, sizeof *acc);
-	if (!acc) {
-		/* Without scratch memory fall back to a defined normal rather than garbage. */
-		for (size_t i = 0; i < vertex_count; ++i) {
-			out[i * 3 + 0] = 0.0f;
-			out[i * 3 + 1] = 1.0f;
-			out[i * 3 + 2] = 0.0f;
-		}
-		return;
-	}
+	if (!acc)
+		return 0;
 	for (size_t t = 0; t < triangle_count; ++t) {
 		const uint32_t *tri = indices + t * 3;
 		const float *p[3] = {positions + (size_t)tri[0] * 3, positions + (size_t)tri[1] * 3,
@@ -71,6 +64,7 @@ void rs_scene_angle_weighted_normals(const float *positions, const uint32_t *ind
 			out[i * 3 + a] = l > 0.0 ? (float)(acc[i * 3 + a] / l) : (a == 1 ? 1.0f : 0.0f);
 	}
 	free(acc);
+	return 1;
 }
 
 void rs_scene_normalize_normals(float *normals, size_t count)

@@ -35,6 +35,12 @@ enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camer
 			  camera->target[2] - camera->eye[2]};
 	double side[3];
 	cross3(view, camera->up, side);
+	/* Finite ends can still be infinitely far apart (eye 1e308, target -1e308); then the
+	 * checks below compare NaN and would pass. */
+	if (!finite_n(view, 3) || !isfinite(dot3(view, view)) ||
+	    !isfinite(dot3(camera->up, camera->up)))
+		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+				    "camera eye, target or up is too large");
 	if (dot3(view, view) == 0.0)
 		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "camera eye equals its target");
 	if (dot3(side, side) <= 1e-12 * dot3(view, view) * dot3(camera->up, camera->up) ||
@@ -167,10 +173,16 @@ void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg,
 	double half_fov = resolved.fov_y_deg * 0.5 * M_PI / 180.0;
 	double d2 = 0.0, center[3];
 	for (int a = 0; a < 3; ++a) {
-		center[a] = 0.5 * (focus->lo[a] + focus->hi[a]);
-		double e = focus->hi[a] - focus->lo[a];
+		/* An empty or non-finite box (an empty scene's bounds) frames the origin rather
+		 * than writing NaN into the camera. */
+		int ok = isfinite(focus->lo[a]) && isfinite(focus->hi[a]) &&
+			 focus->lo[a] <= focus->hi[a];
+		center[a] = ok ? 0.5 * (focus->lo[a] + focus->hi[a]) : 0.0;
+		double e = ok ? focus->hi[a] - focus->lo[a] : 0.0;
 		d2 += e * e;
 	}
+	if (!isfinite(d2))
+		d2 = 0.0;
 	double r = 0.5 * sqrt(d2);
 	double dist = r > 0.0 ? r / sin(half_fov) : 1.0;
 	double el = elevation_deg * M_PI / 180.0;

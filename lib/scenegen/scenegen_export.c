@@ -26,9 +26,15 @@ static enum rs_status out_open(struct out_file *o, const char *path, struct rs_e
 {
 	size_t len = strlen(path) + sizeof(".tmpXXXXXX");
 	int fd;
+	struct stat sb;
 
 	o->path = path;
 	o->f = NULL;
+	o->tmp = NULL;
+	/* rename() over a device or FIFO (say /dev/null, run as root) would replace the node
+	 * itself; only regular files (or nothing) are replaced. */
+	if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+		return rs_error_set(err, RS_ERR_IO, "%s: not a regular file", path);
 	o->tmp = malloc(len);
 	if (o->tmp == NULL)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "%s: out of memory", path);
@@ -54,23 +60,38 @@ static enum rs_status out_open(struct out_file *o, const char *path, struct rs_e
 	return RS_OK;
 }
 
-/* Finish (ok != 0: flush, sync, rename into place) or abandon the file; frees o. */
-static enum rs_status out_close(struct out_file *o, int ok, struct rs_error *err)
+/* Flush, sync and close the temporary file (ok != 0) or close and remove it; the rename
+ * into place is out_commit()'s, once every file of the export has been written. */
+static enum rs_status out_finish(struct out_file *o, int ok, struct rs_error *err)
 {
 	enum rs_status st = RS_OK;
-	int e = 0;
 
 	if (o->f == NULL)
 		return RS_OK;
 	if (ok && (fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0)) {
-		e = errno;
 		ok = 0;
-		st = rs_error_set(err, RS_ERR_IO, "%s: write failed: %s", o->path, strerror(e));
+		st = rs_error_set(err, RS_ERR_IO, "%s: write failed: %s", o->path, strerror(errno));
 	}
 	if (fclose(o->f) != 0 && ok) {
 		ok = 0;
 		st = rs_error_set(err, RS_ERR_IO, "%s: write failed: %s", o->path, strerror(errno));
 	}
+	o->f = NULL;
+	if (!ok) {
+		unlink(o->tmp);
+		free(o->tmp);
+		o->tmp = NULL;
+	}
+	return st;
+}
+
+/* Rename a finished file into place (ok != 0) or remove it; frees o. */
+static enum rs_status out_commit(struct out_file *o, int ok, struct rs_error *err)
+{
+	enum rs_status st = RS_OK;
+
+	if (o->tmp == NULL)
+		return RS_OK;
 	if (ok && rename(o->tmp, o->path) != 0) {
 		ok = 0;
 		st = rs_error_set(err, RS_ERR_IO, "%s: cannot replace: %s", o->path,
@@ -80,7 +101,6 @@ static enum rs_status out_close(struct out_file *o, int ok, struct rs_error *err
 		unlink(o->tmp);
 	free(o->tmp);
 	o->tmp = NULL;
-	o->f = NULL;
 	return st;
 }
 
@@ -161,7 +181,7 @@ static char *mtl_path_for(const char *obj_path, const char **out_base)
 enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_path,
                                const char *view_path, struct rs_error *err)
 {
-	struct out_file o;
+	struct out_file o[3] = {{NULL, NULL, NULL}, {NULL, NULL, NULL}, {NULL, NULL, NULL}};
 	const char *mtl_base = NULL;
 	char *mtl_path, *view = NULL;
 	enum rs_status st;
@@ -177,19 +197,37 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 		rs_load_free(view);
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "export: out of memory");
 	}
-	st = out_open(&o, mtl_path, err);
-	if (st == RS_OK) {
-		write_mtl(o.f, scene);
-		st = out_close(&o, 1, err);
+	/* "scene.mtl" as the OBJ, or the OBJ's own name as the view file, would have one file
+	 * silently replace another. */
+	if (strcmp(mtl_path, obj_path) == 0 ||
+	    (view != NULL && (strcmp(view_path, obj_path) == 0 || strcmp(view_path, mtl_path) == 0))) {
+		rs_load_free(view);
+		free(mtl_path);
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "export: %s: the OBJ, MTL and view files need distinct names",
+		                    obj_path);
 	}
-	if (st == RS_OK && (st = out_open(&o, obj_path, err)) == RS_OK) {
-		write_obj(o.f, scene, mtl_base);
-		st = out_close(&o, 1, err);
+	/* All files are written to temporaries first and renamed only when every one is
+	 * complete, so a failure (an unwritable view path, say) leaves no part of the set. */
+	const char *paths[3] = {mtl_path, obj_path, view != NULL ? view_path : NULL};
+	st = RS_OK;
+	for (int i = 0; i < 3 && st == RS_OK; i++) {
+		if (paths[i] == NULL)
+			continue;
+		st = out_open(&o[i], paths[i], err);
+		if (st != RS_OK)
+			break;
+		if (i == 0)
+			write_mtl(o[i].f, scene);
+		else if (i == 1)
+			write_obj(o[i].f, scene, mtl_base);
+		else if (fputs(view, o[i].f) >= 0)
+			fputc('\n', o[i].f);
+		st = out_finish(&o[i], 1, err);
 	}
-	if (st == RS_OK && view != NULL && (st = out_open(&o, view_path, err)) == RS_OK) {
-		fputs(view, o.f);
-		fputc('\n', o.f);
-		st = out_close(&o, 1, err);
+	for (int i = 0; i < 3; i++) {
+		enum rs_status c = out_commit(&o[i], st == RS_OK, err);
+		st = st == RS_OK ? c : st;
 	}
 	rs_load_free(view);
 	free(mtl_path);

@@ -148,8 +148,21 @@ static int parse(int argc, char **argv, struct options *o)
 			return 2;
 		}
 	}
-	if (!o->threads)
-		o->threads = (uint32_t)sysconf(_SC_NPROCESSORS_ONLN);
+	if (o->only) {
+		size_t s = 0;
+		while (s < sizeof paper / sizeof paper[0] && strcmp(o->only, paper[s].scene) != 0)
+			++s;
+		/* An unknown name would otherwise print an empty table and exit 0. */
+		if (s == sizeof paper / sizeof paper[0]) {
+			fprintf(stderr, "raystream-bench: unknown scene '%s' (box, cow1, cow2, cow5, "
+					"cow9 or cow17)\n", o->only);
+			return 2;
+		}
+	}
+	if (!o->threads) {
+		long n = sysconf(_SC_NPROCESSORS_ONLN);
+		o->threads = n > 0 && n <= 256 ? (uint32_t)n : 1u;
+	}
 	return 0;
 }
 

@@ -132,7 +132,11 @@ enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_
 	int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
 	enum rs_status status = RS_OK;
 	int fd = -1;
-	if (n < 0 || (size_t)n >= sizeof tmp)
+	struct stat st;
+	/* rename() over a device or FIFO would replace the node itself (as root). */
+	if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+		status = rs_error_set(err, RS_ERR_IO, "cannot write %s: not a regular file", path);
+	else if (n < 0 || (size_t)n >= sizeof tmp)
 		status = rs_error_set(err, RS_ERR_INVALID, "path too long: %s", path);
 	else if ((fd = mkstemp(tmp)) < 0)
 		status = rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path, strerror(errno));

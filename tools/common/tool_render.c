@@ -48,10 +48,12 @@ enum rs_status rs_tool_render_cpu(const struct rs_scene *scene, const struct rs_
 				  float *out_rgb, float *out_depth, struct rs_trace_stats *out_stats,
 				  struct rs_error *err)
 {
-	uint32_t height = desc->height;
-	if (height == 0) {
+	/* The size rs_trace_render() will use: the camera's unless both sides are given. */
+	uint32_t width = desc->width, height = desc->height;
+	if (width == 0 || height == 0) {
 		struct rs_camera cam;
 		rs_camera_resolve(rs_scene_camera(scene), &cam);
+		width = cam.width;
 		height = cam.height;
 	}
 	if (threads == 0)
@@ -72,6 +74,7 @@ enum rs_status rs_tool_render_cpu(const struct rs_scene *scene, const struct rs_
 		jobs[t] = (struct render_job){.scene = scene, .packed = packed, .desc = *desc,
 					      .next_row = &next_row, .rgb = out_rgb,
 					      .depth = out_depth};
+		jobs[t].desc.width = width;
 		jobs[t].desc.height = height;
 		if (t > 0 && pthread_create(&ids[t], NULL, render_rows, &jobs[t]) != 0)
 			break;
@@ -81,9 +84,10 @@ enum rs_status rs_tool_render_cpu(const struct rs_scene *scene, const struct rs_
 		render_rows(&jobs[0]);
 	for (uint32_t t = 1; t < started; ++t)
 		pthread_join(ids[t], NULL);
-	enum rs_status status = started == threads ? RS_OK
-						   : rs_error_set(err, RS_ERR_NO_MEMORY,
-								  "cannot start render threads");
+	/* Threads take rows from the shared counter until none is left, so the ones that did
+	 * start (the calling thread at least) have rendered every row: a thread that could not
+	 * be created costs time, not rows. */
+	enum rs_status status = RS_OK;
 	struct rs_trace_stats sum = {0};
 	for (uint32_t t = 0; t < started && status == RS_OK; ++t) {
 		if (jobs[t].status != RS_OK) {

@@ -25,7 +25,8 @@ static void usage(FILE *to)
 	      "         [--size WxH] [--out FILE.png] [--stats FILE.json] [--depth FILE.pfm]\n"
 	      "         [--triangle-test mt|watertight] [--threads N]\n"
 	      "Renders with the double-precision CPU reference tracer. FILE is an OBJ or PLY mesh;\n"
-	      "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n",
+	      "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n"
+	      "--lights defaults to 1 (0 for a scene without lights).\n",
 	      to);
 }
 
@@ -39,7 +40,8 @@ static int fail_usage(const char *fmt, const char *arg)
 
 static int parse_args(int argc, char **argv, struct options *o)
 {
-	*o = (struct options){.backend = "cpu", .builder = RS_BVH_SAH, .passes = 2, .lights = 1};
+	/* lights 0: not given; run() makes it 1, or 0 for a scene without lights. */
+	*o = (struct options){.backend = "cpu", .builder = RS_BVH_SAH, .passes = 2};
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i];
 		if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -131,11 +133,15 @@ static int run(const struct options *o)
 	struct rs_scene *scene = NULL;
 	struct rs_tool_accel accel = {0};
 	float *rgb = NULL, *depth = NULL;
+	const char *written[2] = {NULL, NULL}; /* outputs of this run, removed on failure */
 	int code = 1;
 	if (rs_tool_load_scene(o->scene, &scene, &err) != RS_OK)
 		goto done;
 	uint32_t scene_lights = (uint32_t)rs_scene_light_count(scene);
-	if (o->lights > scene_lights) {
+	/* Unasked, a scene without lights (a view file may list none) renders with ambient
+	 * light only instead of failing on a limit the user never set. */
+	uint32_t lights = o->lights ? o->lights : scene_lights ? 1u : 0u;
+	if (lights > scene_lights) {
 		rs_error_set(&err, RS_ERR_INVALID, "--lights %u but scene '%s' has %u light(s)",
 			     o->lights, o->scene, scene_lights);
 		goto done;
@@ -153,9 +159,14 @@ static int run(const struct options *o)
 		goto done;
 	}
 	struct rs_trace_desc desc = {.width = w, .height = h, .passes = o->passes,
-				     .lights = o->lights, .triangle_test = o->triangle_test};
+				     .triangle_test = o->triangle_test};
+	/* rs_trace_desc.lights 0 means "all": right for a scene without lights. */
+	desc.lights = lights;
 	struct rs_trace_stats stats;
-	uint32_t threads = o->threads ? o->threads : (uint32_t)sysconf(_SC_NPROCESSORS_ONLN);
+	long online = sysconf(_SC_NPROCESSORS_ONLN);
+	uint32_t threads = o->threads                     ? o->threads
+			   : online > 0 && online <= 256 ? (uint32_t)online
+							  : 1u;
 	double t0 = rs_tool_now_ms();
 	if (rs_tool_render_cpu(scene, &accel.packed, &desc, threads, rgb, depth, &stats, &err) !=
 	    RS_OK)
@@ -163,12 +174,14 @@ static int run(const struct options *o)
 	double ms = rs_tool_now_ms() - t0;
 	if (o->out && rs_image_write_png(o->out, rgb, w, h, &err) != RS_OK)
 		goto done;
+	written[0] = o->out;
 	if (o->depth && rs_image_write_pfm(o->depth, depth, w, h, 1, &err) != RS_OK)
 		goto done;
+	written[1] = o->depth;
 	if (o->stats) {
 		struct options shown = *o;
 		shown.threads = threads;
-		cJSON *doc = stats_json(&shown, scene, &accel, &stats, w, h, o->lights, ms);
+		cJSON *doc = stats_json(&shown, scene, &accel, &stats, w, h, lights, ms);
 		enum rs_status s = doc ? rs_tool_write_json(o->stats, doc, &err)
 				       : rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
 		cJSON_Delete(doc);
@@ -178,13 +191,19 @@ static int run(const struct options *o)
 	printf("%s: %zu triangles, bvh %s (%zu nodes, %.1f ms), %ux%u, %u pass(es), %u light(s): "
 	       "%.1f ms, hit numbers %.3f (box %.3f + triangle %.3f)\n",
 	       o->scene, rs_scene_triangle_count(scene), rs_bvh_builder_name(o->builder),
-	       accel.node_count, accel.build_ms, w, h, o->passes, o->lights, ms,
+	       accel.node_count, accel.build_ms, w, h, o->passes, lights, ms,
 	       stats.total_per_pixel, stats.box_per_pixel, stats.triangle_per_pixel);
 	code = 0;
 done:
-	if (code != 0)
+	if (code != 0) {
 		fprintf(stderr, "raystream-render: %s\n",
 			err.message[0] ? err.message : "failed (no message)");
+		/* A failed run leaves none of its outputs: a PNG without the stats or depth
+		 * the caller asked for would pass for a complete result. */
+		for (int i = 0; i < 2; ++i)
+			if (written[i])
+				unlink(written[i]);
+	}
 	free(rgb);
 	free(depth);
 	rs_tool_accel_free(&accel);

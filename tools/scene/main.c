@@ -115,6 +115,12 @@ int main(int argc, char **argv)
 		st = rs_scenegen_build(&desc, &scene, &err);
 	} else {
 		st = rs_load_scene(NULL, scene_name, &scene, &err);
+		/* "cow0" is no file either: name both readings, as raystream-render does. */
+		if (st == RS_ERR_NOT_FOUND)
+			rs_error_set(&err, st,
+			             "scene '%s' is neither box, cowN (N = 1..%u) nor an existing "
+			             "file",
+			             scene_name, RS_SCENEGEN_MAX_COWS);
 	}
 	if (st != RS_OK) {
 		fprintf(stderr, "raystream-scene: %s\n", err.message);

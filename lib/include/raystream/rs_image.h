@@ -5,7 +5,9 @@
  * max error, share of bad pixels) against the CPU reference.
  *
  * Files are written to a temporary name beside the target and renamed into place, so a
- * failed write never leaves a partial file under the requested name.
+ * failed write never leaves a partial file under the requested name. A target that exists
+ * and is not a regular file (a device such as /dev/null, a FIFO) is refused with RS_ERR_IO
+ * rather than replaced.
  */
 #ifndef RS_IMAGE_H
 #define RS_IMAGE_H

@@ -62,8 +62,11 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
  * sharing a material; an MTL beside it (obj_path with the extension replaced by ".mtl",
  * named by `mtllib`); and the JSON view file at view_path (camera, lights, environment,
  * ambient; see rs_load_view_format()). view_path may be NULL to skip it. Each file is
- * written to a temporary file in its directory and renamed into place, so a reader never
- * sees a half-written file; on failure no temporary file is left behind.
+ * written to a temporary file in its directory, and all are renamed into place only once
+ * every one is complete, so a reader never sees a half-written file or half a set; on
+ * failure no temporary file is left behind. RS_ERR_INVALID when two of the three paths
+ * coincide; RS_ERR_IO when a target exists and is not a regular file (a device or FIFO
+ * would otherwise be replaced by the rename).
  * rs_load_scene() on obj_path reads the scene back when view_path is the sidecar path.
  */
 enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_path,
