@@ -142,39 +142,18 @@ enum rs_status rs_hid_open(const struct rs_hid_desc *desc, struct rs_track_sourc
 	return rs_track_stream_create(&hid_transport, h, out_source, err);
 }
 
-static int parse_hex16(const char *s, size_t n, uint16_t *out)
-{
-	if (n == 0 || n > 4)
-		return 0;
-	unsigned v = 0;
-	for (size_t i = 0; i < n; i++) {
-		char c = s[i];
-		unsigned d = c >= '0' && c <= '9'   ? (unsigned)(c - '0')
-		             : c >= 'a' && c <= 'f' ? (unsigned)(c - 'a' + 10)
-		             : c >= 'A' && c <= 'F' ? (unsigned)(c - 'A' + 10)
-		                                    : 16u;
-		if (d > 15)
-			return 0;
-		v = v * 16 + d;
-	}
-	*out = (uint16_t)v;
-	return 1;
-}
-
 enum rs_status rs_hid_parse_uri(const char *rest, struct rs_hid_desc *out, char *serial_buf,
                                 size_t serial_cap, struct rs_error *err)
 {
 	RS_ASSERT(rest && out);
 	memset(out, 0, sizeof *out);
-	size_t a = strcspn(rest, ":");
-	const char *p2 = rest[a] ? rest + a + 1 : NULL;
-	size_t b = p2 ? strcspn(p2, ":") : 0;
-	if (!p2 || !parse_hex16(rest, a, &out->vid) || !parse_hex16(p2, b, &out->pid))
+	const char *tail;
+	if (!rs_track_parse_vid_pid(rest, &out->vid, &out->pid, &tail))
 		return rs_error_set(err, RS_ERR_PARSE,
 		                    "hid: expected hid:VID:PID[:SERIAL] in hex, got 'hid:%.60s'",
 		                    rest);
-	if (p2[b] == ':') {
-		const char *ser = p2 + b + 1;
+	if (*tail == ':') {
+		const char *ser = tail + 1;
 		size_t n = strlen(ser);
 		if (n == 0 || !serial_buf || n + 1 > serial_cap)
 			return rs_error_set(err, RS_ERR_PARSE,

@@ -151,32 +151,12 @@ enum rs_status rs_usb_open(const struct rs_usb_desc *desc, struct rs_track_sourc
 }
 
 /* 1-4 hex digits and nothing else (strtoul would also take "0x", signs and blanks). */
-static int hex16(const char *s, size_t n, uint16_t *out)
-{
-	if (n == 0 || n > 4)
-		return 0;
-	unsigned v = 0;
-	for (size_t i = 0; i < n; i++) {
-		char c = s[i];
-		unsigned d = c >= '0' && c <= '9'   ? (unsigned)(c - '0')
-		             : c >= 'a' && c <= 'f' ? (unsigned)(c - 'a' + 10)
-		             : c >= 'A' && c <= 'F' ? (unsigned)(c - 'A' + 10)
-		                                    : 16u;
-		if (d > 15)
-			return 0;
-		v = v * 16 + d;
-	}
-	*out = (uint16_t)v;
-	return 1;
-}
-
 enum rs_status rs_usb_parse_uri(const char *rest, struct rs_usb_desc *out, struct rs_error *err)
 {
 	RS_ASSERT(rest && out);
 	memset(out, 0, sizeof *out);
-	size_t a = strcspn(rest, ":");
-	if (!rest[a] || !hex16(rest, a, &out->vid) ||
-	    !hex16(rest + a + 1, strlen(rest + a + 1), &out->pid))
+	const char *tail;
+	if (!rs_track_parse_vid_pid(rest, &out->vid, &out->pid, &tail) || *tail != '\0')
 		return rs_error_set(err, RS_ERR_PARSE,
 		                    "usb: expected usb:VID:PID in hex, got 'usb:%.60s'", rest);
 	return RS_OK;

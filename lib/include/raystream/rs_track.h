@@ -109,6 +109,15 @@ enum rs_status rs_track_stream_create(const struct rs_track_transport *transport
 /** Seconds of CLOCK_MONOTONIC: the host clock of host_time_s. */
 double rs_track_now_s(void);
 
+/**
+ * Parse the "VID:PID" that starts a device URI's rest ("046d:c52b", "046d:c52b:SERIAL"):
+ * two hex numbers of 1 to 4 digits. *out_tail points at what follows the PID (a ':' or
+ * the terminating NUL). Returns 0 and leaves the outputs unset when the text is not of
+ * that form.
+ */
+int rs_track_parse_vid_pid(const char *text, uint16_t *out_vid, uint16_t *out_pid,
+			   const char **out_tail);
+
 /* ---- Replay files ---------------------------------------------------------------------- */
 
 /** Options of a replay source; zero = defaults. */
