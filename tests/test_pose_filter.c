@@ -11,27 +11,9 @@
 #include <string.h>
 
 #include "raystream/rs_pose.h"
+#include "test_pose_fixture.h"
 
 #define PI 3.14159265358979323846
-
-struct rng {
-	uint64_t s;
-};
-
-static double uniform01(struct rng *r)
-{
-	uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
-	z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-	z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-	z ^= z >> 31;
-	return ((double)(z >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-static double gauss(struct rng *r)
-{
-	double u = uniform01(r), v = uniform01(r);
-	return sqrt(-2.0 * log(u)) * cos(2.0 * PI * v);
-}
 
 /* Rotation by `angle` about z as a pose with position p. */
 static struct rs_pose pose_z(double t, double px, double angle)
