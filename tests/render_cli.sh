@@ -1,17 +1,7 @@
 #!/usr/bin/env bash
 # Usage: render_cli.sh RENDER_BINARY WORK_DIR. Prints "N passed, N failed" and exits non-zero
 # on any failure.
-set -u
-bin=$1
-work=$2
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); echo "ok: $1"; }
-bad() { failed=$((failed + 1)); echo "FAILED: $1"; }
+source "$(dirname "$0")/cli_harness.sh"
 
 # expect_fail NAME EXPECTED_EXIT MESSAGE_REGEX ARGS...: non-zero exit, exactly one stderr line
 # matching the regex, and no PNG/JSON/PFM output left behind.
@@ -19,13 +9,7 @@ expect_fail() {
   local name=$1 code=$2 regex=$3
   shift 3
   rm -f out.png out.json out.pfm
-  "$bin" --out out.png --stats out.json --depth out.pfm "$@" >stdout.txt 2>stderr.txt
-  local rc=$?
-  local lines
-  lines=$(wc -l <stderr.txt)
-  if [ "$rc" -ne "$code" ]; then bad "$name: exit $rc, wanted $code ($(head -c 300 stderr.txt))"; return; fi
-  if [ "$lines" -ne 1 ]; then bad "$name: $lines stderr lines: $(head -c 300 stderr.txt)"; return; fi
-  if ! grep -Eq -- "$regex" stderr.txt; then bad "$name: message '$(cat stderr.txt)' does not match /$regex/"; return; fi
+  fails_cleanly "$name" "$code" "$regex" --out out.png --stats out.json --depth out.pfm "$@" || return
   if [ -e out.png ] || [ -e out.json ] || [ -e out.pfm ]; then bad "$name: left an output file"; return; fi
   if ls ./*.tmp-* >/dev/null 2>&1; then bad "$name: left a temporary file"; return; fi
   ok "$name"
@@ -96,5 +80,4 @@ else
   bad "scene without lights: $(cat stderr.txt)"
 fi
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish

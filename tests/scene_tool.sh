@@ -1,17 +1,7 @@
 #!/usr/bin/env bash
 # Usage: scene_tool.sh SCENE_BINARY WORK_DIR. Prints "N passed, N failed" and exits non-zero
 # on any failure.
-set -u
-bin=$1
-work=$2
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); echo "ok: $1"; }
-bad() { failed=$((failed + 1)); echo "FAILED: $1"; }
+source "$(dirname "$0")/cli_harness.sh"
 
 # expect_count NAME SCENE TRIANGLES
 expect_count() {
@@ -24,14 +14,7 @@ expect_count() {
 
 # expect_fail NAME EXIT REGEX ARGS...: that exit code and exactly one matching stderr line.
 expect_fail() {
-  local name=$1 code=$2 regex=$3
-  shift 3
-  "$bin" "$@" >out.txt 2>err.txt
-  local rc=$?
-  if [ "$rc" -ne "$code" ]; then bad "$name: exit $rc, wanted $code"; return; fi
-  if [ "$(wc -l <err.txt)" -ne 1 ]; then bad "$name: stderr not one line: $(cat err.txt)"; return; fi
-  if ! grep -Eq -e "$regex" err.txt; then bad "$name: '$(cat err.txt)' !~ /$regex/"; return; fi
-  ok "$name"
+  fails_cleanly "$@" && ok "$1"
 }
 
 expect_count box box 153
@@ -65,5 +48,4 @@ if [ -p fifo.obj ] && [ ! -e fifo.mtl ]; then ok "fifo kept, no mtl"; else bad "
 expect_fail "unwritable view" 1 "nodir/v\.json" --scene box --out-obj half.obj --out-view nodir/v.json
 if [ -e half.obj ] || [ -e half.mtl ]; then bad "unwritable view left half.obj/mtl"; else ok "no half set"; fi
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish

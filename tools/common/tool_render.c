@@ -18,6 +18,16 @@ struct render_job {
 	enum rs_status status;
 };
 
+/* Add the counts of `s` to `sum`; the per-pixel means are derived once at the end. */
+static void stats_add(struct rs_trace_stats *sum, const struct rs_trace_stats *s)
+{
+	sum->pixels += s->pixels;
+	sum->rays += s->rays;
+	sum->shadow_rays += s->shadow_rays;
+	sum->box_tests += s->box_tests;
+	sum->triangle_tests += s->triangle_tests;
+}
+
 static void *render_rows(void *arg)
 {
 	struct render_job *job = arg;
@@ -34,11 +44,7 @@ static void *render_rows(void *arg)
 					      &job->err);
 		if (job->status != RS_OK)
 			break;
-		job->stats.pixels += s.pixels;
-		job->stats.rays += s.rays;
-		job->stats.shadow_rays += s.shadow_rays;
-		job->stats.box_tests += s.box_tests;
-		job->stats.triangle_tests += s.triangle_tests;
+		stats_add(&job->stats, &s);
 	}
 	return NULL;
 }
@@ -96,11 +102,7 @@ enum rs_status rs_tool_render_cpu(const struct rs_scene *scene, const struct rs_
 				*err = jobs[t].err;
 			break;
 		}
-		sum.pixels += jobs[t].stats.pixels;
-		sum.rays += jobs[t].stats.rays;
-		sum.shadow_rays += jobs[t].stats.shadow_rays;
-		sum.box_tests += jobs[t].stats.box_tests;
-		sum.triangle_tests += jobs[t].stats.triangle_tests;
+		stats_add(&sum, &jobs[t].stats);
 	}
 	if (sum.pixels) {
 		sum.box_per_pixel = (double)sum.box_tests / (double)sum.pixels;
