@@ -32,8 +32,8 @@ static double rnd(void)
  * every builder gets overlapping and well-separated boxes. */
 static struct mesh random_mesh(size_t tris)
 {
-	struct mesh m = {malloc(9 * tris * sizeof(float) + 1), malloc(3 * tris * sizeof(uint32_t) + 1),
-			 3 * tris, tris};
+	struct mesh m = {malloc(9 * tris * sizeof(float) + 1),
+	                 malloc(3 * tris * sizeof(uint32_t) + 1), 3 * tris, tris};
 	for (size_t t = 0; t < tris; t++) {
 		double c[3] = {rnd() * 100, rnd() * 100, rnd() * 100};
 		double s = (t % 7 == 0) ? 20.0 : 2.0;
@@ -63,10 +63,10 @@ static struct built build(enum rs_bvh_builder b, const struct mesh *m)
 	struct rs_bvh_desc d = {.builder = b};
 	size_t cap = rs_bvh_node_bound(&d, m->tris);
 	struct built out = {malloc((cap + 1) * sizeof *out.nodes),
-			    malloc((m->tris + 1) * sizeof(uint32_t)), 0};
+	                    malloc((m->tris + 1) * sizeof(uint32_t)), 0};
 	struct rs_error err;
 	enum rs_status s = rs_bvh_build(&d, m->pos, m->verts, m->idx, m->tris, out.nodes, cap,
-					out.order, &out.count, &err);
+	                                out.order, &out.count, &err);
 	if (s != RS_OK)
 		fail_msg("build %s: %s", rs_bvh_builder_name(b), err.message);
 	return out;
@@ -96,7 +96,7 @@ static size_t decode(const struct rs_bvh_node *n, size_t count, size_t i, uint32
 }
 
 static void box_of_slots(const struct mesh *m, const uint32_t *order, uint32_t first,
-			 uint32_t count, float lo[3], float hi[3])
+                         uint32_t count, float lo[3], float hi[3])
 {
 	for (int a = 0; a < 3; a++) {
 		lo[a] = FLT_MAX;
@@ -153,8 +153,9 @@ static void assert_permutation(const uint32_t *order, size_t n)
 	free(seen);
 }
 
-static const size_t sizes[] = {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 32, 33, 63, 64, 65,
-			       127, 128, 129, 255, 256, 257, 1000, 1023, 1024, 1025, 4097};
+static const size_t sizes[] = {1,   2,   3,   4,    5,    7,    8,    9,   15,  16,
+                               17,  31,  32,  33,   63,   64,   65,   127, 128, 129,
+                               255, 256, 257, 1000, 1023, 1024, 1025, 4097};
 #define NSIZES (sizeof sizes / sizeof sizes[0])
 
 static void check_builder(enum rs_bvh_builder builder)
@@ -164,9 +165,10 @@ static void check_builder(enum rs_bvh_builder builder)
 		struct built b = build(builder, &m);
 		struct rs_error err;
 		enum rs_status s =
-			rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err);
+		    rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err);
 		if (s != RS_OK)
-			fail_msg("%s n=%zu: %s", rs_bvh_builder_name(builder), sizes[k], err.message);
+			fail_msg("%s n=%zu: %s", rs_bvh_builder_name(builder), sizes[k],
+			         err.message);
 		assert_permutation(b.order, m.tris);
 		assert_definition(&b, &m, builder == RS_BVH_NONE || builder == RS_BVH_LINEAR);
 		built_free(&b);
@@ -212,8 +214,8 @@ static void paper_matches_closed_form(void **state)
 			}
 			e = e < m.tris ? e : m.tris;
 			float lo[3], hi[3];
-			box_of_slots(&m, b.order, (uint32_t)(a < e ? a : 0), (uint32_t)(a < e ? e - a : 0),
-				     lo, hi);
+			box_of_slots(&m, b.order, (uint32_t)(a < e ? a : 0),
+			             (uint32_t)(a < e ? e - a : 0), lo, hi);
 			assert_memory_equal(lo, n->lo, sizeof lo);
 			assert_memory_equal(hi, n->hi, sizeof hi);
 		}
@@ -256,7 +258,8 @@ static void sah_handles_coincident_triangles(void **state)
 	for (size_t t = 0; t < m.tris; t++)
 		memcpy(&m.pos[9 * t], &m.pos[0], 9 * sizeof(float));
 	struct built b = build(RS_BVH_SAH, &m);
-	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, NULL), RS_OK);
+	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, NULL),
+	                 RS_OK);
 	assert_definition(&b, &m, 0);
 	built_free(&b);
 	mesh_free(&m);
@@ -270,20 +273,30 @@ static void sah_keeps_a_large_floor_apart(void **state)
 	struct mesh m = random_mesh(2000);
 	/* A floor ten times wider than the mesh, under it: a fan of 4 triangles around
 	 * (50, -1, 50), like the stage under the cow herd. */
-	const float corner[5][2] = {{-450, -450}, {550, -450}, {550, 550}, {-450, 550}, {-450, -450}};
+	const float corner[5][2] = {
+	    {-450, -450}, {550, -450}, {550, 550}, {-450, 550}, {-450, -450}};
 	for (size_t t = 0; t < 4; t++) {
-		const float q[9] = {50, -1, 50, corner[t][0], -1, corner[t][1],
-				    corner[t + 1][0], -1, corner[t + 1][1]};
+		const float q[9] = {50,
+		                    -1,
+		                    50,
+		                    corner[t][0],
+		                    -1,
+		                    corner[t][1],
+		                    corner[t + 1][0],
+		                    -1,
+		                    corner[t + 1][1]};
 		memcpy(&m.pos[9 * t], q, sizeof q);
 	}
 	struct built b = build(RS_BVH_SAH, &m);
-	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, NULL), RS_OK);
+	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, NULL),
+	                 RS_OK);
 	assert_definition(&b, &m, 0);
 	int found = 0;
 	for (size_t c = 0; c < b.count; c++) {
 		size_t tris = 0, large = 0;
 		for (size_t j = c; j < b.nodes[c].escape; j++)
-			for (uint32_t sl = b.nodes[j].first; sl < b.nodes[j].first + b.nodes[j].count; sl++) {
+			for (uint32_t sl = b.nodes[j].first;
+			     sl < b.nodes[j].first + b.nodes[j].count; sl++) {
 				tris++;
 				large += b.order[sl] < 4;
 			}
@@ -334,8 +347,9 @@ static void builders_survive_extreme_coordinates(void **state)
 			m.pos[i] = (m.pos[i] - 50.0f) * scales[k];
 		for (int b = 0; b <= RS_BVH_PAPER; b++) {
 			struct built bt = build((enum rs_bvh_builder)b, &m);
-			assert_int_equal(rs_bvh_check(bt.nodes, bt.count, m.pos, m.idx, bt.order, m.tris,
-						      NULL), RS_OK);
+			assert_int_equal(
+			    rs_bvh_check(bt.nodes, bt.count, m.pos, m.idx, bt.order, m.tris, NULL),
+			    RS_OK);
 			built_free(&bt);
 		}
 		mesh_free(&m);
@@ -347,11 +361,12 @@ static void check_catches_corruption(void **state)
 	struct mesh m = random_mesh(300);
 	struct built b = build(RS_BVH_SAH, &m);
 	struct rs_error err;
-	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err), RS_OK);
+	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err),
+	                 RS_OK);
 
 	b.nodes[0].escape--;
 	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err),
-			 RS_ERR_BAD_DATA);
+	                 RS_ERR_BAD_DATA);
 	b.nodes[0].escape++;
 
 	size_t leaf = 0;
@@ -360,20 +375,21 @@ static void check_catches_corruption(void **state)
 	float keep = b.nodes[leaf].hi[1];
 	b.nodes[leaf].hi[1] = b.nodes[leaf].lo[1];
 	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err),
-			 RS_ERR_BAD_DATA);
+	                 RS_ERR_BAD_DATA);
 	b.nodes[leaf].hi[1] = keep;
 
 	uint32_t o = b.order[1];
 	b.order[1] = b.order[0];
 	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err),
-			 RS_ERR_BAD_DATA);
+	                 RS_ERR_BAD_DATA);
 	b.order[1] = o;
 
 	b.nodes[1].order += 1;
 	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err),
-			 RS_ERR_BAD_DATA);
+	                 RS_ERR_BAD_DATA);
 	b.nodes[1].order -= 1;
-	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err), RS_OK);
+	assert_int_equal(rs_bvh_check(b.nodes, b.count, m.pos, m.idx, b.order, m.tris, &err),
+	                 RS_OK);
 	built_free(&b);
 	mesh_free(&m);
 }
@@ -387,27 +403,33 @@ static void build_rejects_bad_input(void **state)
 	size_t count = 99;
 	struct rs_error err;
 	m.pos[4] = NAN;
-	assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count,
-				      &err), RS_ERR_BAD_DATA);
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count, &err),
+	    RS_ERR_BAD_DATA);
 	assert_int_equal(count, 0);
 	m.pos[4] = 1.0f;
 	m.idx[7] = (uint32_t)m.verts;
-	assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count,
-				      &err), RS_ERR_BAD_DATA);
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count, &err),
+	    RS_ERR_BAD_DATA);
 	m.idx[7] = 0;
-	assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 18, order, &count,
-				      &err), RS_ERR_INVALID);
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 18, order, &count, &err),
+	    RS_ERR_INVALID);
 	d.sah_bins = 1;
-	assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count,
-				      &err), RS_ERR_INVALID);
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count, &err),
+	    RS_ERR_INVALID);
 	d.sah_bins = 0;
 	d.builder = (enum rs_bvh_builder)9;
-	assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count,
-				      &err), RS_ERR_INVALID);
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count, &err),
+	    RS_ERR_INVALID);
 	d.builder = RS_BVH_SAH;
 	d.traversal_cost = -1.0f;
-	assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count,
-				      &err), RS_ERR_INVALID);
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count, &err),
+	    RS_ERR_INVALID);
 	mesh_free(&m);
 }
 
@@ -423,8 +445,8 @@ static void names_and_defaults(void **state)
 {
 	enum rs_bvh_builder b;
 	for (int i = 0; i <= RS_BVH_PAPER; i++) {
-		assert_int_equal(rs_bvh_builder_parse(rs_bvh_builder_name((enum rs_bvh_builder)i), &b),
-				 RS_OK);
+		assert_int_equal(
+		    rs_bvh_builder_parse(rs_bvh_builder_name((enum rs_bvh_builder)i), &b), RS_OK);
 		assert_int_equal(b, i);
 	}
 	assert_int_equal(rs_bvh_builder_parse("kd", &b), RS_ERR_INVALID);
@@ -445,22 +467,22 @@ static void names_and_defaults(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(none_layout_matches_definition),
-		cmocka_unit_test(linear_layout_matches_definition),
-		cmocka_unit_test(paper_layout_matches_definition),
-		cmocka_unit_test(sah_layout_matches_definition),
-		cmocka_unit_test(paper_matches_closed_form),
-		cmocka_unit_test(linear_boxes_hold_consecutive_eights),
-		cmocka_unit_test(sah_leaves_respect_leaf_size),
-		cmocka_unit_test(sah_handles_coincident_triangles),
-		cmocka_unit_test(sah_keeps_a_large_floor_apart),
-		cmocka_unit_test(sah_costs_less_than_paper),
-		cmocka_unit_test(none_stats_cost_is_one_box_plus_all_triangles),
-		cmocka_unit_test(builders_survive_extreme_coordinates),
-		cmocka_unit_test(check_catches_corruption),
-		cmocka_unit_test(build_rejects_bad_input),
-		cmocka_unit_test(zero_triangles_give_zero_nodes),
-		cmocka_unit_test(names_and_defaults),
+	    cmocka_unit_test(none_layout_matches_definition),
+	    cmocka_unit_test(linear_layout_matches_definition),
+	    cmocka_unit_test(paper_layout_matches_definition),
+	    cmocka_unit_test(sah_layout_matches_definition),
+	    cmocka_unit_test(paper_matches_closed_form),
+	    cmocka_unit_test(linear_boxes_hold_consecutive_eights),
+	    cmocka_unit_test(sah_leaves_respect_leaf_size),
+	    cmocka_unit_test(sah_handles_coincident_triangles),
+	    cmocka_unit_test(sah_keeps_a_large_floor_apart),
+	    cmocka_unit_test(sah_costs_less_than_paper),
+	    cmocka_unit_test(none_stats_cost_is_one_box_plus_all_triangles),
+	    cmocka_unit_test(builders_survive_extreme_coordinates),
+	    cmocka_unit_test(check_catches_corruption),
+	    cmocka_unit_test(build_rejects_bad_input),
+	    cmocka_unit_test(zero_triangles_give_zero_nodes),
+	    cmocka_unit_test(names_and_defaults),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

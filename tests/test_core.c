@@ -51,11 +51,11 @@ static void status_names_are_distinct(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(error_set_returns_status_and_formats),
-		cmocka_unit_test(error_message_is_one_line),
-		cmocka_unit_test(error_message_truncates),
-		cmocka_unit_test(error_null_is_allowed),
-		cmocka_unit_test(status_names_are_distinct),
+	    cmocka_unit_test(error_set_returns_status_and_formats),
+	    cmocka_unit_test(error_message_is_one_line),
+	    cmocka_unit_test(error_message_truncates),
+	    cmocka_unit_test(error_null_is_allowed),
+	    cmocka_unit_test(status_names_are_distinct),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

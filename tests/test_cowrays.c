@@ -60,10 +60,10 @@ static void linear_matches_brute_force(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(reference_matches_plain_brute_force),
-		cmocka_unit_test(sah_matches_brute_force),
-		cmocka_unit_test(paper_matches_brute_force),
-		cmocka_unit_test(linear_matches_brute_force),
+	    cmocka_unit_test(reference_matches_plain_brute_force),
+	    cmocka_unit_test(sah_matches_brute_force),
+	    cmocka_unit_test(paper_matches_brute_force),
+	    cmocka_unit_test(linear_matches_brute_force),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }

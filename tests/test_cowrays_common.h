@@ -42,8 +42,8 @@ struct cow_ref {
 
 static struct rs_scene *cow_scene(uint32_t cows)
 {
-	struct rs_scenegen_desc d = {.kind = RS_SCENEGEN_COW, .cows = cows,
-				     .cow_path = RS_DATA_DIR "/cow.obj"};
+	struct rs_scenegen_desc d = {
+	    .kind = RS_SCENEGEN_COW, .cows = cows, .cow_path = RS_DATA_DIR "/cow.obj"};
 	struct rs_scene *scene = NULL;
 	struct rs_error err;
 	if (rs_scenegen_build(&d, &scene, &err) != RS_OK)
@@ -61,15 +61,18 @@ static struct cow_world cow_pack(const struct rs_scene *scene, enum rs_bvh_build
 	w.nodes = malloc(cap * sizeof *w.nodes);
 	w.order = malloc(tris * sizeof *w.order);
 	assert_int_equal(rs_bvh_build(&d, rs_scene_positions(scene), rs_scene_vertex_count(scene),
-				      rs_scene_indices(scene), tris, w.nodes, cap, w.order,
-				      &w.node_count, &err), RS_OK);
+	                              rs_scene_indices(scene), tris, w.nodes, cap, w.order,
+	                              &w.node_count, &err),
+	                 RS_OK);
 	assert_int_equal(rs_bvh_check(w.nodes, w.node_count, rs_scene_positions(scene),
-				      rs_scene_indices(scene), w.order, tris, &err), RS_OK);
-	assert_int_equal(rs_pack_layout(w.node_count, tris, rs_scene_material_count(scene),
-					&w.packed, &err), RS_OK);
+	                              rs_scene_indices(scene), w.order, tris, &err),
+	                 RS_OK);
+	assert_int_equal(
+	    rs_pack_layout(w.node_count, tris, rs_scene_material_count(scene), &w.packed, &err),
+	    RS_OK);
 	assert_int_equal(rs_pack_alloc(&w.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_scene(scene, w.nodes, w.node_count, w.order, &w.packed, &err),
-			 RS_OK);
+	                 RS_OK);
 	return w;
 }
 
@@ -137,7 +140,7 @@ static void cow_brute_free(struct cow_brute *b)
 }
 
 static bool cow_brute_closest(const struct cow_brute *b, enum rs_triangle_test test,
-			      const struct rs_ray *ray, struct rs_hit *out)
+                              const struct rs_ray *ray, struct rs_hit *out)
 {
 	struct rs_ray r = *ray;
 	double inv[3];
@@ -160,8 +163,8 @@ static bool cow_brute_closest(const struct cow_brute *b, enum rs_triangle_test t
 	bool found = false;
 	for (size_t t = 0; t < b->tris; t++) {
 		double th, u, v;
-		if (!b->pass[t] ||
-		    !rs_intersect_triangle(test, b->v[t][0], b->v[t][1], b->v[t][2], &r, &th, &u, &v))
+		if (!b->pass[t] || !rs_intersect_triangle(test, b->v[t][0], b->v[t][1], b->v[t][2],
+		                                          &r, &th, &u, &v))
 			continue;
 		found = true;
 		r.tmax = th;
@@ -194,7 +197,7 @@ static struct cow_ref *cow_references(const struct rs_scene *scene, size_t begin
 			double b1 = cow_rnd(), b2 = cow_rnd() * (1 - b1);
 			for (int a = 0; a < 3; a++)
 				r->ray.dir[a] = v[0][a] + b1 * (v[1][a] - v[0][a]) +
-						b2 * (v[2][a] - v[0][a]) - r->ray.origin[a];
+				                b2 * (v[2][a] - v[0][a]) - r->ray.origin[a];
 		} else if (kind < 0.55) {
 			int axis = (int)(cow_rnd() * 3);
 			for (int a = 0; a < 3; a++)
@@ -226,8 +229,8 @@ static struct cow_ref *cow_references(const struct rs_scene *scene, size_t begin
 
 /* The box-filtered reference equals rs_trace_closest_brute() (every triangle tested, no
  * filter at all) on a sample of the rays: same triangle, bit-identical t. */
-static void cow_check_reference(const struct cow_world *w, const struct cow_ref *refs,
-				size_t begin, size_t end, size_t stride)
+static void cow_check_reference(const struct cow_world *w, const struct cow_ref *refs, size_t begin,
+                                size_t end, size_t stride)
 {
 	for (size_t i = begin; i < end; i += stride) {
 		struct rs_hit h;
@@ -243,7 +246,7 @@ static void cow_check_reference(const struct cow_world *w, const struct cow_ref 
 /* Same triangle at the bit-identical t (the same code computes it from the same floats),
  * or another triangle at a t within 1e-12 relative: a tie at a shared edge or vertex. */
 static void cow_compare(const struct cow_world *w, const struct cow_ref *refs, size_t begin,
-			size_t end, const char *name)
+                        size_t end, const char *name)
 {
 	size_t hits = 0, occluded = 0;
 	for (size_t i = begin; i < end; i++) {
@@ -251,11 +254,12 @@ static void cow_compare(const struct cow_world *w, const struct cow_ref *refs, s
 		struct rs_hit h;
 		bool found = rs_trace_closest(&w->packed, cow_test_of(i), &r->ray, &h, NULL);
 		if (found != r->found)
-			fail_msg("%s ray %zu: traversal %d, brute force %d", name, i, found, r->found);
+			fail_msg("%s ray %zu: traversal %d, brute force %d", name, i, found,
+			         r->found);
 		if (found && h.triangle != r->hit.triangle &&
 		    !(fabs(h.t - r->hit.t) <= 1e-12 * r->hit.t))
 			fail_msg("%s ray %zu: triangle %u t %.17g, brute force %u t %.17g", name, i,
-				 h.triangle, h.t, r->hit.triangle, r->hit.t);
+			         h.triangle, h.t, r->hit.triangle, r->hit.t);
 		if (found && h.triangle == r->hit.triangle && h.t != r->hit.t)
 			fail_msg("%s ray %zu: t %.17g, brute force %.17g", name, i, h.t, r->hit.t);
 		hits += found;
@@ -263,7 +267,8 @@ static void cow_compare(const struct cow_world *w, const struct cow_ref *refs, s
 			continue;
 		bool occ = rs_trace_occluded(&w->packed, cow_test_of(i), &r->feeler, NULL);
 		if (occ != r->occluded)
-			fail_msg("%s feeler %zu: any-hit %d, brute force %d", name, i, occ, r->occluded);
+			fail_msg("%s feeler %zu: any-hit %d, brute force %d", name, i, occ,
+			         r->occluded);
 		occluded += occ;
 	}
 	/* Guard against a ray set that tests nothing. */

@@ -30,7 +30,7 @@ static void none_matches_brute_force(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(none_matches_brute_force),
+	    cmocka_unit_test(none_matches_brute_force),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

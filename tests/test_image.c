@@ -145,13 +145,13 @@ static void compare_reports_psnr_max_and_bad_share(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(png_round_trip_is_exact_after_quantizing),
-		cmocka_unit_test(pfm_round_trip_keeps_rows_and_infinity),
-		cmocka_unit_test(nan_is_refused_without_leaving_a_file),
-		cmocka_unit_test(unwritable_path_fails_cleanly),
-		cmocka_unit_test(fifo_target_is_refused_and_kept),
-		cmocka_unit_test(reading_garbage_is_a_parse_error),
-		cmocka_unit_test(compare_reports_psnr_max_and_bad_share),
+	    cmocka_unit_test(png_round_trip_is_exact_after_quantizing),
+	    cmocka_unit_test(pfm_round_trip_keeps_rows_and_infinity),
+	    cmocka_unit_test(nan_is_refused_without_leaving_a_file),
+	    cmocka_unit_test(unwritable_path_fails_cleanly),
+	    cmocka_unit_test(fifo_target_is_refused_and_kept),
+	    cmocka_unit_test(reading_garbage_is_a_parse_error),
+	    cmocka_unit_test(compare_reports_psnr_max_and_bad_share),
 	};
 	return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }

@@ -35,8 +35,11 @@ static struct fixture make(size_t tris, enum rs_bvh_builder builder)
 	struct rs_error err;
 	assert_int_equal(rs_scene_create(NULL, &f.scene, &err), RS_OK);
 	uint32_t mat[2];
-	struct rs_material m0 = {.diffuse = {0.5f, 0.25f, 0.125f}, .specular = 0.3f,
-				 .shininess = 32.0f, .reflectance = 0.25f, .flags = RS_MATERIAL_FRESNEL};
+	struct rs_material m0 = {.diffuse = {0.5f, 0.25f, 0.125f},
+	                         .specular = 0.3f,
+	                         .shininess = 32.0f,
+	                         .reflectance = 0.25f,
+	                         .flags = RS_MATERIAL_FRESNEL};
 	struct rs_material m1 = {.diffuse = {0.8f, 0.8f, 0.8f}, .transmittance = 0.9f, .ior = 1.5f};
 	assert_int_equal(rs_scene_add_material(f.scene, &m0, &mat[0]), RS_OK);
 	assert_int_equal(rs_scene_add_material(f.scene, &m1, &mat[1]), RS_OK);
@@ -51,8 +54,11 @@ static struct fixture make(size_t tris, enum rs_bvh_builder builder)
 			pos[i] = (float)(rnd() * 50.0 + (i % 3 == 0 ? 0.0 : (double)(i / 9)));
 		for (size_t i = 0; i < 3 * n; i++)
 			idx[i] = (uint32_t)i;
-		struct rs_mesh_desc md = {.positions = pos, .vertex_count = 3 * n, .indices = idx,
-					  .triangle_count = n, .material = mat[part]};
+		struct rs_mesh_desc md = {.positions = pos,
+		                          .vertex_count = 3 * n,
+		                          .indices = idx,
+		                          .triangle_count = n,
+		                          .material = mat[part]};
 		assert_int_equal(rs_scene_add_mesh(f.scene, &md), RS_OK);
 		free(pos);
 		free(idx);
@@ -61,9 +67,10 @@ static struct fixture make(size_t tris, enum rs_bvh_builder builder)
 	size_t cap = rs_bvh_node_bound(&d, tris);
 	f.nodes = malloc(cap * sizeof *f.nodes);
 	f.order = malloc(tris * sizeof *f.order);
-	assert_int_equal(rs_bvh_build(&d, rs_scene_positions(f.scene), rs_scene_vertex_count(f.scene),
-				      rs_scene_indices(f.scene), tris, f.nodes, cap, f.order,
-				      &f.node_count, &err), RS_OK);
+	assert_int_equal(rs_bvh_build(&d, rs_scene_positions(f.scene),
+	                              rs_scene_vertex_count(f.scene), rs_scene_indices(f.scene),
+	                              tris, f.nodes, cap, f.order, &f.node_count, &err),
+	                 RS_OK);
 	assert_int_equal(rs_pack_layout(f.node_count, tris, 2, &f.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_alloc(&f.packed, &err), RS_OK);
 	enum rs_status s = rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err);
@@ -104,7 +111,7 @@ static void layout_refuses_2_pow_24(void **state)
 	assert_int_equal(rs_pack_layout(RS_PACK_MAX_ITEMS, 1, 1, &p, &err), RS_ERR_LIMIT);
 	assert_int_equal(rs_pack_layout(1, RS_PACK_MAX_ITEMS, 1, &p, &err), RS_ERR_LIMIT);
 	assert_int_equal(rs_pack_layout(RS_PACK_MAX_ITEMS - 1, RS_PACK_MAX_ITEMS - 1, 1, &p, &err),
-			 RS_OK);
+	                 RS_OK);
 	assert_int_equal(p.nodes.height, RS_PACK_MAX_ITEMS / RS_PACK_ROW_ITEMS);
 }
 
@@ -136,7 +143,8 @@ static void round_trip(enum rs_bvh_builder builder, size_t tris)
 	for (uint32_t s = 0; s < p->triangle_count; s++) {
 		uint32_t tri = f.order[s];
 		for (uint32_t k = 0; k < 3; k++) {
-			const float *t = rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, s, k);
+			const float *t =
+			    rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, s, k);
 			const float *nn = rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, s, k);
 			assert_memory_equal(t, pos + 3 * idx[3 * tri + k], 3 * sizeof(float));
 			assert_memory_equal(nn, nrm + 3 * idx[3 * tri + k], 3 * sizeof(float));
@@ -183,11 +191,13 @@ static void unused_texels_are_zero(void **state)
 	struct fixture f = make(1500, RS_BVH_PAPER);
 	struct rs_texture *t = &f.packed.triangles;
 	memset(t->texels, 0x7f, (size_t)t->width * t->height * 4 * sizeof(float));
-	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, NULL), RS_OK);
+	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, NULL),
+	                 RS_OK);
 	for (uint32_t item = 1500; item < 2048; item++)
 		for (uint32_t j = 0; j < RS_PACK_TRIANGLE_TEXELS; j++)
 			for (int c = 0; c < 4; c++)
-				assert_true(rs_pack_texel(t, RS_PACK_TRIANGLE_TEXELS, item, j)[c] == 0.0f);
+				assert_true(rs_pack_texel(t, RS_PACK_TRIANGLE_TEXELS, item, j)[c] ==
+				            0.0f);
 	release(&f);
 }
 
@@ -202,12 +212,12 @@ static void pack_rejects_mismatch(void **state)
 	wrong.normals = f.packed.normals;
 	wrong.materials = f.packed.materials;
 	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &wrong, &err),
-			 RS_ERR_INVALID);
+	                 RS_ERR_INVALID);
 	f.order[3] = 99;
 	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err),
-			 RS_ERR_BAD_DATA);
+	                 RS_ERR_BAD_DATA);
 	assert_int_equal(rs_pack_scene(NULL, f.nodes, f.node_count, f.order, &f.packed, &err),
-			 RS_ERR_INVALID);
+	                 RS_ERR_INVALID);
 	release(&f);
 }
 
@@ -221,15 +231,15 @@ static void free_accepts_zeroed(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(texture_size_rows_of_1024),
-		cmocka_unit_test(layout_refuses_2_pow_24),
-		cmocka_unit_test(round_trip_sah),
-		cmocka_unit_test(round_trip_paper),
-		cmocka_unit_test(round_trip_linear_and_none),
-		cmocka_unit_test(materials_resolve_defaults),
-		cmocka_unit_test(unused_texels_are_zero),
-		cmocka_unit_test(pack_rejects_mismatch),
-		cmocka_unit_test(free_accepts_zeroed),
+	    cmocka_unit_test(texture_size_rows_of_1024),
+	    cmocka_unit_test(layout_refuses_2_pow_24),
+	    cmocka_unit_test(round_trip_sah),
+	    cmocka_unit_test(round_trip_paper),
+	    cmocka_unit_test(round_trip_linear_and_none),
+	    cmocka_unit_test(materials_resolve_defaults),
+	    cmocka_unit_test(unused_texels_are_zero),
+	    cmocka_unit_test(pack_rejects_mismatch),
+	    cmocka_unit_test(free_accepts_zeroed),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

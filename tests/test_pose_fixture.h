@@ -45,8 +45,8 @@ static inline void random_pose(struct rng *r, double extent, struct rs_pose *T)
 	T->time_s = 0.0;
 }
 
-static inline void make_sample(const struct rs_pose_layout *layout, const struct rs_pose *T, double sigma,
-                        struct rng *r, double t, struct rs_marker_sample *out)
+static inline void make_sample(const struct rs_pose_layout *layout, const struct rs_pose *T,
+                               double sigma, struct rng *r, double t, struct rs_marker_sample *out)
 {
 	memset(out, 0, sizeof *out);
 	out->host_time_s = t;

@@ -11,9 +11,9 @@
 
 /* Unit cube, each face split into two triangles; corner 0 is (0,0,0). */
 static const float cube_pos[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
-				      0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+                                      0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
 static const uint32_t cube_idx[12 * 3] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-					  3, 6, 2, 3, 7, 6, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+                                          3, 6, 2, 3, 7, 6, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
 
 static struct rs_scene *make_scene(void)
 {
@@ -28,8 +28,8 @@ static struct rs_scene *make_scene(void)
 
 static struct rs_mesh_desc cube_mesh(void)
 {
-	return (struct rs_mesh_desc){.positions = cube_pos, .vertex_count = 8,
-				     .indices = cube_idx, .triangle_count = 12};
+	return (struct rs_mesh_desc){
+	    .positions = cube_pos, .vertex_count = 8, .indices = cube_idx, .triangle_count = 12};
 }
 
 static void mesh_is_copied(void **state)
@@ -68,8 +68,8 @@ static void nan_vertex_is_rejected(void **state)
 	struct rs_scene *scene = make_scene();
 	float pos[9] = {0, 0, 0, 1, 0, 0, 0, NAN, 0};
 	uint32_t idx[3] = {0, 1, 2};
-	struct rs_mesh_desc mesh = {.positions = pos, .vertex_count = 3, .indices = idx,
-				    .triangle_count = 1};
+	struct rs_mesh_desc mesh = {
+	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
 	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
 	assert_non_null(strstr(rs_scene_last_error(scene), "vertex 2"));
 	assert_int_equal(rs_scene_triangle_count(scene), 0);
@@ -81,8 +81,8 @@ static void index_out_of_range_is_rejected(void **state)
 	struct rs_scene *scene = make_scene();
 	float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
 	uint32_t idx[3] = {0, 1, 3};
-	struct rs_mesh_desc mesh = {.positions = pos, .vertex_count = 3, .indices = idx,
-				    .triangle_count = 1};
+	struct rs_mesh_desc mesh = {
+	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
 	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
 	assert_non_null(strstr(rs_scene_last_error(scene), "triangle 0"));
 	rs_scene_destroy(&scene);
@@ -105,8 +105,8 @@ static void degenerate_triangle_gets_finite_normals(void **state)
 	struct rs_scene *scene = make_scene();
 	float pos[9] = {1, 1, 1, 1, 1, 1, 1, 1, 1};
 	uint32_t idx[3] = {0, 1, 2};
-	struct rs_mesh_desc mesh = {.positions = pos, .vertex_count = 3, .indices = idx,
-				    .triangle_count = 1};
+	struct rs_mesh_desc mesh = {
+	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
 	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
 	for (int i = 0; i < 9; ++i)
 		assert_true(isfinite(rs_scene_normals(scene)[i]));
@@ -179,17 +179,17 @@ static void environment_defaults_follow_bounds(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(mesh_is_copied),
-		cmocka_unit_test(normals_are_angle_weighted),
-		cmocka_unit_test(nan_vertex_is_rejected),
-		cmocka_unit_test(index_out_of_range_is_rejected),
-		cmocka_unit_test(zero_triangles_and_unknown_material_are_rejected),
-		cmocka_unit_test(degenerate_triangle_gets_finite_normals),
-		cmocka_unit_test(bad_camera_is_rejected),
-		cmocka_unit_test(camera_with_infinite_view_vector_is_rejected),
-		cmocka_unit_test(camera_frame_of_empty_bounds_is_finite),
-		cmocka_unit_test(camera_frame_touches_bounding_sphere),
-		cmocka_unit_test(environment_defaults_follow_bounds),
+	    cmocka_unit_test(mesh_is_copied),
+	    cmocka_unit_test(normals_are_angle_weighted),
+	    cmocka_unit_test(nan_vertex_is_rejected),
+	    cmocka_unit_test(index_out_of_range_is_rejected),
+	    cmocka_unit_test(zero_triangles_and_unknown_material_are_rejected),
+	    cmocka_unit_test(degenerate_triangle_gets_finite_normals),
+	    cmocka_unit_test(bad_camera_is_rejected),
+	    cmocka_unit_test(camera_with_infinite_view_vector_is_rejected),
+	    cmocka_unit_test(camera_frame_of_empty_bounds_is_finite),
+	    cmocka_unit_test(camera_frame_touches_bounding_sphere),
+	    cmocka_unit_test(environment_defaults_follow_bounds),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

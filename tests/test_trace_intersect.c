@@ -29,7 +29,7 @@ static double rnd_float(void)
 }
 
 static const enum rs_triangle_test tests_both[2] = {RS_TRIANGLE_MOLLER_TRUMBORE,
-						    RS_TRIANGLE_WATERTIGHT};
+                                                    RS_TRIANGLE_WATERTIGHT};
 
 static struct rs_ray make_ray(double ox, double oy, double oz, double dx, double dy, double dz)
 {
@@ -79,7 +79,7 @@ static void box_empty_never_hit(void **state)
 	const float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
 	for (int i = 0; i < 1000; i++) {
 		struct rs_ray r = make_ray(rnd() * 10 - 5, rnd() * 10 - 5, rnd() * 10 - 5,
-					   rnd() - 0.5, rnd() - 0.5, i % 3 ? rnd() - 0.5 : 0.0);
+		                           rnd() - 0.5, rnd() - 0.5, i % 3 ? rnd() - 0.5 : 0.0);
 		assert_false(box_hit(lo, hi, &r));
 	}
 	struct rs_ray r = make_ray(0, 0, 0, 1, 0, 0);
@@ -148,10 +148,12 @@ static void degenerate_triangles_never_hit(void **state)
 				/* Rays aimed at points on the segment, from anywhere. */
 				double s = rnd() * 2;
 				double o[3] = {rnd() * 6 - 3, rnd() * 6 - 3, rnd() * 6 - 3};
-				struct rs_ray r = make_ray(o[0], o[1], o[2], s - o[0], s - o[1], s - o[2]);
+				struct rs_ray r =
+				    make_ray(o[0], o[1], o[2], s - o[0], s - o[1], s - o[2]);
 				double t = NAN, u = NAN, v = NAN;
-				assert_false(rs_intersect_triangle(tests_both[k], tris[i][0], tris[i][1],
-								   tris[i][2], &r, &t, &u, &v));
+				assert_false(rs_intersect_triangle(tests_both[k], tris[i][0],
+				                                   tris[i][1], tris[i][2], &r, &t,
+				                                   &u, &v));
 			}
 		}
 	}
@@ -166,9 +168,11 @@ static void parallel_rays_never_hit(void **state)
 		r = make_ray(-1, 1, 1e-9, 1, 0.3, 0); /* parallel, just above */
 		assert_false(rs_intersect_triangle(tests_both[k], tv0, tv1, tv2, &r, &t, &u, &v));
 		/* A tilted triangle and in-plane rays in random directions within its plane. */
-		const double p0[3] = {0.1, 0.2, 0.3}, p1[3] = {1.7, -0.4, 0.9}, p2[3] = {-0.3, 1.1, 2.2};
+		const double p0[3] = {0.1, 0.2, 0.3}, p1[3] = {1.7, -0.4, 0.9},
+		             p2[3] = {-0.3, 1.1, 2.2};
 		for (int i = 0; i < 10000; i++) {
-			double s = rnd(), w = rnd() * (1 - s), os = rnd() * 4 - 2, ow = rnd() * 4 - 2;
+			double s = rnd(), w = rnd() * (1 - s), os = rnd() * 4 - 2,
+			       ow = rnd() * 4 - 2;
 			double q[3], o[3];
 			for (int a = 0; a < 3; a++) {
 				q[a] = p0[a] + s * (p1[a] - p0[a]) + w * (p2[a] - p0[a]);
@@ -187,9 +191,11 @@ static void grazing_rays_are_finite(void **state)
 	for (int k = 0; k < 2; k++) {
 		for (int i = 0; i < 10000; i++) {
 			double x = rnd() * 2, y = rnd() * 2;
-			struct rs_ray r = make_ray(x - 1, y, 1e-6, 1, 0, -1e-6); /* crosses z=0 at t=1 */
+			struct rs_ray r =
+			    make_ray(x - 1, y, 1e-6, 1, 0, -1e-6); /* crosses z=0 at t=1 */
 			double t = NAN, u = NAN, v = NAN;
-			bool hit = rs_intersect_triangle(tests_both[k], tv0, tv1, tv2, &r, &t, &u, &v);
+			bool hit =
+			    rs_intersect_triangle(tests_both[k], tv0, tv1, tv2, &r, &t, &u, &v);
 			assert_true(hit); /* (x, y) lies inside the triangle (x + y <= 4) */
 			/* t = 1 up to rounding amplified by 1/sin(1e-6) ~ 1e6: 1e-8 is generous. */
 			assert_true(fabs(t - 1.0) < 1e-8);
@@ -214,10 +220,10 @@ static void both_tests_agree_on_random_rays(void **state)
 		}
 		struct rs_ray r = make_ray(o[0], o[1], o[2], q[0] - o[0], q[1] - o[1], q[2] - o[2]);
 		double t1, u1, w1, t2, u2, w2;
-		bool h1 = rs_intersect_triangle(RS_TRIANGLE_MOLLER_TRUMBORE, v[0], v[1], v[2], &r, &t1,
-						&u1, &w1);
-		bool h2 = rs_intersect_triangle(RS_TRIANGLE_WATERTIGHT, v[0], v[1], v[2], &r, &t2, &u2,
-						&w2);
+		bool h1 = rs_intersect_triangle(RS_TRIANGLE_MOLLER_TRUMBORE, v[0], v[1], v[2], &r,
+		                                &t1, &u1, &w1);
+		bool h2 = rs_intersect_triangle(RS_TRIANGLE_WATERTIGHT, v[0], v[1], v[2], &r, &t2,
+		                                &u2, &w2);
 		double margin = fmin(fmin(b1, b2), 1 - b1 - b2);
 		if (fabs(margin) < 1e-6)
 			continue; /* at an edge the two may legitimately differ */
@@ -252,8 +258,8 @@ static void both_tests_agree_on_random_rays(void **state)
 static void nan_free_on_edge_cases(void **state)
 {
 	/* Huge and tiny direction magnitudes and components. */
-	const double dirs[][3] = {{1e-300, 1e-300, -1e-300}, {1e300, 1e-300, -1e300},
-				  {0, 0, -1e-310}, {1e-200, 0, -1}};
+	const double dirs[][3] = {
+	    {1e-300, 1e-300, -1e-300}, {1e300, 1e-300, -1e300}, {0, 0, -1e-310}, {1e-200, 0, -1}};
 	for (int k = 0; k < 2; k++) {
 		for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; i++) {
 			struct rs_ray r = make_ray(1, 1, 1, dirs[i][0], dirs[i][1], dirs[i][2]);
@@ -267,17 +273,17 @@ static void nan_free_on_edge_cases(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(box_hits_and_misses),
-		cmocka_unit_test(box_zero_direction_components),
-		cmocka_unit_test(box_empty_never_hit),
-		cmocka_unit_test(box_respects_interval),
-		cmocka_unit_test(triangle_known_hit),
-		cmocka_unit_test(triangle_interval_is_open),
-		cmocka_unit_test(degenerate_triangles_never_hit),
-		cmocka_unit_test(parallel_rays_never_hit),
-		cmocka_unit_test(grazing_rays_are_finite),
-		cmocka_unit_test(both_tests_agree_on_random_rays),
-		cmocka_unit_test(nan_free_on_edge_cases),
+	    cmocka_unit_test(box_hits_and_misses),
+	    cmocka_unit_test(box_zero_direction_components),
+	    cmocka_unit_test(box_empty_never_hit),
+	    cmocka_unit_test(box_respects_interval),
+	    cmocka_unit_test(triangle_known_hit),
+	    cmocka_unit_test(triangle_interval_is_open),
+	    cmocka_unit_test(degenerate_triangles_never_hit),
+	    cmocka_unit_test(parallel_rays_never_hit),
+	    cmocka_unit_test(grazing_rays_are_finite),
+	    cmocka_unit_test(both_tests_agree_on_random_rays),
+	    cmocka_unit_test(nan_free_on_edge_cases),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -23,7 +23,7 @@ static double rnd(void)
 }
 
 static const enum rs_bvh_builder builders[4] = {RS_BVH_NONE, RS_BVH_LINEAR, RS_BVH_PAPER,
-						RS_BVH_SAH};
+                                                RS_BVH_SAH};
 
 struct world {
 	struct rs_scene *scene;
@@ -34,28 +34,32 @@ struct world {
 };
 
 static struct world make_world(const float *pos, size_t verts, const uint32_t *idx, size_t tris,
-			       enum rs_bvh_builder builder)
+                               enum rs_bvh_builder builder)
 {
 	struct world w = {0};
 	struct rs_error err;
 	uint32_t mat;
 	assert_int_equal(rs_scene_create(NULL, &w.scene, &err), RS_OK);
 	assert_int_equal(rs_scene_add_material(w.scene, &(struct rs_material){0}, &mat), RS_OK);
-	struct rs_mesh_desc md = {.positions = pos, .vertex_count = verts, .indices = idx,
-				  .triangle_count = tris, .material = mat};
+	struct rs_mesh_desc md = {.positions = pos,
+	                          .vertex_count = verts,
+	                          .indices = idx,
+	                          .triangle_count = tris,
+	                          .material = mat};
 	if (rs_scene_add_mesh(w.scene, &md) != RS_OK)
 		fail_msg("add mesh: %s", rs_scene_last_error(w.scene));
 	struct rs_bvh_desc d = {.builder = builder};
 	size_t cap = rs_bvh_node_bound(&d, tris);
 	w.nodes = malloc(cap * sizeof *w.nodes);
 	w.order = malloc(tris * sizeof *w.order);
-	assert_int_equal(rs_bvh_build(&d, rs_scene_positions(w.scene), rs_scene_vertex_count(w.scene),
-				      rs_scene_indices(w.scene), tris, w.nodes, cap, w.order,
-				      &w.node_count, &err), RS_OK);
+	assert_int_equal(rs_bvh_build(&d, rs_scene_positions(w.scene),
+	                              rs_scene_vertex_count(w.scene), rs_scene_indices(w.scene),
+	                              tris, w.nodes, cap, w.order, &w.node_count, &err),
+	                 RS_OK);
 	assert_int_equal(rs_pack_layout(w.node_count, tris, 1, &w.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_alloc(&w.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_scene(w.scene, w.nodes, w.node_count, w.order, &w.packed, &err),
-			 RS_OK);
+	                 RS_OK);
 	return w;
 }
 
@@ -76,11 +80,11 @@ struct mesh {
 static struct mesh random_mesh(size_t tris, double scale, double offset)
 {
 	struct mesh m = {malloc(9 * tris * sizeof(float)), malloc(3 * tris * sizeof(uint32_t)),
-			 3 * tris, tris};
+	                 3 * tris, tris};
 	for (size_t t = 0; t < tris; t++) {
 		/* Coordinates on a 1/64 grid within +-64: exact in float even + 1e4. */
 		double c[3] = {floor(rnd() * 4096) / 64 - 32, floor(rnd() * 4096) / 64 - 32,
-			       floor(rnd() * 4096) / 64 - 32};
+		               floor(rnd() * 4096) / 64 - 32};
 		for (int k = 0; k < 3; k++) {
 			for (int a = 0; a < 3; a++) {
 				double p = c[a] + floor((rnd() - 0.5) * 256) / 64;
@@ -112,11 +116,10 @@ static struct rs_ray random_ray_at(const struct mesh *m)
 		double b1 = rnd(), b2 = rnd() * (1 - b1);
 		for (int a = 0; a < 3; a++)
 			r.dir[a] = p[a] + b1 * ((double)p[3 + a] - p[a]) +
-				   b2 * ((double)p[6 + a] - p[a]) - r.origin[a];
+			           b2 * ((double)p[6 + a] - p[a]) - r.origin[a];
 	}
 	return r;
 }
-
 
 /* Same closest hit: the same triangle at the bit-identical t (the same code computes it),
  * or a different triangle at a t within 1e-12 relative (a genuine tie at a shared point). */
@@ -139,8 +142,8 @@ static void closest_and_any_match_brute_force(void **state)
 		int hits = 0;
 		for (int i = 0; i < 4000; i++) {
 			struct rs_ray r = random_ray_at(&m);
-			enum rs_triangle_test test = i & 1 ? RS_TRIANGLE_WATERTIGHT
-							   : RS_TRIANGLE_MOLLER_TRUMBORE;
+			enum rs_triangle_test test =
+			    i & 1 ? RS_TRIANGLE_WATERTIGHT : RS_TRIANGLE_MOLLER_TRUMBORE;
 			struct rs_hit h1, h2;
 			bool a = rs_trace_closest(&w.packed, test, &r, &h1, NULL);
 			bool c = rs_trace_closest_brute(&w.packed, test, &r, &h2);
@@ -239,12 +242,13 @@ static void skip_slot_ignores_the_origin_triangle(void **state)
 		bool hit = rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &back, &h2, NULL);
 		if (hit)
 			assert_int_not_equal(h2.slot, h.slot);
-		assert_int_equal(hit, rs_trace_closest_brute(&w.packed, RS_TRIANGLE_WATERTIGHT, &back,
-							     &h2));
+		assert_int_equal(
+		    hit, rs_trace_closest_brute(&w.packed, RS_TRIANGLE_WATERTIGHT, &back, &h2));
 		back.skip_slot = RS_NO_SLOT;
 		assert_true(rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &back, &h2, NULL));
 		if (!(fabs(h2.t) < 1e-9))
-			fail_msg("ray %d: restart met slot %u at t %g (left slot %u)", i, h2.slot, h2.t, h.slot);
+			fail_msg("ray %d: restart met slot %u at t %g (left slot %u)", i, h2.slot,
+			         h2.t, h.slot);
 		checked++;
 	}
 	assert_true(checked > 100);
@@ -266,7 +270,8 @@ static void interval_bounds_the_hit(void **state)
 		assert_same_hit(a, &h, b, &h2);
 		if (a)
 			assert_true(h.t > r.tmin && h.t < r.tmax);
-		assert_int_equal(a, rs_trace_occluded(&w.packed, RS_TRIANGLE_MOLLER_TRUMBORE, &r, NULL));
+		assert_int_equal(
+		    a, rs_trace_occluded(&w.packed, RS_TRIANGLE_MOLLER_TRUMBORE, &r, NULL));
 	}
 	free_world(&w);
 	mesh_free(&m);
@@ -288,8 +293,10 @@ static void axis_parallel_rays_match_brute_force(void **state)
 			if (i & 8)
 				r.dir[(axis + 1) % 3] = i & 16 ? -0.0 : 0.5;
 			struct rs_hit h1, h2;
-			bool a1 = rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, &h1, NULL);
-			bool a2 = rs_trace_closest_brute(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, &h2);
+			bool a1 =
+			    rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, &h1, NULL);
+			bool a2 =
+			    rs_trace_closest_brute(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, &h2);
 			assert_same_hit(a1, &h1, a2, &h2);
 		}
 		free_world(&w);
@@ -308,7 +315,7 @@ static bool grazing(const struct mesh *m, uint32_t tri, const double d[3])
 		e2[a] = (double)p[6 + a] - p[a];
 	}
 	double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-		       e1[0] * e2[1] - e1[1] * e2[0]};
+	               e1[0] * e2[1] - e1[1] * e2[0]};
 	double dn = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
 	double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 	double dd = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -337,8 +344,10 @@ static void scaled_and_offset_scenes_agree(void **state)
 			for (int a = 0; a < 3; a++)
 				rs.origin[a] = r.origin[a] * scales[k] + offsets[k];
 			struct rs_hit h0, h1;
-			bool a0 = rs_trace_closest(&w0.packed, RS_TRIANGLE_WATERTIGHT, &r, &h0, NULL);
-			bool a1 = rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &rs, &h1, NULL);
+			bool a0 =
+			    rs_trace_closest(&w0.packed, RS_TRIANGLE_WATERTIGHT, &r, &h0, NULL);
+			bool a1 =
+			    rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &rs, &h1, NULL);
 			/* Skip rays within 1e-4 of an edge, where float rounding may flip them. */
 			if (a0 && fmin(fmin(h0.u, h0.v), 1 - h0.u - h0.v) < 1e-4)
 				continue;
@@ -380,9 +389,11 @@ static void degenerate_triangles_in_a_scene_never_hit(void **state)
 			}
 			for (int k = 0; k < 2; k++) {
 				struct rs_hit h;
-				if (rs_trace_closest(&w.packed, (enum rs_triangle_test)k, &r, &h, NULL)) {
+				if (rs_trace_closest(&w.packed, (enum rs_triangle_test)k, &r, &h,
+				                     NULL)) {
 					assert_true(h.triangle % 2 == 1);
-					assert_true(isfinite(h.t) && isfinite(h.u) && isfinite(h.v));
+					assert_true(isfinite(h.t) && isfinite(h.u) &&
+					            isfinite(h.v));
 				}
 			}
 		}
@@ -396,11 +407,12 @@ static void unusable_rays_miss(void **state)
 	struct mesh m = random_mesh(50, 1.0, 0.0);
 	struct world w = make_world(m.pos, m.verts, m.idx, m.tris, RS_BVH_SAH);
 	struct rs_ray bad[3] = {{{0, 0, 0}, {0, 0, 0}, 0, INFINITY, RS_NO_SLOT},
-				{{NAN, 0, 0}, {1, 0, 0}, 0, INFINITY, RS_NO_SLOT},
-				{{0, 0, 0}, {1, INFINITY, 0}, 0, INFINITY, RS_NO_SLOT}};
+	                        {{NAN, 0, 0}, {1, 0, 0}, 0, INFINITY, RS_NO_SLOT},
+	                        {{0, 0, 0}, {1, INFINITY, 0}, 0, INFINITY, RS_NO_SLOT}};
 	for (int i = 0; i < 3; i++) {
 		struct rs_hit h;
-		assert_false(rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &bad[i], &h, NULL));
+		assert_false(
+		    rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &bad[i], &h, NULL));
 		assert_int_equal(h.slot, RS_NO_SLOT);
 		assert_false(rs_trace_occluded(&w.packed, RS_TRIANGLE_WATERTIGHT, &bad[i], NULL));
 	}
@@ -449,7 +461,8 @@ static size_t ref_visit(struct ref_walk *rw, size_t i)
 			for (int a = 0; a < 3; a++)
 				v[k][a] = rw->pos[3 * (size_t)tri[k] + a];
 		rw->tris++;
-		if (rs_intersect_triangle(RS_TRIANGLE_WATERTIGHT, v[0], v[1], v[2], &rw->ray, &t, &u, &w)) {
+		if (rs_intersect_triangle(RS_TRIANGLE_WATERTIGHT, v[0], v[1], v[2], &rw->ray, &t,
+		                          &u, &w)) {
 			rw->found = true;
 			rw->t = t;
 			rw->ray.tmax = t;
@@ -467,15 +480,22 @@ static void counters_match_a_recursive_walk(void **state)
 		struct world w = make_world(m.pos, m.verts, m.idx, m.tris, builders[b]);
 		for (int i = 0; i < 2000; i++) {
 			struct rs_ray r = random_ray_at(&m);
-			struct ref_walk rw = {&w, rs_scene_positions(w.scene), rs_scene_indices(w.scene),
-					      r, {1.0 / r.dir[0], 1.0 / r.dir[1], 1.0 / r.dir[2]},
-					      0, 0, false, 0.0};
+			struct ref_walk rw = {&w,
+			                      rs_scene_positions(w.scene),
+			                      rs_scene_indices(w.scene),
+			                      r,
+			                      {1.0 / r.dir[0], 1.0 / r.dir[1], 1.0 / r.dir[2]},
+			                      0,
+			                      0,
+			                      false,
+			                      0.0};
 			/* Flat builders are forests: walk each top-level leaf in turn. */
 			for (size_t top = 0; top < w.node_count;)
 				top = ref_visit(&rw, top);
 			struct rs_trace_counters c = {0};
 			struct rs_hit h;
-			bool found = rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, &h, &c);
+			bool found =
+			    rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, &h, &c);
 			assert_int_equal(found, rw.found);
 			if (found)
 				assert_true(h.t == rw.t);
@@ -522,15 +542,19 @@ static struct closed icosphere(int levels)
 {
 	const double t = (1.0 + sqrt(5.0)) / 2.0;
 	const double v[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-				 {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-				 {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-	const uint32_t f[20][3] = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
-				   {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-				   {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
-				   {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+	                         {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+	                         {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+	const uint32_t f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+	                           {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+	                           {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+	                           {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
 	size_t max_tris = 20u << (2 * levels);
 	struct closed c = {malloc(3 * (max_tris + 12) * sizeof(float)),
-			   malloc(3 * max_tris * sizeof(uint32_t)), 12, 20, NULL, 0};
+	                   malloc(3 * max_tris * sizeof(uint32_t)),
+	                   12,
+	                   20,
+	                   NULL,
+	                   0};
 	double n = sqrt(1 + t * t);
 	for (int i = 0; i < 12; i++)
 		for (int k = 0; k < 3; k++)
@@ -544,7 +568,8 @@ static struct closed icosphere(int levels)
 		(void)base_verts;
 		for (size_t i = 0; i < c.tris; i++) {
 			uint32_t a = c.idx[3 * i], b = c.idx[3 * i + 1], d = c.idx[3 * i + 2];
-			uint32_t ab = midpoint(&c, a, b), bd = midpoint(&c, b, d), da = midpoint(&c, d, a);
+			uint32_t ab = midpoint(&c, a, b), bd = midpoint(&c, b, d),
+			         da = midpoint(&c, d, a);
 			uint32_t q[4][3] = {{a, ab, da}, {b, bd, ab}, {d, da, bd}, {ab, bd, da}};
 			memcpy(&next[12 * i], q, sizeof q);
 		}
@@ -562,7 +587,11 @@ static struct closed grid_cube(int n)
 {
 	size_t per_face = (size_t)(n + 1) * (n + 1);
 	struct closed c = {malloc(3 * 6 * per_face * sizeof(float)),
-			   malloc(3 * 12 * (size_t)n * n * sizeof(uint32_t)), 0, 0, NULL, 0};
+	                   malloc(3 * 12 * (size_t)n * n * sizeof(uint32_t)),
+	                   0,
+	                   0,
+	                   NULL,
+	                   0};
 	for (int face = 0; face < 6; face++) {
 		int axis = face / 2;
 		double side = face % 2 ? -1.0 : 1.0;
@@ -597,7 +626,7 @@ static struct closed grid_cube(int n)
  * vertex itself, exactly), at points on edges, and at vertices from random interior
  * points. Every one must hit with the watertight test; returns the misses. */
 static size_t count_misses(const struct closed *c, enum rs_triangle_test test, size_t rays,
-			   double inner_radius)
+                           double inner_radius)
 {
 	struct world w = make_world(c->pos, c->verts, c->idx, c->tris, RS_BVH_SAH);
 	size_t misses = 0;
@@ -611,7 +640,8 @@ static size_t count_misses(const struct closed *c, enum rs_triangle_test test, s
 		int kind = (int)(i % 4);
 		double s = kind == 1 ? 0.5 : rnd();
 		for (int a = 0; a < 3; a++) {
-			target[a] = kind == 0 || kind == 3 ? (double)p[a] : p[a] + s * ((double)q[a] - p[a]);
+			target[a] = kind == 0 || kind == 3 ? (double)p[a]
+			                                   : p[a] + s * ((double)q[a] - p[a]);
 			if (kind >= 2)
 				r.origin[a] = (rnd() * 2 - 1) * inner_radius;
 			r.dir[a] = target[a] - r.origin[a];
@@ -629,7 +659,7 @@ static void watertight_icosphere_has_no_misses(void **state)
 	size_t wt = count_misses(&c, RS_TRIANGLE_WATERTIGHT, 600000, 0.5);
 	size_t mt = count_misses(&c, RS_TRIANGLE_MOLLER_TRUMBORE, 100000, 0.5);
 	print_message("icosphere: watertight misses %zu of 600000; Moller-Trumbore %zu of 100000\n",
-		      wt, mt);
+	              wt, mt);
 	assert_int_equal(wt, 0);
 	free(c.pos);
 	free(c.idx);
@@ -641,7 +671,7 @@ static void watertight_grid_cube_has_no_misses(void **state)
 	size_t wt = count_misses(&c, RS_TRIANGLE_WATERTIGHT, 500000, 0.9);
 	size_t mt = count_misses(&c, RS_TRIANGLE_MOLLER_TRUMBORE, 100000, 0.9);
 	print_message("grid cube: watertight misses %zu of 500000; Moller-Trumbore %zu of 100000\n",
-		      wt, mt);
+	              wt, mt);
 	assert_int_equal(wt, 0);
 	free(c.pos);
 	free(c.idx);
@@ -650,19 +680,19 @@ static void watertight_grid_cube_has_no_misses(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(closest_and_any_match_brute_force),
-		cmocka_unit_test(none_counts_one_box_and_every_triangle),
-		cmocka_unit_test(linear_counts_every_box),
-		cmocka_unit_test(tree_miss_costs_one_box),
-		cmocka_unit_test(counters_match_a_recursive_walk),
-		cmocka_unit_test(skip_slot_ignores_the_origin_triangle),
-		cmocka_unit_test(interval_bounds_the_hit),
-		cmocka_unit_test(axis_parallel_rays_match_brute_force),
-		cmocka_unit_test(scaled_and_offset_scenes_agree),
-		cmocka_unit_test(degenerate_triangles_in_a_scene_never_hit),
-		cmocka_unit_test(unusable_rays_miss),
-		cmocka_unit_test(watertight_icosphere_has_no_misses),
-		cmocka_unit_test(watertight_grid_cube_has_no_misses),
+	    cmocka_unit_test(closest_and_any_match_brute_force),
+	    cmocka_unit_test(none_counts_one_box_and_every_triangle),
+	    cmocka_unit_test(linear_counts_every_box),
+	    cmocka_unit_test(tree_miss_costs_one_box),
+	    cmocka_unit_test(counters_match_a_recursive_walk),
+	    cmocka_unit_test(skip_slot_ignores_the_origin_triangle),
+	    cmocka_unit_test(interval_bounds_the_hit),
+	    cmocka_unit_test(axis_parallel_rays_match_brute_force),
+	    cmocka_unit_test(scaled_and_offset_scenes_agree),
+	    cmocka_unit_test(degenerate_triangles_in_a_scene_never_hit),
+	    cmocka_unit_test(unusable_rays_miss),
+	    cmocka_unit_test(watertight_icosphere_has_no_misses),
+	    cmocka_unit_test(watertight_grid_cube_has_no_misses),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

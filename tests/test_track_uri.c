@@ -23,8 +23,8 @@ static void vid_pid_with_and_without_tail(void **state)
 
 static void malformed_vid_pid_is_refused_untouched(void **state)
 {
-	const char *bad[] = {"", "046d", "046d:", ":c52b", "12345:1", "1:12345", "0x12:1",
-			     "1:0x1", "g:1", " 1:1", "1:1 ", "1\t:1"};
+	const char *bad[] = {"",       "046d",  "046d:", ":c52b", "12345:1", "1:12345",
+	                     "0x12:1", "1:0x1", "g:1",   " 1:1",  "1:1 ",    "1\t:1"};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
 		uint16_t vid = 7, pid = 9;
 		const char *tail = NULL;
@@ -38,8 +38,8 @@ static void malformed_vid_pid_is_refused_untouched(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(vid_pid_with_and_without_tail),
-		cmocka_unit_test(malformed_vid_pid_is_refused_untouched),
+	    cmocka_unit_test(vid_pid_with_and_without_tail),
+	    cmocka_unit_test(malformed_vid_pid_is_refused_untouched),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   libcglm-dev libassimp-dev libcmocka-dev libpng-dev libcjson-dev
   libhidapi-dev libusb-1.0-0-dev
-  clang-14 libclang-rt-14-dev
+  clang-14 libclang-rt-14-dev clang-format-14
 )
 
 missing=()

@@ -67,26 +67,31 @@ size_t rs_bvh_node_bound(const struct rs_bvh_desc *desc, size_t triangle_count)
 	if (triangle_count == 0)
 		return 0;
 	switch (d.builder) {
-	case RS_BVH_NONE: return 1;
-	case RS_BVH_LINEAR: return (triangle_count + d.leaf_size - 1) / d.leaf_size;
-	case RS_BVH_PAPER: return 2 * pow2_ceil(triangle_count) - 1;
-	case RS_BVH_SAH: return 2 * triangle_count - 1;
+	case RS_BVH_NONE:
+		return 1;
+	case RS_BVH_LINEAR:
+		return (triangle_count + d.leaf_size - 1) / d.leaf_size;
+	case RS_BVH_PAPER:
+		return 2 * pow2_ceil(triangle_count) - 1;
+	case RS_BVH_SAH:
+		return 2 * triangle_count - 1;
 	}
 	return 0;
 }
 
 static enum rs_status validate(const struct rs_bvh_desc *d, const float *positions,
-			       size_t vertex_count, const uint32_t *indices,
-			       size_t triangle_count, struct rs_error *err)
+                               size_t vertex_count, const uint32_t *indices, size_t triangle_count,
+                               struct rs_error *err)
 {
 	if ((unsigned)d->builder > RS_BVH_PAPER)
-		return rs_error_set(err, RS_ERR_INVALID, "bvh: unknown builder %d", (int)d->builder);
+		return rs_error_set(err, RS_ERR_INVALID, "bvh: unknown builder %d",
+		                    (int)d->builder);
 	if (d->leaf_size > MAX_LEAF && d->builder == RS_BVH_SAH)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: leaf_size %u above %u", d->leaf_size,
-				    MAX_LEAF);
+		                    MAX_LEAF);
 	if (d->sah_bins < 2 || d->sah_bins > MAX_BINS)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: sah_bins %u outside 2..%u",
-				    d->sah_bins, MAX_BINS);
+		                    d->sah_bins, MAX_BINS);
 	if (!(d->traversal_cost > 0.0f) || !isfinite(d->traversal_cost))
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: traversal_cost must be positive");
 	if (triangle_count == 0)
@@ -95,26 +100,26 @@ static enum rs_status validate(const struct rs_bvh_desc *d, const float *positio
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: positions or indices missing");
 	if (triangle_count >= (size_t)1 << 31)
 		return rs_error_set(err, RS_ERR_LIMIT, "bvh: %zu triangles exceed 2^31",
-				    triangle_count);
+		                    triangle_count);
 	for (size_t i = 0; i < 3 * triangle_count; i++) {
 		uint32_t v = indices[i];
 		if (v >= vertex_count)
 			return rs_error_set(err, RS_ERR_BAD_DATA,
-					    "bvh: triangle %zu uses vertex %u of %zu", i / 3, v,
-					    vertex_count);
+			                    "bvh: triangle %zu uses vertex %u of %zu", i / 3, v,
+			                    vertex_count);
 		const float *p = positions + 3 * (size_t)v;
 		if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
-			return rs_error_set(err, RS_ERR_BAD_DATA,
-					    "bvh: vertex %u is not finite", v);
+			return rs_error_set(err, RS_ERR_BAD_DATA, "bvh: vertex %u is not finite",
+			                    v);
 	}
 	return RS_OK;
 }
 
 enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positions,
-			    size_t vertex_count, const uint32_t *indices, size_t triangle_count,
-			    struct rs_bvh_node *out_nodes, size_t node_capacity,
-			    uint32_t *out_triangle_order, size_t *out_node_count,
-			    struct rs_error *err)
+                            size_t vertex_count, const uint32_t *indices, size_t triangle_count,
+                            struct rs_bvh_node *out_nodes, size_t node_capacity,
+                            uint32_t *out_triangle_order, size_t *out_node_count,
+                            struct rs_error *err)
 {
 	struct rs_bvh_desc d;
 	rs_bvh_desc_resolve(desc, &d);
@@ -128,23 +133,23 @@ enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positio
 	size_t bound = rs_bvh_node_bound(&d, triangle_count);
 	if (node_capacity < bound)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: node capacity %zu below bound %zu",
-				    node_capacity, bound);
+		                    node_capacity, bound);
 	if (triangle_count == 0)
 		return RS_OK;
 	switch (d.builder) {
 	case RS_BVH_NONE:
 		return rs_bvh__build_flat((uint32_t)triangle_count, positions, indices,
-					  triangle_count, out_nodes, out_triangle_order,
-					  out_node_count, err);
+		                          triangle_count, out_nodes, out_triangle_order,
+		                          out_node_count, err);
 	case RS_BVH_LINEAR:
 		return rs_bvh__build_flat(d.leaf_size, positions, indices, triangle_count,
-					  out_nodes, out_triangle_order, out_node_count, err);
+		                          out_nodes, out_triangle_order, out_node_count, err);
 	case RS_BVH_PAPER:
 		return rs_bvh__build_paper(positions, indices, triangle_count, out_nodes,
-					   out_triangle_order, out_node_count, err);
+		                           out_triangle_order, out_node_count, err);
 	case RS_BVH_SAH:
 		return rs_bvh__build_sah(&d, positions, indices, triangle_count, out_nodes,
-					 out_triangle_order, out_node_count, err);
+		                         out_triangle_order, out_node_count, err);
 	}
 	return rs_error_set(err, RS_ERR_INVALID, "bvh: unknown builder");
 }
@@ -158,7 +163,7 @@ void rs_bvh__box_empty(float lo[3], float hi[3])
 }
 
 void rs_bvh__box_add_triangle(float lo[3], float hi[3], const float *positions,
-			      const uint32_t *indices, uint32_t tri)
+                              const uint32_t *indices, uint32_t tri)
 {
 	for (int k = 0; k < 3; k++) {
 		const float *p = positions + 3 * (size_t)indices[3 * (size_t)tri + k];
@@ -216,7 +221,7 @@ int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_
 }
 
 void rs_bvh_stats(const struct rs_bvh_node *nodes, size_t node_count, float traversal_cost,
-		  struct rs_bvh_stats *out)
+                  struct rs_bvh_stats *out)
 {
 	memset(out, 0, sizeof *out);
 	if (!nodes || node_count == 0)
@@ -226,7 +231,7 @@ void rs_bvh_stats(const struct rs_bvh_node *nodes, size_t node_count, float trav
 	float lo[3], hi[3];
 	rs_bvh__box_empty(lo, hi);
 	size_t top_count = 0;
-	for (size_t i = 0; i < node_count; i = nodes[i].escape > i ? nodes[i].escape : i + 1) {
+	for (size_t i = 0; i<node_count; i = nodes[i].escape> i ? nodes[i].escape : i + 1) {
 		top_count++;
 		for (int a = 0; a < 3; a++) {
 			lo[a] = nodes[i].lo[a] < lo[a] ? nodes[i].lo[a] : lo[a];
@@ -252,8 +257,9 @@ void rs_bvh_stats(const struct rs_bvh_node *nodes, size_t node_count, float trav
 			cost += p * n->count;
 		} else {
 			size_t children = 0;
-			for (size_t c = i + 1; c < n->escape && c < node_count;
-			     c = nodes[c].escape > c ? nodes[c].escape : c + 1)
+			for (size_t c = i + 1; c < n->escape && c<node_count; c = nodes[c].escape> c
+			                           ? nodes[c].escape
+			                           : c + 1)
 				children++;
 			cost += p * ct * (double)children;
 		}

@@ -20,65 +20,68 @@ static int box_contains(const struct rs_bvh_node *outer, const float lo[3], cons
 /* Structure: walks the children chain of every interior node; sizes, levels and nesting
  * must agree with the escapes. */
 static enum rs_status check_structure(const struct rs_bvh_node *nodes, size_t node_count,
-				      struct rs_error *err)
+                                      struct rs_error *err)
 {
 	size_t top = 0;
 	while (top < node_count) {
 		uint32_t e = nodes[top].escape;
 		if (e <= top || e > node_count)
 			return rs_error_set(err, RS_ERR_BAD_DATA,
-					    "bvh: top-level node %zu escape %u out of range", top, e);
+			                    "bvh: top-level node %zu escape %u out of range", top,
+			                    e);
 		top = e;
 	}
 	for (size_t i = 0; i < node_count; i++) {
 		const struct rs_bvh_node *n = &nodes[i];
 		if (n->escape <= i || n->escape > node_count)
-			return rs_error_set(err, RS_ERR_BAD_DATA, "bvh: node %zu escape %u out of range",
-					    i, n->escape);
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "bvh: node %zu escape %u out of range", i, n->escape);
 		if (n->level == 0) {
 			if (n->escape != i + 1)
 				return rs_error_set(err, RS_ERR_BAD_DATA,
-						    "bvh: leaf %zu escape %u, expected %zu", i,
-						    n->escape, i + 1);
+				                    "bvh: leaf %zu escape %u, expected %zu", i,
+				                    n->escape, i + 1);
 			if (n->count == 0 && !box_empty(n))
 				return rs_error_set(err, RS_ERR_BAD_DATA,
-						    "bvh: empty leaf %zu has non-empty bounds", i);
+				                    "bvh: empty leaf %zu has non-empty bounds", i);
 			continue;
 		}
 		if (n->count != 0)
-			return rs_error_set(err, RS_ERR_BAD_DATA, "bvh: interior node %zu has %u triangles",
-					    i, n->count);
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "bvh: interior node %zu has %u triangles", i, n->count);
 		if (n->escape == i + 1)
-			return rs_error_set(err, RS_ERR_BAD_DATA, "bvh: interior node %zu has no children",
-					    i);
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "bvh: interior node %zu has no children", i);
 		uint32_t max_child = 0;
 		size_t c = i + 1;
 		while (c < n->escape) {
 			const struct rs_bvh_node *ch = &nodes[c];
 			if (ch->escape > n->escape)
-				return rs_error_set(err, RS_ERR_BAD_DATA,
-						    "bvh: child %zu of node %zu escapes past its parent",
-						    c, i);
+				return rs_error_set(
+				    err, RS_ERR_BAD_DATA,
+				    "bvh: child %zu of node %zu escapes past its parent", c, i);
 			if (!box_empty(ch) && !box_contains(n, ch->lo, ch->hi))
 				return rs_error_set(err, RS_ERR_BAD_DATA,
-						    "bvh: node %zu box does not contain child %zu", i, c);
+				                    "bvh: node %zu box does not contain child %zu",
+				                    i, c);
 			if (ch->level >= n->level)
-				return rs_error_set(err, RS_ERR_BAD_DATA,
-						    "bvh: child %zu level %u not below parent %zu level %u",
-						    c, ch->level, i, n->level);
+				return rs_error_set(
+				    err, RS_ERR_BAD_DATA,
+				    "bvh: child %zu level %u not below parent %zu level %u", c,
+				    ch->level, i, n->level);
 			max_child = ch->level > max_child ? ch->level : max_child;
 			c = ch->escape;
 		}
 		if (max_child + 1 != n->level)
 			return rs_error_set(err, RS_ERR_BAD_DATA,
-					    "bvh: node %zu level %u, expected %u", i, n->level,
-					    max_child + 1);
+			                    "bvh: node %zu level %u, expected %u", i, n->level,
+			                    max_child + 1);
 	}
 	return RS_OK;
 }
 
 static enum rs_status check_order(const struct rs_bvh_node *nodes, size_t node_count,
-				  struct rs_error *err)
+                                  struct rs_error *err)
 {
 	uint32_t max_level = 0;
 	for (size_t i = 0; i < node_count; i++)
@@ -90,17 +93,18 @@ static enum rs_status check_order(const struct rs_bvh_node *nodes, size_t node_c
 	for (size_t i = 0; i < node_count && s == RS_OK; i++) {
 		uint32_t want = rank[nodes[i].level]++;
 		if (nodes[i].order != want)
-			s = rs_error_set(err, RS_ERR_BAD_DATA, "bvh: node %zu order %u, expected %u", i,
-					 nodes[i].order, want);
+			s = rs_error_set(err, RS_ERR_BAD_DATA,
+			                 "bvh: node %zu order %u, expected %u", i, nodes[i].order,
+			                 want);
 	}
 	free(rank);
 	return s;
 }
 
 static enum rs_status check_triangles(const struct rs_bvh_node *nodes, size_t node_count,
-				      const float *positions, const uint32_t *indices,
-				      const uint32_t *triangle_order, size_t triangle_count,
-				      struct rs_error *err)
+                                      const float *positions, const uint32_t *indices,
+                                      const uint32_t *triangle_order, size_t triangle_count,
+                                      struct rs_error *err)
 {
 	unsigned char *seen = calloc(triangle_count ? triangle_count : 1, 1);
 	unsigned char *covered = calloc(triangle_count ? triangle_count : 1, 1);
@@ -113,7 +117,7 @@ static enum rs_status check_triangles(const struct rs_bvh_node *nodes, size_t no
 		uint32_t id = triangle_order[t];
 		if (id >= triangle_count || seen[id]) {
 			s = rs_error_set(err, RS_ERR_BAD_DATA,
-					 "bvh: triangle order is not a permutation at slot %zu", t);
+			                 "bvh: triangle order is not a permutation at slot %zu", t);
 			goto done;
 		}
 		seen[id] = 1;
@@ -123,12 +127,14 @@ static enum rs_status check_triangles(const struct rs_bvh_node *nodes, size_t no
 		if (n->level != 0)
 			continue;
 		if ((size_t)n->first + n->count > triangle_count) {
-			s = rs_error_set(err, RS_ERR_BAD_DATA, "bvh: leaf %zu range past the triangles", i);
+			s = rs_error_set(err, RS_ERR_BAD_DATA,
+			                 "bvh: leaf %zu range past the triangles", i);
 			goto done;
 		}
 		for (uint32_t t = n->first; t < n->first + n->count; t++) {
 			if (covered[t]) {
-				s = rs_error_set(err, RS_ERR_BAD_DATA, "bvh: slot %u in two leaves", t);
+				s = rs_error_set(err, RS_ERR_BAD_DATA, "bvh: slot %u in two leaves",
+				                 t);
 				goto done;
 			}
 			covered[t] = 1;
@@ -136,8 +142,9 @@ static enum rs_status check_triangles(const struct rs_bvh_node *nodes, size_t no
 			for (int k = 0; k < 3; k++) {
 				const float *p = positions + 3 * (size_t)tri[k];
 				if (!box_contains(n, p, p)) {
-					s = rs_error_set(err, RS_ERR_BAD_DATA,
-							 "bvh: leaf %zu box does not contain slot %u", i, t);
+					s = rs_error_set(
+					    err, RS_ERR_BAD_DATA,
+					    "bvh: leaf %zu box does not contain slot %u", i, t);
 					goto done;
 				}
 			}
@@ -156,13 +163,13 @@ done:
 }
 
 enum rs_status rs_bvh_check(const struct rs_bvh_node *nodes, size_t node_count,
-			    const float *positions, const uint32_t *indices,
-			    const uint32_t *triangle_order, size_t triangle_count,
-			    struct rs_error *err)
+                            const float *positions, const uint32_t *indices,
+                            const uint32_t *triangle_order, size_t triangle_count,
+                            struct rs_error *err)
 {
 	if ((node_count == 0) != (triangle_count == 0))
 		return rs_error_set(err, RS_ERR_BAD_DATA, "bvh: %zu nodes for %zu triangles",
-				    node_count, triangle_count);
+		                    node_count, triangle_count);
 	if (triangle_count && (!nodes || !positions || !indices || !triangle_order))
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: check inputs missing");
 	enum rs_status s = check_structure(nodes, node_count, err);
@@ -170,6 +177,6 @@ enum rs_status rs_bvh_check(const struct rs_bvh_node *nodes, size_t node_count,
 		s = check_order(nodes, node_count, err);
 	if (s == RS_OK)
 		s = check_triangles(nodes, node_count, positions, indices, triangle_order,
-				    triangle_count, err);
+		                    triangle_count, err);
 	return s;
 }

@@ -16,7 +16,7 @@
 void rs_bvh__box_empty(float lo[3], float hi[3]);
 /** Grow lo/hi by the three vertices of input triangle `tri`. */
 void rs_bvh__box_add_triangle(float lo[3], float hi[3], const float *positions,
-			      const uint32_t *indices, uint32_t tri);
+                              const uint32_t *indices, uint32_t tri);
 /** Surface area of a box (0 for an empty one). */
 double rs_bvh__box_area(const float lo[3], const float hi[3]);
 
@@ -31,15 +31,15 @@ int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_
 /* Builders. Inputs are validated by rs_bvh_build(); each writes nodes, triangle order and
  * the node count. SAH may fail with RS_ERR_NO_MEMORY. */
 enum rs_status rs_bvh__build_flat(uint32_t leaf_size, const float *positions,
-				  const uint32_t *indices, size_t triangle_count,
-				  struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
-				  struct rs_error *err);
+                                  const uint32_t *indices, size_t triangle_count,
+                                  struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
+                                  struct rs_error *err);
 enum rs_status rs_bvh__build_paper(const float *positions, const uint32_t *indices,
-				   size_t triangle_count, struct rs_bvh_node *nodes,
-				   uint32_t *order, size_t *out_count, struct rs_error *err);
+                                   size_t triangle_count, struct rs_bvh_node *nodes,
+                                   uint32_t *order, size_t *out_count, struct rs_error *err);
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
-				 const uint32_t *indices, size_t triangle_count,
-				 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
-				 struct rs_error *err);
+                                 const uint32_t *indices, size_t triangle_count,
+                                 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
+                                 struct rs_error *err);
 
 #endif

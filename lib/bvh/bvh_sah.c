@@ -202,7 +202,7 @@ static void find_split(struct sah_ctx *s, const struct task *t, float k[3], stru
 	}
 	if (large > 0 && large < n && (size_t)large * 4 <= n) {
 		double cost = 2.0 * s->ct * area + box_area(blo, bhi) * large +
-			      box_area(slo, shi) * (n - large);
+		              box_area(slo, shi) * (n - large);
 		if (cost < best) {
 			best = cost;
 			out->axis = 4;
@@ -220,7 +220,7 @@ static void find_split(struct sah_ctx *s, const struct task *t, float k[3], stru
 /* Partition t's items by the split; fills the two child tasks (bounds and centroid
  * bounds) in list order. */
 static void partition(struct sah_ctx *s, const struct task *t, const float k[3],
-		      const struct split *sp, struct task *left, struct task *right)
+                      const struct split *sp, struct task *left, struct task *right)
 {
 	*left = (struct task){.begin = t->begin};
 	*right = (struct task){.end = t->end};
@@ -291,9 +291,9 @@ static int second_first(const struct task *l, const struct task *r)
 }
 
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
-				 const uint32_t *indices, size_t triangle_count,
-				 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
-				 struct rs_error *err)
+                                 const uint32_t *indices, size_t triangle_count,
+                                 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
+                                 struct rs_error *err)
 {
 	size_t n = triangle_count;
 	size_t cap = 2 * n - 1;
@@ -303,8 +303,8 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	struct task *stack = malloc((n + 1) * sizeof *stack);
 	enum rs_status status = RS_OK;
 	if (!items || !bins || !parent || !stack) {
-		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory (%zu triangles)",
-				      n);
+		status =
+		    rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory (%zu triangles)", n);
 		goto done;
 	}
 	struct task root = {0, (uint32_t)n, RS_BVH_NO_PARENT, {0}, {0}, {0}, {0}};
@@ -320,8 +320,12 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		grow(root.lo, root.hi, it->lo, it->hi);
 		grow(root.clo, root.chi, it->c, it->c);
 	}
-	struct sah_ctx s = {items, bins, bins + 3 * (size_t)desc->sah_bins, desc->sah_bins,
-			    desc->leaf_size, desc->traversal_cost};
+	struct sah_ctx s = {items,
+	                    bins,
+	                    bins + 3 * (size_t)desc->sah_bins,
+	                    desc->sah_bins,
+	                    desc->leaf_size,
+	                    desc->traversal_cost};
 	size_t top = 0, count = 0;
 	stack[top++] = root;
 	while (top > 0) {

@@ -6,19 +6,21 @@
 #include "bvh_internal.h"
 
 enum rs_status rs_bvh__build_flat(uint32_t leaf_size, const float *positions,
-				  const uint32_t *indices, size_t triangle_count,
-				  struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
-				  struct rs_error *err)
+                                  const uint32_t *indices, size_t triangle_count,
+                                  struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
+                                  struct rs_error *err)
 {
 	/* A forest of leaves: every leaf is top-level, so its escape is simply the next
 	 * node and a ray tests every box of the list. */
 	size_t n = 0;
 	for (size_t first = 0; first < triangle_count; first += leaf_size, n++) {
 		struct rs_bvh_node *node = &nodes[n];
-		size_t count = triangle_count - first < leaf_size ? triangle_count - first : leaf_size;
+		size_t count =
+		    triangle_count - first < leaf_size ? triangle_count - first : leaf_size;
 		rs_bvh__box_empty(node->lo, node->hi);
 		for (size_t t = first; t < first + count; t++)
-			rs_bvh__box_add_triangle(node->lo, node->hi, positions, indices, (uint32_t)t);
+			rs_bvh__box_add_triangle(node->lo, node->hi, positions, indices,
+			                         (uint32_t)t);
 		node->first = (uint32_t)first;
 		node->count = (uint32_t)count;
 		node->level = 0;
@@ -41,8 +43,8 @@ struct paper_task {
 };
 
 enum rs_status rs_bvh__build_paper(const float *positions, const uint32_t *indices,
-				   size_t triangle_count, struct rs_bvh_node *nodes,
-				   uint32_t *order, size_t *out_count, struct rs_error *err)
+                                   size_t triangle_count, struct rs_bvh_node *nodes,
+                                   uint32_t *order, size_t *out_count, struct rs_error *err)
 {
 	size_t leaves = 1;
 	while (leaves < triangle_count)
@@ -52,7 +54,7 @@ enum rs_status rs_bvh__build_paper(const float *positions, const uint32_t *indic
 	struct paper_task stack[64];
 	if (!parent)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory (%zu nodes)",
-				    node_count);
+		                    node_count);
 	size_t top = 0, n = 0;
 	stack[top++] = (struct paper_task){0, leaves, RS_BVH_NO_PARENT};
 	while (top > 0) {
@@ -68,7 +70,7 @@ enum rs_status rs_bvh__build_paper(const float *positions, const uint32_t *indic
 				node->first = (uint32_t)task.a;
 				node->count = 1;
 				rs_bvh__box_add_triangle(node->lo, node->hi, positions, indices,
-							 (uint32_t)task.a);
+				                         (uint32_t)task.a);
 			}
 			continue;
 		}

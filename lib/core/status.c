@@ -7,26 +7,40 @@
 const char *rs_status_name(enum rs_status status)
 {
 	switch (status) {
-	case RS_OK: return "RS_OK";
-	case RS_TIMEOUT: return "RS_TIMEOUT";
-	case RS_END: return "RS_END";
-	case RS_ERR_INVALID: return "RS_ERR_INVALID";
-	case RS_ERR_NO_MEMORY: return "RS_ERR_NO_MEMORY";
-	case RS_ERR_IO: return "RS_ERR_IO";
-	case RS_ERR_PARSE: return "RS_ERR_PARSE";
-	case RS_ERR_BAD_DATA: return "RS_ERR_BAD_DATA";
-	case RS_ERR_UNSUPPORTED: return "RS_ERR_UNSUPPORTED";
-	case RS_ERR_NOT_FOUND: return "RS_ERR_NOT_FOUND";
-	case RS_ERR_DISCONNECTED: return "RS_ERR_DISCONNECTED";
-	case RS_ERR_LIMIT: return "RS_ERR_LIMIT";
-	case RS_ERR_DEVICE: return "RS_ERR_DEVICE";
-	case RS_ERR_DEGENERATE: return "RS_ERR_DEGENERATE";
+	case RS_OK:
+		return "RS_OK";
+	case RS_TIMEOUT:
+		return "RS_TIMEOUT";
+	case RS_END:
+		return "RS_END";
+	case RS_ERR_INVALID:
+		return "RS_ERR_INVALID";
+	case RS_ERR_NO_MEMORY:
+		return "RS_ERR_NO_MEMORY";
+	case RS_ERR_IO:
+		return "RS_ERR_IO";
+	case RS_ERR_PARSE:
+		return "RS_ERR_PARSE";
+	case RS_ERR_BAD_DATA:
+		return "RS_ERR_BAD_DATA";
+	case RS_ERR_UNSUPPORTED:
+		return "RS_ERR_UNSUPPORTED";
+	case RS_ERR_NOT_FOUND:
+		return "RS_ERR_NOT_FOUND";
+	case RS_ERR_DISCONNECTED:
+		return "RS_ERR_DISCONNECTED";
+	case RS_ERR_LIMIT:
+		return "RS_ERR_LIMIT";
+	case RS_ERR_DEVICE:
+		return "RS_ERR_DEVICE";
+	case RS_ERR_DEGENERATE:
+		return "RS_ERR_DEGENERATE";
 	}
 	return "RS_UNKNOWN_STATUS";
 }
 
 enum rs_status rs_error_setv(struct rs_error *err, enum rs_status status, const char *fmt,
-			     va_list args)
+                             va_list args)
 {
 	if (!err)
 		return status;

@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 enum rs_status rs_atomic_open(const char *path, char *tmp_path, size_t tmp_size, FILE **out,
-			      struct rs_error *err)
+                              struct rs_error *err)
 {
 	*out = NULL;
 	if (!path || !*path)
@@ -37,7 +37,7 @@ enum rs_status rs_atomic_open(const char *path, char *tmp_path, size_t tmp_size,
 }
 
 enum rs_status rs_atomic_commit(FILE *file, const char *tmp_path, const char *path, int ok,
-				struct rs_error *err)
+                                struct rs_error *err)
 {
 	int write_error = ferror(file);
 	int close_error = fclose(file);

@@ -4,8 +4,8 @@
 #include "raystream/rs_image.h"
 
 void rs_image_compare(const float *test, const float *reference, uint32_t width, uint32_t height,
-		      uint32_t channels, double peak, double bad_threshold,
-		      struct rs_image_diff *out)
+                      uint32_t channels, double peak, double bad_threshold,
+                      struct rs_image_diff *out)
 {
 	size_t pixels = (size_t)width * height;
 	double sum_sq = 0.0, max_err = 0.0;

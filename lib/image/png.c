@@ -22,12 +22,12 @@ static enum rs_status check_size(uint32_t width, uint32_t height, struct rs_erro
 {
 	if (width == 0 || height == 0 || width > RS_IMAGE_MAX_SIDE || height > RS_IMAGE_MAX_SIDE)
 		return rs_error_set(err, RS_ERR_INVALID, "image size %ux%u is out of range", width,
-				    height);
+		                    height);
 	return RS_OK;
 }
 
 enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t width,
-				  uint32_t height, struct rs_error *err)
+                                  uint32_t height, struct rs_error *err)
 {
 	enum rs_status status = check_size(width, height, err);
 	if (status != RS_OK)
@@ -59,7 +59,7 @@ enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t w
 }
 
 enum rs_status rs_image_read_png(const char *path, uint8_t **out_pixels, uint32_t *out_width,
-				 uint32_t *out_height, struct rs_error *err)
+                                 uint32_t *out_height, struct rs_error *err)
 {
 	*out_pixels = NULL;
 	png_image image;

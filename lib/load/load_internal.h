@@ -22,7 +22,6 @@ enum rs_status rs_load_read_text(const char *path, size_t max_bytes, char **out_
  * reserves memory for the declared counts up front). RS_OK for other files and for
  * headers it cannot follow; RS_ERR_PARSE naming the element otherwise.
  */
-enum rs_status rs_load_check_ply_header(const char *path, size_t file_size,
-                                        struct rs_error *err);
+enum rs_status rs_load_check_ply_header(const char *path, size_t file_size, struct rs_error *err);
 
 #endif

@@ -115,8 +115,8 @@ static enum rs_status check_mesh(const char *path, unsigned index, const struct 
 		 * mesh claim polygons it does not have, and assimp's Triangulate step then
 		 * aborts the process on an assertion. */
 		if (face->mNumIndices == 0)
-			return rs_error_set(err, RS_ERR_PARSE, "%s: mesh %u face %u has no vertices",
-			                    path, index, f);
+			return rs_error_set(err, RS_ERR_PARSE,
+			                    "%s: mesh %u face %u has no vertices", path, index, f);
 		for (unsigned k = 0; k < face->mNumIndices; k++)
 			if (face->mIndices[k] >= mesh->mNumVertices)
 				return rs_error_set(err, RS_ERR_BAD_DATA,

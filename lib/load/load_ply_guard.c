@@ -25,10 +25,10 @@ static size_t scalar_size(const char *type)
 	static const struct {
 		const char *name;
 		size_t size;
-	} types[] = {{"char", 1},   {"uchar", 1},   {"int8", 1},    {"uint8", 1},
-	             {"short", 2},  {"ushort", 2},  {"int16", 2},   {"uint16", 2},
-	             {"int", 4},    {"uint", 4},    {"int32", 4},   {"uint32", 4},
-	             {"float", 4},  {"float32", 4}, {"double", 8},  {"float64", 8}};
+	} types[] = {{"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},
+	             {"short", 2}, {"ushort", 2},  {"int16", 2},  {"uint16", 2},
+	             {"int", 4},   {"uint", 4},    {"int32", 4},  {"uint32", 4},
+	             {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
 
 	for (size_t i = 0; i < sizeof(types) / sizeof(types[0]); i++)
 		if (strcmp(type, types[i].name) == 0)

@@ -7,7 +7,7 @@
 #include <string.h>
 
 void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t *out_width,
-			  uint32_t *out_height)
+                          uint32_t *out_height)
 {
 	/* Never 0 x 0: an empty list still gets one (zeroed) row so a texture can exist. */
 	size_t per_row = items < RS_PACK_ROW_ITEMS ? (items ? items : 1) : RS_PACK_ROW_ITEMS;
@@ -17,7 +17,7 @@ void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t *out_
 }
 
 enum rs_status rs_pack_layout(size_t node_count, size_t triangle_count, size_t material_count,
-			      struct rs_packed *out, struct rs_error *err)
+                              struct rs_packed *out, struct rs_error *err)
 {
 	if (!out)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: no output");
@@ -25,17 +25,17 @@ enum rs_status rs_pack_layout(size_t node_count, size_t triangle_count, size_t m
 	if (node_count >= RS_PACK_MAX_ITEMS || triangle_count >= RS_PACK_MAX_ITEMS ||
 	    material_count >= RS_PACK_MAX_ITEMS)
 		return rs_error_set(err, RS_ERR_LIMIT,
-				    "pack: %zu nodes, %zu triangles, %zu materials: each must stay "
-				    "below 2^24 to index exactly through floats",
-				    node_count, triangle_count, material_count);
+		                    "pack: %zu nodes, %zu triangles, %zu materials: each must stay "
+		                    "below 2^24 to index exactly through floats",
+		                    node_count, triangle_count, material_count);
 	rs_pack_texture_size(node_count, RS_PACK_NODE_TEXELS, &out->nodes.width,
-			     &out->nodes.height);
+	                     &out->nodes.height);
 	rs_pack_texture_size(triangle_count, RS_PACK_TRIANGLE_TEXELS, &out->triangles.width,
-			     &out->triangles.height);
+	                     &out->triangles.height);
 	rs_pack_texture_size(triangle_count, RS_PACK_NORMAL_TEXELS, &out->normals.width,
-			     &out->normals.height);
+	                     &out->normals.height);
 	rs_pack_texture_size(material_count, RS_PACK_MATERIAL_TEXELS, &out->materials.width,
-			     &out->materials.height);
+	                     &out->materials.height);
 	out->node_count = (uint32_t)node_count;
 	out->triangle_count = (uint32_t)triangle_count;
 	out->material_count = (uint32_t)material_count;
@@ -52,7 +52,7 @@ enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err)
 	if (!packed)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: no packed struct");
 	struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
-				     &packed->materials};
+	                             &packed->materials};
 	for (int i = 0; i < 4; i++) {
 		tex[i]->texels = calloc(texture_floats(tex[i]), sizeof(float));
 		if (!tex[i]->texels) {
@@ -91,26 +91,27 @@ static void set4(float *t, float a, float b, float c, float d)
 }
 
 static enum rs_status check_packed(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
-				   size_t node_count, const uint32_t *triangle_order,
-				   const struct rs_packed *p, struct rs_error *err)
+                                   size_t node_count, const uint32_t *triangle_order,
+                                   const struct rs_packed *p, struct rs_error *err)
 {
 	size_t tris = rs_scene_triangle_count(scene);
 	if (p->node_count != node_count || p->triangle_count != tris ||
 	    p->material_count != rs_scene_material_count(scene))
 		return rs_error_set(err, RS_ERR_INVALID,
-				    "pack: layout counts do not match the scene and BVH");
+		                    "pack: layout counts do not match the scene and BVH");
 	struct rs_packed want;
 	enum rs_status s = rs_pack_layout(node_count, tris, p->material_count, &want, err);
 	if (s != RS_OK)
 		return s;
 	const struct rs_texture *have[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
 	const struct rs_texture *need[4] = {&want.nodes, &want.triangles, &want.normals,
-					    &want.materials};
+	                                    &want.materials};
 	for (int i = 0; i < 4; i++) {
 		if (!have[i]->texels || have[i]->width != need[i]->width ||
 		    have[i]->height != need[i]->height)
-			return rs_error_set(err, RS_ERR_INVALID,
-					    "pack: texture %d missing or not sized by rs_pack_layout", i);
+			return rs_error_set(
+			    err, RS_ERR_INVALID,
+			    "pack: texture %d missing or not sized by rs_pack_layout", i);
 	}
 	if (node_count && !nodes)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: no nodes");
@@ -118,9 +119,10 @@ static enum rs_status check_packed(const struct rs_scene *scene, const struct rs
 		return rs_error_set(err, RS_ERR_INVALID, "pack: no triangle order");
 	for (size_t t = 0; t < tris; t++)
 		if (triangle_order[t] >= tris)
-			return rs_error_set(err, RS_ERR_BAD_DATA,
-					    "pack: triangle order slot %zu names triangle %u of %zu", t,
-					    triangle_order[t], tris);
+			return rs_error_set(
+			    err, RS_ERR_BAD_DATA,
+			    "pack: triangle order slot %zu names triangle %u of %zu", t,
+			    triangle_order[t], tris);
 	for (size_t i = 0; i < node_count; i++)
 		if (nodes[i].escape > node_count || (size_t)nodes[i].first + nodes[i].count > tris)
 			return rs_error_set(err, RS_ERR_BAD_DATA, "pack: node %zu out of range", i);
@@ -128,8 +130,8 @@ static enum rs_status check_packed(const struct rs_scene *scene, const struct rs
 }
 
 enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
-			     size_t node_count, const uint32_t *triangle_order,
-			     struct rs_packed *packed, struct rs_error *err)
+                             size_t node_count, const uint32_t *triangle_order,
+                             struct rs_packed *packed, struct rs_error *err)
 {
 	if (!scene || !packed)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: scene or packed struct missing");
@@ -137,7 +139,7 @@ enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_n
 	if (s != RS_OK)
 		return s;
 	struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
-				     &packed->materials};
+	                             &packed->materials};
 	for (int i = 0; i < 4; i++)
 		memset(tex[i]->texels, 0, texture_floats(tex[i]) * sizeof(float));
 
@@ -162,8 +164,8 @@ enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_n
 			const float *p = pos + 3 * (size_t)v[k];
 			const float *nn = nrm + 3 * (size_t)v[k];
 			float w = k == 0 ? (float)tri : k == 1 ? (float)mat[tri] : 0.0f;
-			set4(texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, slot, k), p[0], p[1],
-			     p[2], w);
+			set4(texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, slot, k), p[0],
+			     p[1], p[2], w);
 			set4(texel(&packed->normals, RS_PACK_NORMAL_TEXELS, slot, k), nn[0], nn[1],
 			     nn[2], 0.0f);
 		}

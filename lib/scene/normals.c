@@ -29,8 +29,8 @@ static double corner_angle(const double *e1, const double *e2)
 }
 
 int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
-				    size_t triangle_count, size_t first_vertex,
-				    size_t vertex_count, float *out)
+                                    size_t triangle_count, size_t first_vertex, size_t vertex_count,
+                                    float *out)
 {
 	double *acc = calloc(vertex_count * 3, sizeof *acc);
 	if (!acc)
@@ -38,7 +38,7 @@ int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indi
 	for (size_t t = 0; t < triangle_count; ++t) {
 		const uint32_t *tri = indices + t * 3;
 		const float *p[3] = {positions + (size_t)tri[0] * 3, positions + (size_t)tri[1] * 3,
-				     positions + (size_t)tri[2] * 3};
+		                     positions + (size_t)tri[2] * 3};
 		double e01[3], e02[3], n[3];
 		sub(p[1], p[0], e01);
 		sub(p[2], p[0], e02);
@@ -61,7 +61,8 @@ int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indi
 	for (size_t i = 0; i < vertex_count; ++i) {
 		double l = len(acc + i * 3);
 		for (int a = 0; a < 3; ++a)
-			out[i * 3 + a] = l > 0.0 ? (float)(acc[i * 3 + a] / l) : (a == 1 ? 1.0f : 0.0f);
+			out[i * 3 + a] =
+			    l > 0.0 ? (float)(acc[i * 3 + a] / l) : (a == 1 ? 1.0f : 0.0f);
 	}
 	free(acc);
 	return 1;

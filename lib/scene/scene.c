@@ -11,12 +11,12 @@
 #define RS_SCENE_DEFAULT_MAX_TRIANGLES ((size_t)(1u << 24) - 1u)
 
 static const float rs_default_face_colors[6][3] = {
-	{0.80f, 0.35f, 0.30f}, {0.30f, 0.65f, 0.35f}, {0.55f, 0.70f, 0.90f},
-	{0.45f, 0.40f, 0.35f}, {0.85f, 0.80f, 0.40f}, {0.55f, 0.40f, 0.75f},
+    {0.80f, 0.35f, 0.30f}, {0.30f, 0.65f, 0.35f}, {0.55f, 0.70f, 0.90f},
+    {0.45f, 0.40f, 0.35f}, {0.85f, 0.80f, 0.40f}, {0.55f, 0.40f, 0.75f},
 };
 
 static enum rs_status scene_fail(struct rs_scene *scene, enum rs_status status, const char *fmt,
-				 ...)
+                                 ...)
 {
 	va_list args;
 	va_start(args, fmt);
@@ -26,7 +26,7 @@ static enum rs_status scene_fail(struct rs_scene *scene, enum rs_status status, 
 }
 
 enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene **out,
-			       struct rs_error *err)
+                               struct rs_error *err)
 {
 	if (!out)
 		return rs_error_set(err, RS_ERR_INVALID, "rs_scene_create: out is NULL");
@@ -34,8 +34,8 @@ enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene
 	struct rs_scene *scene = calloc(1, sizeof *scene);
 	if (!scene)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory creating a scene");
-	scene->max_triangles = desc && desc->max_triangles ? desc->max_triangles
-							   : RS_SCENE_DEFAULT_MAX_TRIANGLES;
+	scene->max_triangles =
+	    desc && desc->max_triangles ? desc->max_triangles : RS_SCENE_DEFAULT_MAX_TRIANGLES;
 	scene->ambient = 0.1;
 	scene->camera.eye[2] = 10.0;
 	scene->camera.up[1] = 1.0;
@@ -90,24 +90,30 @@ static int grow(void **array, size_t *capacity, size_t count, size_t size)
 }
 
 enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_material *material,
-				     uint32_t *out_id)
+                                     uint32_t *out_id)
 {
 	RS_ASSERT(scene && material);
 	const float *m = material->diffuse;
-	const float v[] = {m[0], m[1], m[2], material->specular, material->shininess,
-			   material->reflectance, material->transmittance, material->ior};
+	const float v[] = {m[0],
+	                   m[1],
+	                   m[2],
+	                   material->specular,
+	                   material->shininess,
+	                   material->reflectance,
+	                   material->transmittance,
+	                   material->ior};
 	for (size_t i = 0; i < sizeof v / sizeof v[0]; ++i)
 		if (!isfinite(v[i]) || v[i] < 0.0f)
 			return scene_fail(scene, RS_ERR_BAD_DATA,
-					  "material %zu: value %zu is negative or not finite",
-					  scene->material_count, i);
+			                  "material %zu: value %zu is negative or not finite",
+			                  scene->material_count, i);
 	if (material->ior != 0.0f && material->ior < 1e-3f)
 		return scene_fail(scene, RS_ERR_BAD_DATA, "material %zu: ior %g is too small",
-				  scene->material_count, (double)material->ior);
+		                  scene->material_count, (double)material->ior);
 	if (scene->material_count >= (1u << 24))
 		return scene_fail(scene, RS_ERR_LIMIT, "too many materials");
-	if (!grow((void **)&scene->materials, &scene->material_capacity,
-		  scene->material_count + 1, sizeof *scene->materials))
+	if (!grow((void **)&scene->materials, &scene->material_capacity, scene->material_count + 1,
+	          sizeof *scene->materials))
 		return scene_fail(scene, RS_ERR_NO_MEMORY, "out of memory adding a material");
 	scene->materials[scene->material_count] = *material;
 	if (out_id)
@@ -123,7 +129,8 @@ static const float *strided(const float *base, size_t stride, size_t i)
 
 static const uint32_t *strided_u32(const uint32_t *base, size_t stride, size_t i)
 {
-	return (const uint32_t *)((const char *)base + i * (stride ? stride : 3 * sizeof(uint32_t)));
+	return (const uint32_t *)((const char *)base +
+	                          i * (stride ? stride : 3 * sizeof(uint32_t)));
 }
 
 static enum rs_status validate_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh)
@@ -134,28 +141,28 @@ static enum rs_status validate_mesh(struct rs_scene *scene, const struct rs_mesh
 		return scene_fail(scene, RS_ERR_BAD_DATA, "mesh has zero triangles");
 	if (mesh->vertex_count == 0 || mesh->vertex_count > UINT32_MAX)
 		return scene_fail(scene, RS_ERR_BAD_DATA, "mesh has %zu vertices",
-				  mesh->vertex_count);
+		                  mesh->vertex_count);
 	if (mesh->material >= scene->material_count)
 		return scene_fail(scene, RS_ERR_BAD_DATA, "mesh uses unknown material %u",
-				  mesh->material);
+		                  mesh->material);
 	if (mesh->triangle_count > scene->max_triangles - scene->triangle_count)
-		return scene_fail(scene, RS_ERR_LIMIT,
-				  "scene would have more than %zu triangles", scene->max_triangles);
+		return scene_fail(scene, RS_ERR_LIMIT, "scene would have more than %zu triangles",
+		                  scene->max_triangles);
 	for (size_t i = 0; i < mesh->vertex_count; ++i) {
 		if (!finite3(strided(mesh->positions, mesh->position_stride, i)))
 			return scene_fail(scene, RS_ERR_BAD_DATA,
-					  "vertex %zu has a NaN or infinite coordinate", i);
+			                  "vertex %zu has a NaN or infinite coordinate", i);
 		if (mesh->normals && !finite3(strided(mesh->normals, mesh->normal_stride, i)))
 			return scene_fail(scene, RS_ERR_BAD_DATA,
-					  "normal %zu has a NaN or infinite component", i);
+			                  "normal %zu has a NaN or infinite component", i);
 	}
 	for (size_t t = 0; t < mesh->triangle_count; ++t) {
 		const uint32_t *tri = strided_u32(mesh->indices, mesh->index_stride, t);
 		for (int k = 0; k < 3; ++k)
 			if (tri[k] >= mesh->vertex_count)
 				return scene_fail(scene, RS_ERR_BAD_DATA,
-						  "triangle %zu uses vertex %u of %zu", t, tri[k],
-						  mesh->vertex_count);
+				                  "triangle %zu uses vertex %u of %zu", t, tri[k],
+				                  mesh->vertex_count);
 	}
 	return RS_OK;
 }
@@ -175,9 +182,9 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
 	    !grow((void **)&scene->normals, &scene->normal_capacity, vn * 3, sizeof(float)) ||
 	    !grow((void **)&scene->indices, &scene->index_capacity, tn * 3, sizeof(uint32_t)) ||
 	    !grow((void **)&scene->triangle_materials, &scene->triangle_material_capacity, tn,
-		  sizeof(uint32_t)))
+	          sizeof(uint32_t)))
 		return scene_fail(scene, RS_ERR_NO_MEMORY, "out of memory adding %zu triangles",
-				  mesh->triangle_count);
+		                  mesh->triangle_count);
 	for (size_t i = 0; i < mesh->vertex_count; ++i)
 		memcpy(scene->positions + (v0 + i) * 3,
 		       strided(mesh->positions, mesh->position_stride, i), 3 * sizeof(float));
@@ -193,8 +200,8 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
 			       strided(mesh->normals, mesh->normal_stride, i), 3 * sizeof(float));
 		rs_scene_normalize_normals(scene->normals + v0 * 3, mesh->vertex_count);
 	} else if (!rs_scene_angle_weighted_normals(scene->positions, scene->indices + t0 * 3,
-						    mesh->triangle_count, v0, mesh->vertex_count,
-						    scene->normals + v0 * 3)) {
+	                                            mesh->triangle_count, v0, mesh->vertex_count,
+	                                            scene->normals + v0 * 3)) {
 		/* Counts are not advanced yet, so the scene is unchanged. */
 		return scene_fail(scene, RS_ERR_NO_MEMORY, "out of memory computing normals");
 	}
@@ -206,8 +213,10 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
 			if (i == 0) {
 				scene->bounds.lo[a] = scene->bounds.hi[a] = p;
 			} else {
-				scene->bounds.lo[a] = p < scene->bounds.lo[a] ? p : scene->bounds.lo[a];
-				scene->bounds.hi[a] = p > scene->bounds.hi[a] ? p : scene->bounds.hi[a];
+				scene->bounds.lo[a] =
+				    p < scene->bounds.lo[a] ? p : scene->bounds.lo[a];
+				scene->bounds.hi[a] =
+				    p > scene->bounds.hi[a] ? p : scene->bounds.hi[a];
 			}
 		}
 	return RS_OK;

@@ -32,8 +32,8 @@ struct rs_scene {
  * get their normals written to out (count * 3 floats). Returns 0 when out of scratch memory.
  */
 int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
-				    size_t triangle_count, size_t first_vertex,
-				    size_t vertex_count, float *out);
+                                    size_t triangle_count, size_t first_vertex, size_t vertex_count,
+                                    float *out);
 
 /* Renormalise normals in place; zero-length ones become (0, 1, 0) so none is NaN. */
 void rs_scene_normalize_normals(float *normals, size_t count);

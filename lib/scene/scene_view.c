@@ -28,11 +28,12 @@ static void cross3(const double *a, const double *b, double *out)
 enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera)
 {
 	RS_ASSERT(scene && camera);
-	if (!finite_n(camera->eye, 3) || !finite_n(camera->target, 3) ||
-	    !finite_n(camera->up, 3) || !isfinite(camera->fov_y_deg))
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "camera has a non-finite value");
+	if (!finite_n(camera->eye, 3) || !finite_n(camera->target, 3) || !finite_n(camera->up, 3) ||
+	    !isfinite(camera->fov_y_deg))
+		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+		                    "camera has a non-finite value");
 	double view[3] = {camera->target[0] - camera->eye[0], camera->target[1] - camera->eye[1],
-			  camera->target[2] - camera->eye[2]};
+	                  camera->target[2] - camera->eye[2]};
 	double side[3];
 	cross3(view, camera->up, side);
 	/* Finite ends can still be infinitely far apart (eye 1e308, target -1e308); then the
@@ -40,19 +41,20 @@ enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camer
 	if (!finite_n(view, 3) || !isfinite(dot3(view, view)) ||
 	    !isfinite(dot3(camera->up, camera->up)))
 		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-				    "camera eye, target or up is too large");
+		                    "camera eye, target or up is too large");
 	if (dot3(view, view) == 0.0)
 		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "camera eye equals its target");
 	if (dot3(side, side) <= 1e-12 * dot3(view, view) * dot3(camera->up, camera->up) ||
 	    dot3(camera->up, camera->up) == 0.0)
 		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-				    "camera up is zero or parallel to the view direction");
+		                    "camera up is zero or parallel to the view direction");
 	if (camera->fov_y_deg < 0.0 || camera->fov_y_deg >= 180.0)
 		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-				    "camera field of view %g is outside (0, 180)", camera->fov_y_deg);
+		                    "camera field of view %g is outside (0, 180)",
+		                    camera->fov_y_deg);
 	if (camera->width > 16384 || camera->height > 16384)
 		return rs_error_set(&scene->error, RS_ERR_LIMIT, "camera image %ux%u is too large",
-				    camera->width, camera->height);
+		                    camera->width, camera->height);
 	scene->camera = *camera;
 	return RS_OK;
 }
@@ -69,7 +71,7 @@ enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light 
 		struct rs_light *p = realloc(scene->lights, cap * sizeof *p);
 		if (!p)
 			return rs_error_set(&scene->error, RS_ERR_NO_MEMORY,
-					    "out of memory adding a light");
+			                    "out of memory adding a light");
 		scene->lights = p;
 		scene->light_capacity = cap;
 	}
@@ -78,7 +80,7 @@ enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light 
 }
 
 enum rs_status rs_scene_set_environment(struct rs_scene *scene,
-					const struct rs_environment *environment)
+                                        const struct rs_environment *environment)
 {
 	RS_ASSERT(scene && environment);
 	const struct rs_environment *e = environment;
@@ -86,15 +88,15 @@ enum rs_status rs_scene_set_environment(struct rs_scene *scene,
 	    !isfinite(e->line_width) || !isfinite(e->line_scale) || e->line_width < 0.0f ||
 	    e->line_width > 1.0f || e->line_scale < 0.0f)
 		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-				    "environment has a non-finite or out-of-range value");
+		                    "environment has a non-finite or out-of-range value");
 	for (int f = 0; f < 6; ++f)
 		for (int c = 0; c < 3; ++c)
 			if (!isfinite(e->face_color[f][c]) || e->face_color[f][c] < 0.0f)
 				return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-						    "environment face %d colour is invalid", f);
+				                    "environment face %d colour is invalid", f);
 	if (e->grid > 4096)
 		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-				    "environment grid %u is too fine", e->grid);
+		                    "environment grid %u is too fine", e->grid);
 	scene->environment = *e;
 	return RS_OK;
 }
@@ -103,23 +105,60 @@ enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient)
 {
 	RS_ASSERT(scene);
 	if (!isfinite(ambient) || ambient < 0.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "ambient %g is invalid", ambient);
+		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "ambient %g is invalid",
+		                    ambient);
 	scene->ambient = ambient;
 	return RS_OK;
 }
 
-size_t rs_scene_triangle_count(const struct rs_scene *s) { return s->triangle_count; }
-size_t rs_scene_vertex_count(const struct rs_scene *s) { return s->vertex_count; }
-const float *rs_scene_positions(const struct rs_scene *s) { return s->positions; }
-const float *rs_scene_normals(const struct rs_scene *s) { return s->normals; }
-const uint32_t *rs_scene_indices(const struct rs_scene *s) { return s->indices; }
-const uint32_t *rs_scene_triangle_materials(const struct rs_scene *s) { return s->triangle_materials; }
-size_t rs_scene_material_count(const struct rs_scene *s) { return s->material_count; }
-const struct rs_material *rs_scene_materials(const struct rs_scene *s) { return s->materials; }
-size_t rs_scene_light_count(const struct rs_scene *s) { return s->light_count; }
-const struct rs_light *rs_scene_lights(const struct rs_scene *s) { return s->lights; }
-const struct rs_camera *rs_scene_camera(const struct rs_scene *s) { return &s->camera; }
-double rs_scene_ambient(const struct rs_scene *s) { return s->ambient; }
+size_t rs_scene_triangle_count(const struct rs_scene *s)
+{
+	return s->triangle_count;
+}
+size_t rs_scene_vertex_count(const struct rs_scene *s)
+{
+	return s->vertex_count;
+}
+const float *rs_scene_positions(const struct rs_scene *s)
+{
+	return s->positions;
+}
+const float *rs_scene_normals(const struct rs_scene *s)
+{
+	return s->normals;
+}
+const uint32_t *rs_scene_indices(const struct rs_scene *s)
+{
+	return s->indices;
+}
+const uint32_t *rs_scene_triangle_materials(const struct rs_scene *s)
+{
+	return s->triangle_materials;
+}
+size_t rs_scene_material_count(const struct rs_scene *s)
+{
+	return s->material_count;
+}
+const struct rs_material *rs_scene_materials(const struct rs_scene *s)
+{
+	return s->materials;
+}
+size_t rs_scene_light_count(const struct rs_scene *s)
+{
+	return s->light_count;
+}
+const struct rs_light *rs_scene_lights(const struct rs_scene *s)
+{
+	return s->lights;
+}
+const struct rs_camera *rs_scene_camera(const struct rs_scene *s)
+{
+	return &s->camera;
+}
+double rs_scene_ambient(const struct rs_scene *s)
+{
+	return s->ambient;
+}
 
 void rs_scene_bounds(const struct rs_scene *scene, struct rs_bounds *out)
 {
@@ -165,8 +204,7 @@ void rs_camera_resolve(const struct rs_camera *in, struct rs_camera *out)
 		out->height = 512;
 }
 
-void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg,
-		     struct rs_camera *camera)
+void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg, struct rs_camera *camera)
 {
 	struct rs_camera resolved;
 	rs_camera_resolve(camera, &resolved);
@@ -176,7 +214,7 @@ void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg,
 		/* An empty or non-finite box (an empty scene's bounds) frames the origin rather
 		 * than writing NaN into the camera. */
 		int ok = isfinite(focus->lo[a]) && isfinite(focus->hi[a]) &&
-			 focus->lo[a] <= focus->hi[a];
+		         focus->lo[a] <= focus->hi[a];
 		center[a] = ok ? 0.5 * (focus->lo[a] + focus->hi[a]) : 0.0;
 		double e = ok ? focus->hi[a] - focus->lo[a] : 0.0;
 		d2 += e * e;

@@ -200,7 +200,8 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 	/* "scene.mtl" as the OBJ, or the OBJ's own name as the view file, would have one file
 	 * silently replace another. */
 	if (strcmp(mtl_path, obj_path) == 0 ||
-	    (view != NULL && (strcmp(view_path, obj_path) == 0 || strcmp(view_path, mtl_path) == 0))) {
+	    (view != NULL &&
+	     (strcmp(view_path, obj_path) == 0 || strcmp(view_path, mtl_path) == 0))) {
 		rs_load_free(view);
 		free(mtl_path);
 		return rs_error_set(err, RS_ERR_INVALID,

@@ -15,9 +15,8 @@ struct rs__ray_pre {
 
 void rs__ray_prepare(const struct rs_ray *ray, struct rs__ray_pre *out);
 
-bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3],
-				const double v1[3], const double v2[3],
-				const struct rs__ray_pre *pre, double *out_t, double *out_u,
-				double *out_v);
+bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3], const double v1[3],
+                                const double v2[3], const struct rs__ray_pre *pre, double *out_t,
+                                double *out_u, double *out_v);
 
 #endif

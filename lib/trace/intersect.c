@@ -18,7 +18,7 @@
 #define PARALLEL_EPS 1e-13
 
 bool rs_intersect_box(const float lo[3], const float hi[3], const double origin[3],
-		      const double inv_dir[3], double tmin, double tmax)
+                      const double inv_dir[3], double tmin, double tmax)
 {
 	double tn = tmin, tf = tmax;
 	for (int a = 0; a < 3; a++) {
@@ -113,8 +113,8 @@ static double plane_facing(const double e1[3], const double e2[3], const struct 
 }
 
 static bool moller_trumbore(const double v0[3], const double v1[3], const double v2[3],
-			    const struct rs__ray_pre *pre, double *out_t, double *out_u,
-			    double *out_v)
+                            const struct rs__ray_pre *pre, double *out_t, double *out_u,
+                            double *out_v)
 {
 	const struct rs_ray *ray = pre->ray;
 	double e1[3], e2[3], p[3], s[3], q[3];
@@ -150,7 +150,7 @@ static bool moller_trumbore(const double v0[3], const double v1[3], const double
 /* Every quantity below depends only on the ray and one vertex, or is an exact sign flip
  * between the two triangles sharing an edge, so a ray can never pass between them. */
 static bool watertight(const double v0[3], const double v1[3], const double v2[3],
-		       const struct rs__ray_pre *pre, double *out_t, double *out_u, double *out_v)
+                       const struct rs__ray_pre *pre, double *out_t, double *out_u, double *out_v)
 {
 	const struct rs_ray *ray = pre->ray;
 	double e1[3], e2[3];
@@ -184,10 +184,9 @@ static bool watertight(const double v0[3], const double v1[3], const double v2[3
 	return true;
 }
 
-bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3],
-				const double v1[3], const double v2[3],
-				const struct rs__ray_pre *pre, double *out_t, double *out_u,
-				double *out_v)
+bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3], const double v1[3],
+                                const double v2[3], const struct rs__ray_pre *pre, double *out_t,
+                                double *out_u, double *out_v)
 {
 	if (test == RS_TRIANGLE_WATERTIGHT)
 		return watertight(v0, v1, v2, pre, out_t, out_u, out_v);
@@ -195,8 +194,8 @@ bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3],
 }
 
 bool rs_intersect_triangle(enum rs_triangle_test test, const double v0[3], const double v1[3],
-			   const double v2[3], const struct rs_ray *ray, double *out_t,
-			   double *out_u, double *out_v)
+                           const double v2[3], const struct rs_ray *ray, double *out_t,
+                           double *out_u, double *out_v)
 {
 	struct rs__ray_pre pre;
 	rs__ray_prepare(ray, &pre);

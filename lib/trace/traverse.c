@@ -26,7 +26,7 @@ static uint32_t to_index(float f)
 }
 
 static void load_triangle(const struct rs_packed *packed, uint32_t slot, double v[3][3],
-			  uint32_t *out_id)
+                          uint32_t *out_id)
 {
 	/* The three texels of an item are adjacent in their row. */
 	const float *t = rs_pack_texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, slot, 0);
@@ -40,8 +40,8 @@ static void load_triangle(const struct rs_packed *packed, uint32_t slot, double 
 
 /* One walk for both queries: `any` stops at the first hit. */
 static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
-		     const struct rs_ray *ray, bool any, struct rs_hit *out_hit,
-		     struct rs_trace_counters *counters)
+                     const struct rs_ray *ray, bool any, struct rs_hit *out_hit,
+                     struct rs_trace_counters *counters)
 {
 	if (out_hit) {
 		out_hit->t = INFINITY;
@@ -112,20 +112,20 @@ done:
 }
 
 bool rs_trace_closest(const struct rs_packed *packed, enum rs_triangle_test test,
-		      const struct rs_ray *ray, struct rs_hit *out_hit,
-		      struct rs_trace_counters *counters)
+                      const struct rs_ray *ray, struct rs_hit *out_hit,
+                      struct rs_trace_counters *counters)
 {
 	return traverse(packed, test, ray, false, out_hit, counters);
 }
 
 bool rs_trace_occluded(const struct rs_packed *packed, enum rs_triangle_test test,
-		       const struct rs_ray *ray, struct rs_trace_counters *counters)
+                       const struct rs_ray *ray, struct rs_trace_counters *counters)
 {
 	return traverse(packed, test, ray, true, NULL, counters);
 }
 
 bool rs_trace_closest_brute(const struct rs_packed *packed, enum rs_triangle_test test,
-			    const struct rs_ray *ray, struct rs_hit *out_hit)
+                            const struct rs_ray *ray, struct rs_hit *out_hit)
 {
 	if (out_hit) {
 		out_hit->t = INFINITY;

@@ -11,9 +11,9 @@ static int hex16(const char *s, size_t n, uint16_t *out)
 	for (size_t i = 0; i < n; i++) {
 		char c = s[i];
 		unsigned d = c >= '0' && c <= '9'   ? (unsigned)(c - '0')
-			     : c >= 'a' && c <= 'f' ? (unsigned)(c - 'a' + 10)
-			     : c >= 'A' && c <= 'F' ? (unsigned)(c - 'A' + 10)
-						    : 16u;
+		             : c >= 'a' && c <= 'f' ? (unsigned)(c - 'a' + 10)
+		             : c >= 'A' && c <= 'F' ? (unsigned)(c - 'A' + 10)
+		                                    : 16u;
 		if (d > 15)
 			return 0;
 		v = v * 16 + d;
@@ -23,7 +23,7 @@ static int hex16(const char *s, size_t n, uint16_t *out)
 }
 
 int rs_track_parse_vid_pid(const char *text, uint16_t *out_vid, uint16_t *out_pid,
-			   const char **out_tail)
+                           const char **out_tail)
 {
 	size_t a = strcspn(text, ":");
 	if (text[a] != ':')

@@ -18,8 +18,8 @@ int main(void)
 	uint32_t id;
 	float pos[9] = {-1, -1, 0, 1, -1, 0, 0, 1, 0};
 	uint32_t idx[3] = {0, 1, 2};
-	struct rs_mesh_desc mesh = {.positions = pos, .vertex_count = 3, .indices = idx,
-				    .triangle_count = 1};
+	struct rs_mesh_desc mesh = {
+	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
 	struct rs_light light = {.position = {0, 0, 5}, .color = {1, 1, 1}};
 	struct rs_camera cam = {.eye = {0, 0, 5}, .up = {0, 1, 0}, .width = 8, .height = 8};
 	if (rs_scene_add_material(scene, &m, &id) || rs_scene_add_mesh(scene, &mesh) ||

@@ -20,12 +20,12 @@ static const struct paper_row {
 	const char *scene;
 	double none, linear, tree;
 } paper[] = {
-	{"box", 174.652, 24.315, 3.407},       {"cow1", 12937.57, 1615.989, 49.053},
-	{"cow2", 26524.78, 3211.53, 68.417},   {"cow5", 0, 8007.67, 138.311},
-	{"cow9", 0, 14018.847, 238.444},       {"cow17", 0, 20760.26, 361.564},
+    {"box", 174.652, 24.315, 3.407},     {"cow1", 12937.57, 1615.989, 49.053},
+    {"cow2", 26524.78, 3211.53, 68.417}, {"cow5", 0, 8007.67, 138.311},
+    {"cow9", 0, 14018.847, 238.444},     {"cow17", 0, 20760.26, 361.564},
 };
 static const enum rs_bvh_builder builders[] = {RS_BVH_NONE, RS_BVH_LINEAR, RS_BVH_PAPER,
-					       RS_BVH_SAH};
+                                               RS_BVH_SAH};
 
 struct options {
 	uint32_t size, flat_size, none_max_tris, passes, lights, repeats, threads;
@@ -80,16 +80,18 @@ static int bench_scene(const struct options *o, const struct paper_row *row, dou
 		build_ms[b] = median(times, o->repeats);
 		hits[b] = box[b] = NAN;
 		sizes[b] = builders[b] == RS_BVH_NONE || builders[b] == RS_BVH_LINEAR ? o->flat_size
-										       : o->size;
+		                                                                      : o->size;
 		if (builders[b] == RS_BVH_NONE && tris > o->none_max_tris) {
 			rs_tool_accel_free(&accel);
 			continue;
 		}
-		struct rs_trace_desc td = {.width = sizes[b], .height = sizes[b],
-					   .passes = o->passes, .lights = o->lights};
+		struct rs_trace_desc td = {.width = sizes[b],
+		                           .height = sizes[b],
+		                           .passes = o->passes,
+		                           .lights = o->lights};
 		struct rs_trace_stats st;
 		if (rs_tool_render_cpu(scene, &accel.packed, &td, o->threads, NULL, NULL, &st,
-				       &err) != RS_OK) {
+		                       &err) != RS_OK) {
 			fprintf(stderr, "raystream-bench: %s\n", err.message);
 			rs_tool_accel_free(&accel);
 			rs_scene_destroy(&scene);
@@ -116,25 +118,32 @@ static int bench_scene(const struct options *o, const struct paper_row *row, dou
 
 static int parse(int argc, char **argv, struct options *o)
 {
-	*o = (struct options){.size = 512, .flat_size = 64, .none_max_tris = 30000, .passes = 2,
-			      .lights = 1, .repeats = 5};
+	*o = (struct options){.size = 512,
+	                      .flat_size = 64,
+	                      .none_max_tris = 30000,
+	                      .passes = 2,
+	                      .lights = 1,
+	                      .repeats = 5};
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-		uint32_t *dst = !strcmp(a, "--size")        ? &o->size
-				: !strcmp(a, "--flat-size") ? &o->flat_size
-				: !strcmp(a, "--passes")    ? &o->passes
-				: !strcmp(a, "--lights")    ? &o->lights
-				: !strcmp(a, "--repeats")   ? &o->repeats
-				: !strcmp(a, "--threads")   ? &o->threads
-				: !strcmp(a, "--none-max-triangles") ? &o->none_max_tris
-								     : NULL;
+		uint32_t *dst = !strcmp(a, "--size")                 ? &o->size
+		                : !strcmp(a, "--flat-size")          ? &o->flat_size
+		                : !strcmp(a, "--passes")             ? &o->passes
+		                : !strcmp(a, "--lights")             ? &o->lights
+		                : !strcmp(a, "--repeats")            ? &o->repeats
+		                : !strcmp(a, "--threads")            ? &o->threads
+		                : !strcmp(a, "--none-max-triangles") ? &o->none_max_tris
+		                                                     : NULL;
 		if (!strcmp(a, "--help")) {
-			puts("usage: raystream-bench [--size N] [--flat-size N] [--passes N] [--lights N]"
-			     " [--repeats N] [--threads N] [--none-max-triangles N] [--scene NAME]");
+			puts(
+			    "usage: raystream-bench [--size N] [--flat-size N] [--passes N] "
+			    "[--lights N]"
+			    " [--repeats N] [--threads N] [--none-max-triangles N] [--scene NAME]");
 			exit(0);
 		}
 		if (!v) {
-			fprintf(stderr, "raystream-bench: unknown option or missing value: %s\n", a);
+			fprintf(stderr, "raystream-bench: unknown option or missing value: %s\n",
+			        a);
 			return 2;
 		}
 		++i;
@@ -142,7 +151,9 @@ static int parse(int argc, char **argv, struct options *o)
 			o->only = v;
 			continue;
 		}
-		uint32_t max = dst == &o->repeats ? 32 : dst == &o->none_max_tris ? 1u << 24 : 16384;
+		uint32_t max = dst == &o->repeats         ? 32
+		               : dst == &o->none_max_tris ? 1u << 24
+		                                          : 16384;
 		if (!dst || !rs_tool_parse_u32(v, 1, max, dst)) {
 			fprintf(stderr, "raystream-bench: bad option %s %s\n", a, v);
 			return 2;
@@ -154,8 +165,10 @@ static int parse(int argc, char **argv, struct options *o)
 			++s;
 		/* An unknown name would otherwise print an empty table and exit 0. */
 		if (s == sizeof paper / sizeof paper[0]) {
-			fprintf(stderr, "raystream-bench: unknown scene '%s' (box, cow1, cow2, cow5, "
-					"cow9 or cow17)\n", o->only);
+			fprintf(stderr,
+			        "raystream-bench: unknown scene '%s' (box, cow1, cow2, cow5, "
+			        "cow9 or cow17)\n",
+			        o->only);
 			return 2;
 		}
 	}
@@ -181,19 +194,21 @@ static int bench_triangle_tests(const struct options *o, const char *name)
 	if (!rgb[0] || !rgb[1] || !depth[0] || !depth[1])
 		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
 	else if (rs_tool_load_scene(name, &scene, &err) == RS_OK &&
-		 rs_tool_accel_build(scene, &bvh, &accel, &err) == RS_OK)
+	         rs_tool_accel_build(scene, &bvh, &accel, &err) == RS_OK)
 		code = 0;
 	double ms[2] = {0, 0};
 	for (int t = 0; t < 2 && code == 0; ++t) {
-		struct rs_trace_desc td = {.width = o->size, .height = o->size, .passes = o->passes,
-					   .lights = o->lights,
-					   .triangle_test = t ? RS_TRIANGLE_WATERTIGHT
-							      : RS_TRIANGLE_MOLLER_TRUMBORE};
+		struct rs_trace_desc td = {.width = o->size,
+		                           .height = o->size,
+		                           .passes = o->passes,
+		                           .lights = o->lights,
+		                           .triangle_test = t ? RS_TRIANGLE_WATERTIGHT
+		                                              : RS_TRIANGLE_MOLLER_TRUMBORE};
 		double times[32];
 		for (uint32_t r = 0; r < o->repeats && code == 0; ++r) {
 			double t0 = rs_tool_now_ms();
 			if (rs_tool_render_cpu(scene, &accel.packed, &td, o->threads, rgb[t],
-					       depth[t], NULL, &err) != RS_OK)
+			                       depth[t], NULL, &err) != RS_OK)
 				code = 1;
 			times[r] = rs_tool_now_ms() - t0;
 		}

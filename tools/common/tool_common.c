@@ -70,20 +70,21 @@ enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struc
 		char cow[4096];
 		if (gen.kind == RS_SCENEGEN_COW) {
 			if (!rs_tool_find_cow(cow, sizeof cow))
-				return rs_error_set(err, RS_ERR_NOT_FOUND,
-						    "cow.obj not found (set RS_DATA_DIR to its folder)");
+				return rs_error_set(
+				    err, RS_ERR_NOT_FOUND,
+				    "cow.obj not found (set RS_DATA_DIR to its folder)");
 			gen.cow_path = cow;
 		}
 		return rs_scenegen_build(&gen, out, err);
 	}
 	if (!is_file(name))
 		return rs_error_set(err, RS_ERR_NOT_FOUND,
-				    "scene '%s' is neither box, cowN nor an existing file", name);
+		                    "scene '%s' is neither box, cowN nor an existing file", name);
 	return rs_load_scene(NULL, name, out, err);
 }
 
 enum rs_status rs_tool_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *desc,
-				   struct rs_tool_accel *out, struct rs_error *err)
+                                   struct rs_tool_accel *out, struct rs_error *err)
 {
 	memset(out, 0, sizeof *out);
 	size_t tris = rs_scene_triangle_count(scene);
@@ -95,20 +96,19 @@ enum rs_status rs_tool_accel_build(const struct rs_scene *scene, const struct rs
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for the BVH");
 	}
 	double t0 = rs_tool_now_ms();
-	enum rs_status status = rs_bvh_build(desc, rs_scene_positions(scene),
-					     rs_scene_vertex_count(scene), rs_scene_indices(scene),
-					     tris, out->nodes, cap, out->triangle_order,
-					     &out->node_count, err);
+	enum rs_status status = rs_bvh_build(
+	    desc, rs_scene_positions(scene), rs_scene_vertex_count(scene), rs_scene_indices(scene),
+	    tris, out->nodes, cap, out->triangle_order, &out->node_count, err);
 	out->build_ms = rs_tool_now_ms() - t0;
 	if (status == RS_OK)
 		status = rs_pack_layout(out->node_count, tris, rs_scene_material_count(scene),
-					&out->packed, err);
+		                        &out->packed, err);
 	if (status == RS_OK)
 		status = rs_pack_alloc(&out->packed, err);
 	double t1 = rs_tool_now_ms();
 	if (status == RS_OK)
 		status = rs_pack_scene(scene, out->nodes, out->node_count, out->triangle_order,
-				       &out->packed, err);
+		                       &out->packed, err);
 	out->pack_ms = rs_tool_now_ms() - t1;
 	if (status != RS_OK)
 		rs_tool_accel_free(out);
@@ -147,7 +147,7 @@ enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_
 		ok = (close(fd) == 0) && ok;
 		if (!ok || rename(tmp, path) != 0) {
 			status = rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path,
-					      strerror(errno));
+			                      strerror(errno));
 			unlink(tmp);
 		}
 	}

@@ -41,7 +41,7 @@ static void *render_rows(void *arg)
 		d.row_end = begin + band < d.height ? begin + band : d.height;
 		struct rs_trace_stats s;
 		job->status = rs_trace_render(job->scene, job->packed, &d, job->rgb, job->depth, &s,
-					      &job->err);
+		                              &job->err);
 		if (job->status != RS_OK)
 			break;
 		stats_add(&job->stats, &s);
@@ -50,9 +50,9 @@ static void *render_rows(void *arg)
 }
 
 enum rs_status rs_tool_render_cpu(const struct rs_scene *scene, const struct rs_packed *packed,
-				  const struct rs_trace_desc *desc, uint32_t threads,
-				  float *out_rgb, float *out_depth, struct rs_trace_stats *out_stats,
-				  struct rs_error *err)
+                                  const struct rs_trace_desc *desc, uint32_t threads,
+                                  float *out_rgb, float *out_depth,
+                                  struct rs_trace_stats *out_stats, struct rs_error *err)
 {
 	/* The size rs_trace_render() will use: the camera's unless both sides are given. */
 	uint32_t width = desc->width, height = desc->height;
@@ -77,9 +77,12 @@ enum rs_status rs_tool_render_cpu(const struct rs_scene *scene, const struct rs_
 	atomic_init(&next_row, 0);
 	uint32_t started = 0;
 	for (uint32_t t = 0; t < threads; ++t) {
-		jobs[t] = (struct render_job){.scene = scene, .packed = packed, .desc = *desc,
-					      .next_row = &next_row, .rgb = out_rgb,
-					      .depth = out_depth};
+		jobs[t] = (struct render_job){.scene = scene,
+		                              .packed = packed,
+		                              .desc = *desc,
+		                              .next_row = &next_row,
+		                              .rgb = out_rgb,
+		                              .depth = out_depth};
 		jobs[t].desc.width = width;
 		jobs[t].desc.height = height;
 		if (t > 0 && pthread_create(&ids[t], NULL, render_rows, &jobs[t]) != 0)

@@ -20,14 +20,15 @@ struct options {
 
 static void usage(FILE *to)
 {
-	fputs("usage: raystream-render --scene box|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
-	      "         [--backend cpu] [--bvh none|linear|paper|sah] [--passes N] [--lights N]\n"
-	      "         [--size WxH] [--out FILE.png] [--stats FILE.json] [--depth FILE.pfm]\n"
-	      "         [--triangle-test mt|watertight] [--threads N]\n"
-	      "Renders with the double-precision CPU reference tracer. FILE is an OBJ or PLY mesh;\n"
-	      "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n"
-	      "--lights defaults to 1 (0 for a scene without lights).\n",
-	      to);
+	fputs(
+	    "usage: raystream-render --scene box|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
+	    "         [--backend cpu] [--bvh none|linear|paper|sah] [--passes N] [--lights N]\n"
+	    "         [--size WxH] [--out FILE.png] [--stats FILE.json] [--depth FILE.pfm]\n"
+	    "         [--triangle-test mt|watertight] [--threads N]\n"
+	    "Renders with the double-precision CPU reference tracer. FILE is an OBJ or PLY mesh;\n"
+	    "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n"
+	    "--lights defaults to 1 (0 for a scene without lights).\n",
+	    to);
 }
 
 static int fail_usage(const char *fmt, const char *arg)
@@ -69,13 +70,16 @@ static int parse_args(int argc, char **argv, struct options *o)
 				return fail_usage("unknown BVH builder '%s'", v);
 		} else if (!strcmp(a, "--passes")) {
 			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))
-				return fail_usage("--passes wants a whole number 1..64, not '%s'", v);
+				return fail_usage("--passes wants a whole number 1..64, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--lights")) {
 			if (!rs_tool_parse_u32(v, 1, 64, &o->lights))
-				return fail_usage("--lights wants a whole number 1..64, not '%s'", v);
+				return fail_usage("--lights wants a whole number 1..64, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--threads")) {
 			if (!rs_tool_parse_u32(v, 1, 256, &o->threads))
-				return fail_usage("--threads wants a whole number 1..256, not '%s'", v);
+				return fail_usage("--threads wants a whole number 1..256, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--size")) {
 			if (!rs_tool_parse_size(v, &o->width, &o->height))
 				return fail_usage("--size wants WxH within 1..16384, not '%s'", v);
@@ -99,8 +103,8 @@ static int parse_args(int argc, char **argv, struct options *o)
 }
 
 static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
-			 const struct rs_tool_accel *accel, const struct rs_trace_stats *st,
-			 uint32_t w, uint32_t h, uint32_t lights, double ms)
+                         const struct rs_tool_accel *accel, const struct rs_trace_stats *st,
+                         uint32_t w, uint32_t h, uint32_t lights, double ms)
 {
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddStringToObject(doc, "scene", o->scene);
@@ -113,7 +117,7 @@ static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
 	cJSON_AddNumberToObject(doc, "width", w);
 	cJSON_AddNumberToObject(doc, "height", h);
 	cJSON_AddStringToObject(doc, "triangle_test",
-				o->triangle_test == RS_TRIANGLE_WATERTIGHT ? "watertight" : "mt");
+	                        o->triangle_test == RS_TRIANGLE_WATERTIGHT ? "watertight" : "mt");
 	cJSON *hits = cJSON_AddObjectToObject(doc, "hit_numbers");
 	cJSON_AddNumberToObject(hits, "box", st->box_per_pixel);
 	cJSON_AddNumberToObject(hits, "triangle", st->triangle_per_pixel);
@@ -143,7 +147,7 @@ static int run(const struct options *o)
 	uint32_t lights = o->lights ? o->lights : scene_lights ? 1u : 0u;
 	if (lights > scene_lights) {
 		rs_error_set(&err, RS_ERR_INVALID, "--lights %u but scene '%s' has %u light(s)",
-			     o->lights, o->scene, scene_lights);
+		             o->lights, o->scene, scene_lights);
 		goto done;
 	}
 	struct rs_camera cam;
@@ -158,15 +162,15 @@ static int run(const struct options *o)
 		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory for a %ux%u image", w, h);
 		goto done;
 	}
-	struct rs_trace_desc desc = {.width = w, .height = h, .passes = o->passes,
-				     .triangle_test = o->triangle_test};
+	struct rs_trace_desc desc = {
+	    .width = w, .height = h, .passes = o->passes, .triangle_test = o->triangle_test};
 	/* rs_trace_desc.lights 0 means "all": right for a scene without lights. */
 	desc.lights = lights;
 	struct rs_trace_stats stats;
 	long online = sysconf(_SC_NPROCESSORS_ONLN);
-	uint32_t threads = o->threads                     ? o->threads
-			   : online > 0 && online <= 256 ? (uint32_t)online
-							  : 1u;
+	uint32_t threads = o->threads                    ? o->threads
+	                   : online > 0 && online <= 256 ? (uint32_t)online
+	                                                 : 1u;
 	double t0 = rs_tool_now_ms();
 	if (rs_tool_render_cpu(scene, &accel.packed, &desc, threads, rgb, depth, &stats, &err) !=
 	    RS_OK)
@@ -183,7 +187,7 @@ static int run(const struct options *o)
 		shown.threads = threads;
 		cJSON *doc = stats_json(&shown, scene, &accel, &stats, w, h, lights, ms);
 		enum rs_status s = doc ? rs_tool_write_json(o->stats, doc, &err)
-				       : rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
+		                       : rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
 		cJSON_Delete(doc);
 		if (s != RS_OK)
 			goto done;
@@ -191,13 +195,13 @@ static int run(const struct options *o)
 	printf("%s: %zu triangles, bvh %s (%zu nodes, %.1f ms), %ux%u, %u pass(es), %u light(s): "
 	       "%.1f ms, hit numbers %.3f (box %.3f + triangle %.3f)\n",
 	       o->scene, rs_scene_triangle_count(scene), rs_bvh_builder_name(o->builder),
-	       accel.node_count, accel.build_ms, w, h, o->passes, lights, ms,
-	       stats.total_per_pixel, stats.box_per_pixel, stats.triangle_per_pixel);
+	       accel.node_count, accel.build_ms, w, h, o->passes, lights, ms, stats.total_per_pixel,
+	       stats.box_per_pixel, stats.triangle_per_pixel);
 	code = 0;
 done:
 	if (code != 0) {
 		fprintf(stderr, "raystream-render: %s\n",
-			err.message[0] ? err.message : "failed (no message)");
+		        err.message[0] ? err.message : "failed (no message)");
 		/* A failed run leaves none of its outputs: a PNG without the stats or depth
 		 * the caller asked for would pass for a complete result. */
 		for (int i = 0; i < 2; ++i)

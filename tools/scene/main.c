@@ -11,7 +11,6 @@
 #include "raystream/rs_scenegen.h"
 #include "tool_common.h"
 
-
 static void usage(FILE *f)
 {
 	fprintf(f,
@@ -105,8 +104,9 @@ int main(int argc, char **argv)
 	if (rs_scenegen_parse(scene_name, &desc, NULL) == RS_OK) {
 		if (cow == NULL) {
 			if (!rs_tool_find_cow(cow_buf, sizeof(cow_buf))) {
-				fprintf(stderr, "raystream-scene: cow.obj not found (use --cow or set "
-				                "RS_DATA_DIR to its folder)\n");
+				fprintf(stderr,
+				        "raystream-scene: cow.obj not found (use --cow or set "
+				        "RS_DATA_DIR to its folder)\n");
 				return 1;
 			}
 			cow = cow_buf;

@@ -79,10 +79,10 @@ size_t rs_bvh_node_bound(const struct rs_bvh_desc *desc, size_t triangle_count);
  * Builder scratch memory is allocated and freed inside the call.
  */
 enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positions,
-			    size_t vertex_count, const uint32_t *indices, size_t triangle_count,
-			    struct rs_bvh_node *out_nodes, size_t node_capacity,
-			    uint32_t *out_triangle_order, size_t *out_node_count,
-			    struct rs_error *err);
+                            size_t vertex_count, const uint32_t *indices, size_t triangle_count,
+                            struct rs_bvh_node *out_nodes, size_t node_capacity,
+                            uint32_t *out_triangle_order, size_t *out_node_count,
+                            struct rs_error *err);
 
 /**
  * Check every invariant listed at struct rs_bvh_node (escape against its definition,
@@ -90,19 +90,19 @@ enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positio
  * RS_ERR_BAD_DATA with the first violation named in err.
  */
 enum rs_status rs_bvh_check(const struct rs_bvh_node *nodes, size_t node_count,
-			    const float *positions, const uint32_t *indices,
-			    const uint32_t *triangle_order, size_t triangle_count,
-			    struct rs_error *err);
+                            const float *positions, const uint32_t *indices,
+                            const uint32_t *triangle_order, size_t triangle_count,
+                            struct rs_error *err);
 
 /** Summary figures of a built hierarchy (for benchmarks and logs). */
 struct rs_bvh_stats {
 	size_t nodes, leaves, empty_leaves;
-	uint32_t depth;          /**< levels on the longest root-to-leaf path */
-	double sah_cost;         /**< expected cost under the SAH with traversal_cost, tri cost 1 */
+	uint32_t depth;  /**< levels on the longest root-to-leaf path */
+	double sah_cost; /**< expected cost under the SAH with traversal_cost, tri cost 1 */
 	double mean_leaf_size;
 };
 void rs_bvh_stats(const struct rs_bvh_node *nodes, size_t node_count, float traversal_cost,
-		  struct rs_bvh_stats *out);
+                  struct rs_bvh_stats *out);
 
 #ifdef __cplusplus
 }

@@ -33,14 +33,14 @@ void rs_image_quantize(const float *rgb, uint32_t width, uint32_t height, uint8_
 
 /** Write linear RGB floats (row 0 = top) as an 8-bit RGB PNG, via rs_image_quantize(). */
 enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t width,
-				  uint32_t height, struct rs_error *err);
+                                  uint32_t height, struct rs_error *err);
 
 /**
  * Read an 8-bit PNG as RGB bytes. *out_pixels is allocated by the call (width*height*3,
  * row 0 = top) and freed by the caller with free().
  */
 enum rs_status rs_image_read_png(const char *path, uint8_t **out_pixels, uint32_t *out_width,
-				 uint32_t *out_height, struct rs_error *err);
+                                 uint32_t *out_height, struct rs_error *err);
 
 /**
  * Write a PFM (little-endian; 1 channel "Pf" or 3 channels "PF"). data is row 0 = top, as
@@ -48,24 +48,24 @@ enum rs_status rs_image_read_png(const char *path, uint8_t **out_pixels, uint32_
  * Infinities are kept (they mean "no hit"); NaN is refused with RS_ERR_BAD_DATA.
  */
 enum rs_status rs_image_write_pfm(const char *path, const float *data, uint32_t width,
-				  uint32_t height, uint32_t channels, struct rs_error *err);
+                                  uint32_t height, uint32_t channels, struct rs_error *err);
 
 /**
  * Read a PFM of either byte order. *out_data is allocated (width*height*channels floats,
  * row 0 = top) and freed by the caller with free().
  */
 enum rs_status rs_image_read_pfm(const char *path, float **out_data, uint32_t *out_width,
-				 uint32_t *out_height, uint32_t *out_channels,
-				 struct rs_error *err);
+                                 uint32_t *out_height, uint32_t *out_channels,
+                                 struct rs_error *err);
 
 /** Accuracy of a test image against a reference. */
 struct rs_image_diff {
 	size_t pixels;
-	double mse;            /**< mean squared error over all channels */
-	double psnr_db;        /**< 10 log10(peak^2 / mse); +INFINITY when identical */
-	double max_abs_error;  /**< largest per-channel difference */
-	double bad_share;      /**< share of pixels with any channel off by more than threshold */
-	size_t mismatched;     /**< pixels where exactly one image is infinite (depth: hit vs miss) */
+	double mse;           /**< mean squared error over all channels */
+	double psnr_db;       /**< 10 log10(peak^2 / mse); +INFINITY when identical */
+	double max_abs_error; /**< largest per-channel difference */
+	double bad_share;     /**< share of pixels with any channel off by more than threshold */
+	size_t mismatched; /**< pixels where exactly one image is infinite (depth: hit vs miss) */
 };
 
 /**
@@ -74,8 +74,8 @@ struct rs_image_diff {
  * and is left out of the MSE. peak is the signal range (1 for colour).
  */
 void rs_image_compare(const float *test, const float *reference, uint32_t width, uint32_t height,
-		      uint32_t channels, double peak, double bad_threshold,
-		      struct rs_image_diff *out);
+                      uint32_t channels, double peak, double bad_threshold,
+                      struct rs_image_diff *out);
 
 #ifdef __cplusplus
 }

@@ -59,22 +59,22 @@ struct rs_packed {
 
 /** Texture size for `items` items of `texels_per_item` texels each. */
 void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t *out_width,
-			  uint32_t *out_height);
+                          uint32_t *out_height);
 
 /**
  * Size the four textures for a scene and BVH: fills widths/heights and counts of *out and
  * sets texel pointers to NULL. RS_ERR_LIMIT when a count reaches RS_PACK_MAX_ITEMS.
  */
 enum rs_status rs_pack_layout(size_t node_count, size_t triangle_count, size_t material_count,
-			      struct rs_packed *out, struct rs_error *err);
+                              struct rs_packed *out, struct rs_error *err);
 
 /**
  * Pack. `packed` must come from rs_pack_layout() with the same counts and have texel
  * buffers of width * height * 4 floats attached by the caller. Unused texels are zeroed.
  */
 enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
-			     size_t node_count, const uint32_t *triangle_order,
-			     struct rs_packed *packed, struct rs_error *err);
+                             size_t node_count, const uint32_t *triangle_order,
+                             struct rs_packed *packed, struct rs_error *err);
 
 /** Convenience: allocate the texel buffers of a laid-out rs_packed (free with rs_pack_free). */
 enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err);
@@ -83,7 +83,7 @@ void rs_pack_free(struct rs_packed *packed);
 
 /** Texel j of item k of a packed texture (4 floats). */
 static inline const float *rs_pack_texel(const struct rs_texture *tex, uint32_t texels_per_item,
-					 uint32_t item, uint32_t j)
+                                         uint32_t item, uint32_t j)
 {
 	uint32_t x = (item % RS_PACK_ROW_ITEMS) * texels_per_item + j;
 	uint32_t y = item / RS_PACK_ROW_ITEMS;

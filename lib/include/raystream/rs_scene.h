@@ -41,15 +41,15 @@ struct rs_material {
  * Strides are in bytes; 0 means tightly packed (3 floats, 3 uint32).
  */
 struct rs_mesh_desc {
-	const float *positions;   /**< vertex_count xyz triples */
+	const float *positions; /**< vertex_count xyz triples */
 	size_t vertex_count;
 	size_t position_stride;
-	const float *normals;     /**< optional; NULL: angle-weighted normals are computed */
+	const float *normals; /**< optional; NULL: angle-weighted normals are computed */
 	size_t normal_stride;
-	const uint32_t *indices;  /**< triangle_count index triples into this mesh's vertices */
+	const uint32_t *indices; /**< triangle_count index triples into this mesh's vertices */
 	size_t triangle_count;
 	size_t index_stride;
-	uint32_t material;        /**< id returned by rs_scene_add_material() */
+	uint32_t material; /**< id returned by rs_scene_add_material() */
 };
 
 /** Pinhole camera. fov_y_deg is the paper's projection angle 2*atan(b/a). */
@@ -57,14 +57,14 @@ struct rs_camera {
 	double eye[3];
 	double target[3];
 	double up[3];
-	double fov_y_deg;         /**< vertical field of view; 0 means 45 */
-	uint32_t width, height;   /**< image size the scene was framed for; 0 means 512 */
+	double fov_y_deg;       /**< vertical field of view; 0 means 45 */
+	uint32_t width, height; /**< image size the scene was framed for; 0 means 512 */
 };
 
 /** A white-or-coloured point light without fall-off. */
 struct rs_light {
 	double position[3];
-	double color[3];          /**< radiance scale per channel (1,1,1 = white, intensity 1) */
+	double color[3]; /**< radiance scale per channel (1,1,1 = white, intensity 1) */
 };
 
 /**
@@ -75,11 +75,11 @@ struct rs_light {
  */
 struct rs_environment {
 	double center[3];
-	double half_size;         /**< 0: derived from the scene bounds (2x largest extent) */
+	double half_size; /**< 0: derived from the scene bounds (2x largest extent) */
 	float face_color[6][3];
-	uint32_t grid;            /**< 0 means 16 */
-	float line_width;         /**< fraction of a cell; 0 means 0.06 */
-	float line_scale;         /**< 0 means 0.25 */
+	uint32_t grid;    /**< 0 means 16 */
+	float line_width; /**< fraction of a cell; 0 means 0.06 */
+	float line_scale; /**< 0 means 0.25 */
 };
 
 /** Axis-aligned bounds. */
@@ -92,7 +92,7 @@ struct rs_scene;
 
 /** Scene options; zero-initialised means defaults. */
 struct rs_scene_desc {
-	size_t max_triangles;     /**< refuse meshes beyond this total; 0 means 2^24 - 1 */
+	size_t max_triangles; /**< refuse meshes beyond this total; 0 means 2^24 - 1 */
 };
 
 /**
@@ -100,7 +100,7 @@ struct rs_scene_desc {
  * environment colours). Free with rs_scene_destroy().
  */
 enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene **out,
-			       struct rs_error *err);
+                               struct rs_error *err);
 
 /** Free a scene and set *scene to NULL; NULL and *scene == NULL are allowed. */
 void rs_scene_destroy(struct rs_scene **scene);
@@ -110,7 +110,7 @@ const char *rs_scene_last_error(const struct rs_scene *scene);
 
 /** Add a material; its id (0, 1, ...) is written to out_id. Rejects NaN/negative values. */
 enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_material *material,
-				     uint32_t *out_id);
+                                     uint32_t *out_id);
 
 /**
  * Copy a mesh into the scene. Rejects (RS_ERR_BAD_DATA, nothing added) NaN or infinite
@@ -125,7 +125,7 @@ enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camer
 enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light);
 /** Set the environment cube (rejects non-finite values). */
 enum rs_status rs_scene_set_environment(struct rs_scene *scene,
-					const struct rs_environment *environment);
+                                        const struct rs_environment *environment);
 /** Ambient term added to every lit surface (scaled by its diffuse colour); default 0.1. */
 enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient);
 
@@ -156,8 +156,7 @@ void rs_scene_bounds(const struct rs_scene *scene, struct rs_bounds *out);
  * `elevation_deg` above the horizontal on the +z side, at distance r / sin(fov_y / 2), with
  * r = half the box's diagonal, up +y. Writes *camera (fov/size fields are kept, 0 = default).
  */
-void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg,
-		     struct rs_camera *camera);
+void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg, struct rs_camera *camera);
 
 /** Resolved camera values: fov 45 and 512x512 where zero. */
 void rs_camera_resolve(const struct rs_camera *in, struct rs_camera *out);

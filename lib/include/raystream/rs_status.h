@@ -20,19 +20,19 @@ extern "C" {
 /** Result of a fallible call: RS_OK, a negative error, or a positive non-error state. */
 enum rs_status {
 	RS_OK = 0,
-	RS_TIMEOUT = 1,         /**< nothing arrived within the timeout (not an error) */
-	RS_END = 2,             /**< end of a stream (a replay file ran out) */
-	RS_ERR_INVALID = -1,    /**< a parameter or descriptor field is out of its range */
-	RS_ERR_NO_MEMORY = -2,  /**< an allocation failed or a size would overflow */
-	RS_ERR_IO = -3,         /**< reading or writing a file or device failed */
-	RS_ERR_PARSE = -4,      /**< malformed input data */
-	RS_ERR_BAD_DATA = -5,   /**< well-formed but unusable data (NaN, out-of-range index) */
-	RS_ERR_UNSUPPORTED = -6,/**< a feature, format or version this build cannot handle */
-	RS_ERR_NOT_FOUND = -7,  /**< a file, device or name does not exist */
+	RS_TIMEOUT = 1,           /**< nothing arrived within the timeout (not an error) */
+	RS_END = 2,               /**< end of a stream (a replay file ran out) */
+	RS_ERR_INVALID = -1,      /**< a parameter or descriptor field is out of its range */
+	RS_ERR_NO_MEMORY = -2,    /**< an allocation failed or a size would overflow */
+	RS_ERR_IO = -3,           /**< reading or writing a file or device failed */
+	RS_ERR_PARSE = -4,        /**< malformed input data */
+	RS_ERR_BAD_DATA = -5,     /**< well-formed but unusable data (NaN, out-of-range index) */
+	RS_ERR_UNSUPPORTED = -6,  /**< a feature, format or version this build cannot handle */
+	RS_ERR_NOT_FOUND = -7,    /**< a file, device or name does not exist */
 	RS_ERR_DISCONNECTED = -8, /**< a device went away; close and reopen it */
-	RS_ERR_LIMIT = -9,      /**< a size exceeds what the library or driver supports */
-	RS_ERR_DEVICE = -10,    /**< a device or driver call failed */
-	RS_ERR_DEGENERATE = -11,/**< geometry too degenerate for a defined answer */
+	RS_ERR_LIMIT = -9,        /**< a size exceeds what the library or driver supports */
+	RS_ERR_DEVICE = -10,      /**< a device or driver call failed */
+	RS_ERR_DEGENERATE = -11,  /**< geometry too degenerate for a defined answer */
 };
 
 /** Short constant name of a status ("RS_ERR_PARSE"); never NULL. */
@@ -54,13 +54,13 @@ struct rs_error {
  */
 enum rs_status rs_error_set(struct rs_error *err, enum rs_status status, const char *fmt, ...)
 #if defined(__GNUC__)
-	__attribute__((format(printf, 3, 4)))
+    __attribute__((format(printf, 3, 4)))
 #endif
-	;
+    ;
 
 /** Same as rs_error_set() with a va_list. */
 enum rs_status rs_error_setv(struct rs_error *err, enum rs_status status, const char *fmt,
-			     va_list args);
+                             va_list args);
 
 /** Reset `err` (may be NULL) to RS_OK with an empty message. */
 void rs_error_clear(struct rs_error *err);

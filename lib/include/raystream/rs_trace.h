@@ -41,15 +41,16 @@ struct rs_ray {
 	double dir[3];
 	double tmin;
 	double tmax;
-	uint32_t skip_slot; /**< packed triangle slot to ignore (the one the ray leaves), or RS_NO_SLOT */
+	uint32_t skip_slot; /**< packed triangle slot to ignore (the one the ray leaves), or
+	                       RS_NO_SLOT */
 };
 
 /** Closest hit. u, v are the barycentric weights of v1 and v2 (v0 gets 1 - u - v). */
 struct rs_hit {
 	double t;
 	double u, v;
-	uint32_t slot;      /**< packed triangle slot (BVH order), RS_NO_SLOT on a miss */
-	uint32_t triangle;  /**< scene triangle id */
+	uint32_t slot;     /**< packed triangle slot (BVH order), RS_NO_SLOT on a miss */
+	uint32_t triangle; /**< scene triangle id */
 };
 
 /** Intersection test counts, as the paper counts them. */
@@ -60,7 +61,7 @@ struct rs_trace_counters {
 
 /** Slab test of a ray (given 1/dir, IEEE infinities allowed) against a box. */
 bool rs_intersect_box(const float lo[3], const float hi[3], const double origin[3],
-		      const double inv_dir[3], double tmin, double tmax);
+                      const double inv_dir[3], double tmin, double tmax);
 
 /**
  * Ray/triangle test with either algorithm: true and t, u, v when the ray hits the
@@ -68,21 +69,21 @@ bool rs_intersect_box(const float lo[3], const float hi[3], const double origin[
  * never hit.
  */
 bool rs_intersect_triangle(enum rs_triangle_test test, const double v0[3], const double v1[3],
-			   const double v2[3], const struct rs_ray *ray, double *out_t,
-			   double *out_u, double *out_v);
+                           const double v2[3], const struct rs_ray *ray, double *out_t,
+                           double *out_u, double *out_v);
 
 /** Closest hit through the packed BVH. counters may be NULL. */
 bool rs_trace_closest(const struct rs_packed *packed, enum rs_triangle_test test,
-		      const struct rs_ray *ray, struct rs_hit *out_hit,
-		      struct rs_trace_counters *counters);
+                      const struct rs_ray *ray, struct rs_hit *out_hit,
+                      struct rs_trace_counters *counters);
 
 /** Any hit (shadow feelers): stops at the first triangle found. counters may be NULL. */
 bool rs_trace_occluded(const struct rs_packed *packed, enum rs_triangle_test test,
-		       const struct rs_ray *ray, struct rs_trace_counters *counters);
+                       const struct rs_ray *ray, struct rs_trace_counters *counters);
 
 /** Closest hit by testing every triangle of the packed scene (for checking traversal). */
 bool rs_trace_closest_brute(const struct rs_packed *packed, enum rs_triangle_test test,
-			    const struct rs_ray *ray, struct rs_hit *out_hit);
+                            const struct rs_ray *ray, struct rs_hit *out_hit);
 
 /* ---- Part 2: rendering --------------------------------------------------------------- */
 
@@ -96,18 +97,18 @@ enum rs_ray_state {
 
 /** Render options; zero-initialised means defaults. */
 struct rs_trace_desc {
-	uint32_t width, height;   /**< 0: the camera's size */
-	uint32_t passes;          /**< ray segments per path; 0 -> 2 */
-	uint32_t lights;          /**< use the scene's first N lights; 0 -> all */
+	uint32_t width, height; /**< 0: the camera's size */
+	uint32_t passes;        /**< ray segments per path; 0 -> 2 */
+	uint32_t lights;        /**< use the scene's first N lights; 0 -> all */
 	enum rs_triangle_test triangle_test;
-	double ray_epsilon;       /**< self-hit offset relative to the scene's extent; 0 -> 1e-6 */
+	double ray_epsilon; /**< self-hit offset relative to the scene's extent; 0 -> 1e-6 */
 	uint32_t row_begin, row_end; /**< render only rows [begin, end); both 0 -> all */
 };
 
 /** Counts over the rendered pixels. Hit numbers are means per pixel over all its rays. */
 struct rs_trace_stats {
 	uint64_t pixels;
-	uint64_t rays;            /**< path segments traced (primary, reflected, refracted) */
+	uint64_t rays; /**< path segments traced (primary, reflected, refracted) */
 	uint64_t shadow_rays;
 	uint64_t box_tests;
 	uint64_t triangle_tests;
@@ -123,16 +124,16 @@ struct rs_trace_stats {
  * fov_y_deg over `height` pixels, square pixels. width/height 0: the camera's size.
  * The direction has unit length (so t is a distance); tmin 0, tmax +INFINITY, no skip slot.
  */
-void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_t height,
-			 double px, double py, struct rs_ray *out_ray);
+void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_t height, double px,
+                         double py, struct rs_ray *out_ray);
 
 /** Where a ray leaves the environment cube (see rs_trace_environment()). */
 struct rs_env_hit {
-	double point[3];  /**< exit point, on the face plane */
-	uint32_t face;    /**< 0..5 = +x, -x, +y, -y, +z, -z */
-	double s, t;      /**< position on the face in [0, 1] along axes (a+1)%3 and (a+2)%3 */
+	double point[3]; /**< exit point, on the face plane */
+	uint32_t face;   /**< 0..5 = +x, -x, +y, -y, +z, -z */
+	double s, t;     /**< position on the face in [0, 1] along axes (a+1)%3 and (a+2)%3 */
 	uint32_t cell_s, cell_t; /**< grid cell, 0..grid-1 */
-	bool line;        /**< the point lies on a grid line */
+	bool line;               /**< the point lies on a grid line */
 };
 
 /**
@@ -142,7 +143,7 @@ struct rs_env_hit {
  * resolves it (zero grid/line fields get their defaults here too). out_hit may be NULL.
  */
 void rs_trace_environment(const struct rs_environment *env, const double origin[3],
-			  const double dir[3], struct rs_env_hit *out_hit, double out_rgb[3]);
+                          const double dir[3], struct rs_env_hit *out_hit, double out_rgb[3]);
 
 /** Mirror `dir` about the unit `normal`: dir - 2 (dir.normal) normal (any side). */
 void rs_trace_reflect(const double dir[3], const double normal[3], double out_dir[3]);
@@ -152,8 +153,7 @@ void rs_trace_reflect(const double dir[3], const double normal[3], double out_di
  * `dir` (dir.normal <= 0), eta = n_from / n_to. Writes the unit refracted direction and
  * returns true, or returns false (total internal reflection) and leaves out_dir untouched.
  */
-bool rs_trace_refract(const double dir[3], const double normal[3], double eta,
-		      double out_dir[3]);
+bool rs_trace_refract(const double dir[3], const double normal[3], double eta, double out_dir[3]);
 
 /**
  * Schlick's approximation of the Fresnel reflectance for light going from index n_from to
@@ -166,19 +166,19 @@ double rs_trace_fresnel_schlick(double cos_i, double n_from, double n_to);
 
 /** One traced segment of a path (for tests and for comparing backends pass by pass). */
 struct rs_trace_segment {
-	struct rs_ray ray;        /**< as traced (origin already offset, skip slot set) */
-	struct rs_hit hit;        /**< slot RS_NO_SLOT on a miss */
-	double throughput;        /**< weight its contribution was scaled by */
-	enum rs_ray_state state;  /**< after this segment: ACTIVE (a next ray was made),
-				       ENVIRONMENT (missed, colour taken) or DIFFUSE */
+	struct rs_ray ray;       /**< as traced (origin already offset, skip slot set) */
+	struct rs_hit hit;       /**< slot RS_NO_SLOT on a miss */
+	double throughput;       /**< weight its contribution was scaled by */
+	enum rs_ray_state state; /**< after this segment: ACTIVE (a next ray was made),
+	                              ENVIRONMENT (missed, colour taken) or DIFFUSE */
 };
 
 /** Result of one path. */
 struct rs_trace_path {
 	double rgb[3];
-	double depth;             /**< first segment's hit distance (unit dir), +INFINITY on a miss */
-	enum rs_ray_state state;  /**< final state; ACTIVE means the pass budget ran out */
-	uint32_t segments;        /**< segments traced (<= passes) */
+	double depth; /**< first segment's hit distance (unit dir), +INFINITY on a miss */
+	enum rs_ray_state state; /**< final state; ACTIVE means the pass budget ran out */
+	uint32_t segments;       /**< segments traced (<= passes) */
 	uint32_t shadow_rays;
 	struct rs_trace_counters counters; /**< every test of every ray of the path */
 };
@@ -191,9 +191,9 @@ struct rs_trace_path {
  * out_segments: caller-owned array of `passes` entries, or NULL. No allocation.
  */
 enum rs_status rs_trace_ray_path(const struct rs_scene *scene, const struct rs_packed *packed,
-				 const struct rs_trace_desc *desc, const struct rs_ray *primary,
-				 struct rs_trace_path *out_path,
-				 struct rs_trace_segment *out_segments, struct rs_error *err);
+                                 const struct rs_trace_desc *desc, const struct rs_ray *primary,
+                                 struct rs_trace_path *out_path,
+                                 struct rs_trace_segment *out_segments, struct rs_error *err);
 
 /** Largest accepted rs_trace_desc.passes. */
 #define RS_TRACE_MAX_PASSES 64u
@@ -211,8 +211,8 @@ enum rs_status rs_trace_ray_path(const struct rs_scene *scene, const struct rs_p
  * has, bad row range, epsilon < 0 or not finite), or packed not matching the scene.
  */
 enum rs_status rs_trace_render(const struct rs_scene *scene, const struct rs_packed *packed,
-			       const struct rs_trace_desc *desc, float *out_rgb, float *out_depth,
-			       struct rs_trace_stats *out_stats, struct rs_error *err);
+                               const struct rs_trace_desc *desc, float *out_rgb, float *out_depth,
+                               struct rs_trace_stats *out_stats, struct rs_error *err);
 
 #ifdef __cplusplus
 }

@@ -116,7 +116,7 @@ double rs_track_now_s(void);
  * that form.
  */
 int rs_track_parse_vid_pid(const char *text, uint16_t *out_vid, uint16_t *out_pid,
-			   const char **out_tail);
+                           const char **out_tail);
 
 /* ---- Replay files ---------------------------------------------------------------------- */
 
