@@ -37,3 +37,23 @@ function(rs_find_pkg prefix module)
   endif()
   set(${prefix}_FOUND ${${prefix}_FOUND} PARENT_SCOPE)
 endfunction()
+
+# rs_link_backends_later(TARGET DEFINE_PREFIX names...) : once the whole tree is configured
+# (backend folders are configured alphabetically, so a dispatcher may come before the
+# backends it opens), link each rs_<name> that exists publicly into TARGET and define
+# DEFINE_PREFIX_<NAME>=1 for it.
+function(rs_link_backends_now target prefix)
+  foreach(b IN LISTS ARGN)
+    if(TARGET rs_${b})
+      string(TOUPPER ${b} B)
+      target_link_libraries(${target} PUBLIC rs_${b})
+      target_compile_definitions(${target} PRIVATE ${prefix}_${B}=1)
+    endif()
+  endforeach()
+endfunction()
+function(rs_link_backends_later target prefix)
+  # Deferred arguments are expanded when the call runs: bake the values in now.
+  string(REPLACE ";" " " names "${ARGN}")
+  cmake_language(EVAL CODE "cmake_language(DEFER DIRECTORY \"${PROJECT_SOURCE_DIR}\"
+                            CALL rs_link_backends_now ${target} ${prefix} ${names})")
+endfunction()

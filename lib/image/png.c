@@ -10,12 +10,8 @@
 void rs_image_quantize(const float *rgb, uint32_t width, uint32_t height, uint8_t *out)
 {
 	size_t n = (size_t)width * height * 3;
-	for (size_t i = 0; i < n; ++i) {
-		float c = rgb[i];
-		/* !(c > 0) also catches NaN. */
-		c = !(c > 0.0f) ? 0.0f : c > 1.0f ? 1.0f : c;
-		out[i] = (uint8_t)lrintf(c * 255.0f);
-	}
+	for (size_t i = 0; i < n; ++i)
+		out[i] = rs_image_quantize_value(rgb[i]);
 }
 
 static enum rs_status check_size(uint32_t width, uint32_t height, struct rs_error *err)

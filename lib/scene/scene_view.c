@@ -25,13 +25,12 @@ static void cross3(const double *a, const double *b, double *out)
 	out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera)
+enum rs_status rs_camera_check(const struct rs_camera *camera, struct rs_error *err)
 {
-	RS_ASSERT(scene && camera);
+	RS_ASSERT(camera);
 	if (!finite_n(camera->eye, 3) || !finite_n(camera->target, 3) || !finite_n(camera->up, 3) ||
 	    !isfinite(camera->fov_y_deg))
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-		                    "camera has a non-finite value");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "camera has a non-finite value");
 	double view[3] = {camera->target[0] - camera->eye[0], camera->target[1] - camera->eye[1],
 	                  camera->target[2] - camera->eye[2]};
 	double side[3];
@@ -40,23 +39,30 @@ enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camer
 	 * checks below compare NaN and would pass. */
 	if (!finite_n(view, 3) || !isfinite(dot3(view, view)) ||
 	    !isfinite(dot3(camera->up, camera->up)))
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-		                    "camera eye, target or up is too large");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "camera eye, target or up is too large");
 	if (dot3(view, view) == 0.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "camera eye equals its target");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "camera eye equals its target");
 	if (dot3(side, side) <= 1e-12 * dot3(view, view) * dot3(camera->up, camera->up) ||
 	    dot3(camera->up, camera->up) == 0.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "camera up is zero or parallel to the view direction");
 	if (camera->fov_y_deg < 0.0 || camera->fov_y_deg >= 180.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "camera field of view %g is outside (0, 180)",
 		                    camera->fov_y_deg);
 	if (camera->width > 16384 || camera->height > 16384)
-		return rs_error_set(&scene->error, RS_ERR_LIMIT, "camera image %ux%u is too large",
+		return rs_error_set(err, RS_ERR_LIMIT, "camera image %ux%u is too large",
 		                    camera->width, camera->height);
-	scene->camera = *camera;
 	return RS_OK;
+}
+
+enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera)
+{
+	RS_ASSERT(scene && camera);
+	enum rs_status status = rs_camera_check(camera, &scene->error);
+	if (status == RS_OK)
+		scene->camera = *camera;
+	return status;
 }
 
 enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light)

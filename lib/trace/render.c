@@ -100,7 +100,7 @@ enum rs_status rs_trace_render(const struct rs_scene *scene, const struct rs_pac
 		return st;
 
 	struct rs_camera cam;
-	rs_camera_resolve(rs_scene_camera(scene), &cam);
+	rs_camera_resolve(desc->camera ? desc->camera : rs_scene_camera(scene), &cam);
 	uint32_t width = desc->width, height = desc->height;
 	if (width == 0 || height == 0) {
 		width = cam.width;

@@ -13,6 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "raystream/rs_render.h"
 #include "tool_common.h"
 
 /* Bae & Hong, Table 1 (hit numbers, 2 passes); 0 = "overload" (not measured). */
@@ -44,6 +45,23 @@ static double median(double *v, uint32_t n)
 	return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/* Stats of one frame on the CPU reference with `desc` (the BVH is built again inside). */
+static enum rs_status render_cpu(const struct rs_scene *scene, const struct rs_render_desc *desc,
+                                 struct rs_render_stats *out_stats, struct rs_error *err)
+{
+	struct rs_renderer *renderer = NULL;
+	struct rs_frame frame = {0}; /* counts only: no image wanted */
+	enum rs_status status = rs_renderer_create_cpu(desc, &renderer, err);
+	if (status == RS_OK)
+		status = rs_renderer_set_scene(renderer, scene, err);
+	if (status == RS_OK)
+		status = rs_renderer_render(renderer, NULL, &frame, err);
+	if (status == RS_OK)
+		*out_stats = *rs_renderer_stats(renderer);
+	rs_renderer_destroy(&renderer);
+	return status;
+}
+
 static void print_paper(double v)
 {
 	if (v > 0)
@@ -66,40 +84,41 @@ static int bench_scene(const struct options *o, const struct paper_row *row, dou
 	for (int b = 0; b < 4; ++b) {
 		struct rs_bvh_desc desc = {.builder = builders[b]};
 		double times[32];
-		struct rs_tool_accel accel;
+		struct rs_render_accel accel;
 		for (uint32_t r = 0; r < o->repeats; ++r) {
-			if (rs_tool_accel_build(scene, &desc, &accel, &err) != RS_OK) {
+			if (rs_render_accel_build(scene, &desc, &accel, &err) != RS_OK) {
 				fprintf(stderr, "raystream-bench: %s\n", err.message);
 				rs_scene_destroy(&scene);
 				return 1;
 			}
 			times[r] = accel.build_ms;
 			if (r + 1 < o->repeats)
-				rs_tool_accel_free(&accel);
+				rs_render_accel_free(&accel);
 		}
 		build_ms[b] = median(times, o->repeats);
 		hits[b] = box[b] = NAN;
 		sizes[b] = builders[b] == RS_BVH_NONE || builders[b] == RS_BVH_LINEAR ? o->flat_size
 		                                                                      : o->size;
 		if (builders[b] == RS_BVH_NONE && tris > o->none_max_tris) {
-			rs_tool_accel_free(&accel);
+			rs_render_accel_free(&accel);
 			continue;
 		}
-		struct rs_trace_desc td = {.width = sizes[b],
-		                           .height = sizes[b],
-		                           .passes = o->passes,
-		                           .lights = o->lights};
-		struct rs_trace_stats st;
-		if (rs_tool_render_cpu(scene, &accel.packed, &td, o->threads, NULL, NULL, &st,
-		                       &err) != RS_OK) {
+		rs_render_accel_free(&accel);
+		struct rs_render_desc rd = {.width = sizes[b],
+		                            .height = sizes[b],
+		                            .passes = o->passes,
+		                            .lights = o->lights,
+		                            .counters = true,
+		                            .bvh = desc,
+		                            .threads = o->threads};
+		struct rs_render_stats st;
+		if (render_cpu(scene, &rd, &st, &err) != RS_OK) {
 			fprintf(stderr, "raystream-bench: %s\n", err.message);
-			rs_tool_accel_free(&accel);
 			rs_scene_destroy(&scene);
 			return 1;
 		}
 		hits[b] = st.total_per_pixel;
 		box[b] = st.box_per_pixel;
-		rs_tool_accel_free(&accel);
 	}
 	printf("| %-5s | %6zu |", row->scene, tris);
 	for (int b = 0; b < 4; ++b) {
@@ -185,7 +204,6 @@ static int bench_triangle_tests(const struct options *o, const char *name)
 {
 	struct rs_error err = {0};
 	struct rs_scene *scene = NULL;
-	struct rs_tool_accel accel = {0};
 	size_t n = (size_t)o->size * o->size;
 	float *rgb[2] = {malloc(n * 3 * sizeof(float)), malloc(n * 3 * sizeof(float))};
 	float *depth[2] = {malloc(n * sizeof(float)), malloc(n * sizeof(float))};
@@ -193,25 +211,31 @@ static int bench_triangle_tests(const struct options *o, const char *name)
 	int code = 1;
 	if (!rgb[0] || !rgb[1] || !depth[0] || !depth[1])
 		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
-	else if (rs_tool_load_scene(name, &scene, &err) == RS_OK &&
-	         rs_tool_accel_build(scene, &bvh, &accel, &err) == RS_OK)
+	else if (rs_tool_load_scene(name, &scene, &err) == RS_OK)
 		code = 0;
 	double ms[2] = {0, 0};
 	for (int t = 0; t < 2 && code == 0; ++t) {
-		struct rs_trace_desc td = {.width = o->size,
-		                           .height = o->size,
-		                           .passes = o->passes,
-		                           .lights = o->lights,
-		                           .triangle_test = t ? RS_TRIANGLE_WATERTIGHT
-		                                              : RS_TRIANGLE_MOLLER_TRUMBORE};
+		struct rs_render_desc rd = {.width = o->size,
+		                            .height = o->size,
+		                            .passes = o->passes,
+		                            .lights = o->lights,
+		                            .triangle_test = t ? RS_TRIANGLE_WATERTIGHT
+		                                               : RS_TRIANGLE_MOLLER_TRUMBORE,
+		                            .bvh = bvh,
+		                            .threads = o->threads};
+		struct rs_renderer *renderer = NULL;
+		struct rs_frame frame = {.rgb = rgb[t], .depth = depth[t]};
 		double times[32];
+		if (rs_renderer_create_cpu(&rd, &renderer, &err) != RS_OK ||
+		    rs_renderer_set_scene(renderer, scene, &err) != RS_OK)
+			code = 1;
 		for (uint32_t r = 0; r < o->repeats && code == 0; ++r) {
 			double t0 = rs_tool_now_ms();
-			if (rs_tool_render_cpu(scene, &accel.packed, &td, o->threads, rgb[t],
-			                       depth[t], NULL, &err) != RS_OK)
+			if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
 				code = 1;
 			times[r] = rs_tool_now_ms() - t0;
 		}
+		rs_renderer_destroy(&renderer);
 		ms[t] = code == 0 ? median(times, o->repeats) : 0.0;
 	}
 	if (code == 0) {
@@ -228,7 +252,6 @@ static int bench_triangle_tests(const struct options *o, const char *name)
 		free(rgb[t]);
 		free(depth[t]);
 	}
-	rs_tool_accel_free(&accel);
 	rs_scene_destroy(&scene);
 	return code;
 }

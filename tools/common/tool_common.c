@@ -83,46 +83,6 @@ enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struc
 	return rs_load_scene(NULL, name, out, err);
 }
 
-enum rs_status rs_tool_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *desc,
-                                   struct rs_tool_accel *out, struct rs_error *err)
-{
-	memset(out, 0, sizeof *out);
-	size_t tris = rs_scene_triangle_count(scene);
-	size_t cap = rs_bvh_node_bound(desc, tris);
-	out->nodes = malloc(cap * sizeof *out->nodes);
-	out->triangle_order = malloc(tris * sizeof *out->triangle_order);
-	if (!out->nodes || !out->triangle_order) {
-		rs_tool_accel_free(out);
-		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for the BVH");
-	}
-	double t0 = rs_tool_now_ms();
-	enum rs_status status = rs_bvh_build(
-	    desc, rs_scene_positions(scene), rs_scene_vertex_count(scene), rs_scene_indices(scene),
-	    tris, out->nodes, cap, out->triangle_order, &out->node_count, err);
-	out->build_ms = rs_tool_now_ms() - t0;
-	if (status == RS_OK)
-		status = rs_pack_layout(out->node_count, tris, rs_scene_material_count(scene),
-		                        &out->packed, err);
-	if (status == RS_OK)
-		status = rs_pack_alloc(&out->packed, err);
-	double t1 = rs_tool_now_ms();
-	if (status == RS_OK)
-		status = rs_pack_scene(scene, out->nodes, out->node_count, out->triangle_order,
-		                       &out->packed, err);
-	out->pack_ms = rs_tool_now_ms() - t1;
-	if (status != RS_OK)
-		rs_tool_accel_free(out);
-	return status;
-}
-
-void rs_tool_accel_free(struct rs_tool_accel *accel)
-{
-	free(accel->nodes);
-	free(accel->triangle_order);
-	rs_pack_free(&accel->packed);
-	memset(accel, 0, sizeof *accel);
-}
-
 enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_error *err)
 {
 	char *text = cJSON_Print(doc);

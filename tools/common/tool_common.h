@@ -32,25 +32,6 @@ int rs_tool_find_cow(char *out, size_t size);
 /* A scene by name (box, cowN) or a mesh file path (OBJ/PLY with optional .json view). */
 enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struct rs_error *err);
 
-/* A scene's BVH and packed textures, owned together. */
-struct rs_tool_accel {
-	struct rs_bvh_node *nodes;
-	size_t node_count;
-	uint32_t *triangle_order;
-	struct rs_packed packed;
-	double build_ms; /* rs_bvh_build() only */
-	double pack_ms;
-};
-enum rs_status rs_tool_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *desc,
-                                   struct rs_tool_accel *out, struct rs_error *err);
-void rs_tool_accel_free(struct rs_tool_accel *accel);
-
-/* rs_trace_render split over `threads` threads by rows; stats summed and re-averaged. */
-enum rs_status rs_tool_render_cpu(const struct rs_scene *scene, const struct rs_packed *packed,
-                                  const struct rs_trace_desc *desc, uint32_t threads,
-                                  float *out_rgb, float *out_depth,
-                                  struct rs_trace_stats *out_stats, struct rs_error *err);
-
 /* Write a JSON document through a temporary file and rename (never a partial file). */
 enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_error *err);
 

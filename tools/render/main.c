@@ -9,26 +9,31 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "raystream/rs_renderers.h"
 #include "tool_common.h"
 
 struct options {
 	const char *scene, *backend, *out, *stats, *depth;
 	enum rs_bvh_builder builder;
 	enum rs_triangle_test triangle_test;
+	enum rs_primary_mode primary;
+	enum rs_shadow_mode shadows;
+	uint32_t shadow_map_size, shadow_filter;
 	uint32_t passes, lights, width, height, threads;
 };
 
 static void usage(FILE *to)
 {
-	fputs(
-	    "usage: raystream-render --scene box|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
-	    "         [--backend cpu] [--bvh none|linear|paper|sah] [--passes N] [--lights N]\n"
-	    "         [--size WxH] [--out FILE.png] [--stats FILE.json] [--depth FILE.pfm]\n"
-	    "         [--triangle-test mt|watertight] [--threads N]\n"
-	    "Renders with the double-precision CPU reference tracer. FILE is an OBJ or PLY mesh;\n"
-	    "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n"
-	    "--lights defaults to 1 (0 for a scene without lights).\n",
-	    to);
+	fputs("usage: raystream-render --scene box|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
+	      "         [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah] [--passes N]\n"
+	      "         [--lights N] [--size WxH] [--out FILE.png] [--stats FILE.json]\n"
+	      "         [--depth FILE.pfm] [--triangle-test mt|watertight] [--threads N]\n"
+	      "         [--primary trace|raster] [--shadows rays|map[:RESOLUTION[:FILTER]]]\n"
+	      "Renders with the chosen backend (default cpu, the double-precision reference).\n"
+	      "FILE is an OBJ or PLY mesh;\n"
+	      "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n"
+	      "--lights defaults to 1 (0 for a scene without lights).\n",
+	      to);
 }
 
 static int fail_usage(const char *fmt, const char *arg)
@@ -37,6 +42,32 @@ static int fail_usage(const char *fmt, const char *arg)
 	fprintf(stderr, fmt, arg);
 	fputs(" (see --help)\n", stderr);
 	return 2;
+}
+
+/* "rays", "map", "map:RES" or "map:RES:FILTER"; 0 on success. */
+static int parse_shadows(const char *v, struct options *o)
+{
+	if (!strcmp(v, "rays")) {
+		o->shadows = RS_SHADOW_RAYS;
+		return 0;
+	}
+	if (strncmp(v, "map", 3) != 0 || (v[3] != '\0' && v[3] != ':'))
+		return -1;
+	o->shadows = RS_SHADOW_MAP;
+	if (v[3] == '\0')
+		return 0;
+	char res[16];
+	const char *colon = strchr(v + 4, ':');
+	size_t n = colon ? (size_t)(colon - (v + 4)) : strlen(v + 4);
+	if (n == 0 || n >= sizeof res)
+		return -1;
+	memcpy(res, v + 4, n);
+	res[n] = '\0';
+	if (!rs_tool_parse_u32(res, 8, 16384, &o->shadow_map_size))
+		return -1;
+	if (colon && !rs_tool_parse_u32(colon + 1, 1, 64, &o->shadow_filter))
+		return -1;
+	return 0;
 }
 
 static int parse_args(int argc, char **argv, struct options *o)
@@ -83,6 +114,19 @@ static int parse_args(int argc, char **argv, struct options *o)
 		} else if (!strcmp(a, "--size")) {
 			if (!rs_tool_parse_size(v, &o->width, &o->height))
 				return fail_usage("--size wants WxH within 1..16384, not '%s'", v);
+		} else if (!strcmp(a, "--primary")) {
+			if (!strcmp(v, "trace"))
+				o->primary = RS_PRIMARY_TRACE;
+			else if (!strcmp(v, "raster"))
+				o->primary = RS_PRIMARY_RASTER;
+			else
+				return fail_usage("--primary wants trace or raster, not '%s'", v);
+		} else if (!strcmp(a, "--shadows")) {
+			if (parse_shadows(v, o) != 0)
+				return fail_usage(
+				    "--shadows wants rays or map[:RESOLUTION[:FILTER]], "
+				    "not '%s'",
+				    v);
 		} else if (!strcmp(a, "--triangle-test")) {
 			if (!strcmp(v, "mt"))
 				o->triangle_test = RS_TRIANGLE_MOLLER_TRUMBORE;
@@ -95,39 +139,73 @@ static int parse_args(int argc, char **argv, struct options *o)
 	}
 	if (!o->scene)
 		return fail_usage("%s", "--scene is required");
-	if (strcmp(o->backend, "cpu") != 0)
-		return fail_usage("unknown backend '%s' (this build has: cpu)", o->backend);
+	if (!rs_renderer_has_backend(o->backend)) {
+		fprintf(stderr, "raystream-render: unknown backend '%s' (this build has: %s)\n",
+		        o->backend, rs_renderer_backends());
+		return 2;
+	}
 	if (!o->out && !o->stats && !o->depth)
 		o->out = "out.png";
 	return 0;
 }
 
-static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
-                         const struct rs_tool_accel *accel, const struct rs_trace_stats *st,
-                         uint32_t w, uint32_t h, uint32_t lights, double ms)
+static const char *shadow_name(const struct rs_render_desc *d, char *buf, size_t cap)
 {
+	if (d->shadows == RS_SHADOW_RAYS)
+		return "rays";
+	snprintf(buf, cap, "map:%u:%u", d->shadow_map_size, d->shadow_filter);
+	return buf;
+}
+
+static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
+                         const struct rs_renderer *renderer, double ms)
+{
+	const struct rs_render_desc *d = rs_renderer_desc(renderer);
+	const struct rs_render_stats *st = rs_renderer_stats(renderer);
+	char shadows[32];
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddStringToObject(doc, "scene", o->scene);
-	cJSON_AddStringToObject(doc, "backend", o->backend);
+	cJSON_AddStringToObject(doc, "backend", st->backend);
+	cJSON_AddStringToObject(doc, "renderer", st->renderer);
 	cJSON_AddNumberToObject(doc, "triangles", (double)rs_scene_triangle_count(scene));
-	cJSON_AddStringToObject(doc, "bvh", rs_bvh_builder_name(o->builder));
-	cJSON_AddNumberToObject(doc, "bvh_nodes", (double)accel->node_count);
-	cJSON_AddNumberToObject(doc, "passes", o->passes);
-	cJSON_AddNumberToObject(doc, "lights", lights);
-	cJSON_AddNumberToObject(doc, "width", w);
-	cJSON_AddNumberToObject(doc, "height", h);
+	cJSON_AddStringToObject(doc, "bvh", rs_bvh_builder_name(d->bvh.builder));
+	cJSON_AddNumberToObject(doc, "passes", d->passes);
+	cJSON_AddNumberToObject(doc, "lights", d->lights);
+	cJSON_AddNumberToObject(doc, "width", d->width);
+	cJSON_AddNumberToObject(doc, "height", d->height);
 	cJSON_AddStringToObject(doc, "triangle_test",
-	                        o->triangle_test == RS_TRIANGLE_WATERTIGHT ? "watertight" : "mt");
-	cJSON *hits = cJSON_AddObjectToObject(doc, "hit_numbers");
-	cJSON_AddNumberToObject(hits, "box", st->box_per_pixel);
-	cJSON_AddNumberToObject(hits, "triangle", st->triangle_per_pixel);
-	cJSON_AddNumberToObject(hits, "total", st->total_per_pixel);
-	cJSON_AddNumberToObject(doc, "rays", (double)st->rays);
+	                        d->triangle_test == RS_TRIANGLE_WATERTIGHT ? "watertight" : "mt");
+	cJSON_AddStringToObject(doc, "primary",
+	                        d->primary == RS_PRIMARY_RASTER ? "raster" : "trace");
+	cJSON_AddStringToObject(doc, "shadows", shadow_name(d, shadows, sizeof shadows));
+	if (st->counters_valid) {
+		cJSON *hits = cJSON_AddObjectToObject(doc, "hit_numbers");
+		cJSON_AddNumberToObject(hits, "box", st->box_per_pixel);
+		cJSON_AddNumberToObject(hits, "triangle", st->triangle_per_pixel);
+		cJSON_AddNumberToObject(hits, "total", st->total_per_pixel);
+	}
+	cJSON_AddNumberToObject(doc, "primary_rays", (double)st->primary_rays);
+	cJSON_AddNumberToObject(doc, "secondary_rays", (double)st->secondary_rays);
+	cJSON_AddNumberToObject(doc, "rays", (double)(st->primary_rays + st->secondary_rays));
 	cJSON_AddNumberToObject(doc, "shadow_rays", (double)st->shadow_rays);
 	cJSON_AddNumberToObject(doc, "ms", ms);
-	cJSON_AddNumberToObject(doc, "build_ms", accel->build_ms);
-	cJSON_AddNumberToObject(doc, "pack_ms", accel->pack_ms);
-	cJSON_AddNumberToObject(doc, "threads", o->threads);
+	cJSON_AddNumberToObject(doc, "render_ms", st->render_ms);
+	cJSON_AddNumberToObject(doc, "readback_ms", st->readback_ms);
+	cJSON_AddNumberToObject(doc, "build_ms", st->build_ms);
+	cJSON_AddNumberToObject(doc, "pack_ms", st->pack_ms);
+	cJSON_AddNumberToObject(doc, "upload_ms", st->upload_ms);
+	if (!strcmp(st->backend, "cpu"))
+		cJSON_AddNumberToObject(doc, "threads", d->threads);
+	if (st->kernel_count) {
+		cJSON *k = cJSON_AddArrayToObject(doc, "kernels");
+		for (uint32_t i = 0; i < st->kernel_count; ++i) {
+			cJSON *e = cJSON_CreateObject();
+			cJSON_AddStringToObject(e, "name", st->kernels[i].name);
+			cJSON_AddNumberToObject(e, "calls", st->kernels[i].calls);
+			cJSON_AddNumberToObject(e, "ms", st->kernels[i].ms);
+			cJSON_AddItemToArray(k, e);
+		}
+	}
 	return doc;
 }
 
@@ -135,7 +213,7 @@ static int run(const struct options *o)
 {
 	struct rs_error err = {0};
 	struct rs_scene *scene = NULL;
-	struct rs_tool_accel accel = {0};
+	struct rs_renderer *renderer = NULL;
 	float *rgb = NULL, *depth = NULL;
 	const char *written[2] = {NULL, NULL}; /* outputs of this run, removed on failure */
 	int code = 1;
@@ -150,30 +228,37 @@ static int run(const struct options *o)
 		             o->lights, o->scene, scene_lights);
 		goto done;
 	}
-	struct rs_camera cam;
-	rs_camera_resolve(rs_scene_camera(scene), &cam);
-	uint32_t w = o->width ? o->width : cam.width, h = o->height ? o->height : cam.height;
-	struct rs_bvh_desc bvh = {.builder = o->builder};
-	if (rs_tool_accel_build(scene, &bvh, &accel, &err) != RS_OK)
+	long online = sysconf(_SC_NPROCESSORS_ONLN);
+	struct rs_render_desc desc = {
+	    .width = o->width,
+	    .height = o->height,
+	    .passes = o->passes,
+	    .lights = lights, /* 0 means "all": right for a scene without lights */
+	    .triangle_test = o->triangle_test,
+	    .primary = o->primary,
+	    .shadows = o->shadows,
+	    .shadow_map_size = o->shadow_map_size,
+	    .shadow_filter = o->shadow_filter,
+	    .counters = true,
+	    .bvh = {.builder = o->builder},
+	    .threads = o->threads                    ? o->threads
+	               : online > 0 && online <= 256 ? (uint32_t)online
+	                                             : 1u,
+	};
+	if (rs_renderer_open(o->backend, &desc, &renderer, &err) != RS_OK ||
+	    rs_renderer_set_scene(renderer, scene, &err) != RS_OK)
 		goto done;
+	const struct rs_render_desc *d = rs_renderer_desc(renderer);
+	uint32_t w = d->width, h = d->height;
 	rgb = malloc((size_t)w * h * 3 * sizeof *rgb);
 	depth = malloc((size_t)w * h * sizeof *depth);
 	if (!rgb || !depth) {
 		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory for a %ux%u image", w, h);
 		goto done;
 	}
-	struct rs_trace_desc desc = {
-	    .width = w, .height = h, .passes = o->passes, .triangle_test = o->triangle_test};
-	/* rs_trace_desc.lights 0 means "all": right for a scene without lights. */
-	desc.lights = lights;
-	struct rs_trace_stats stats;
-	long online = sysconf(_SC_NPROCESSORS_ONLN);
-	uint32_t threads = o->threads                    ? o->threads
-	                   : online > 0 && online <= 256 ? (uint32_t)online
-	                                                 : 1u;
+	struct rs_frame frame = {.rgb = rgb, .depth = o->depth ? depth : NULL};
 	double t0 = rs_tool_now_ms();
-	if (rs_tool_render_cpu(scene, &accel.packed, &desc, threads, rgb, depth, &stats, &err) !=
-	    RS_OK)
+	if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
 		goto done;
 	double ms = rs_tool_now_ms() - t0;
 	if (o->out && rs_image_write_png(o->out, rgb, w, h, &err) != RS_OK)
@@ -183,20 +268,22 @@ static int run(const struct options *o)
 		goto done;
 	written[1] = o->depth;
 	if (o->stats) {
-		struct options shown = *o;
-		shown.threads = threads;
-		cJSON *doc = stats_json(&shown, scene, &accel, &stats, w, h, lights, ms);
+		cJSON *doc = stats_json(o, scene, renderer, ms);
 		enum rs_status s = doc ? rs_tool_write_json(o->stats, doc, &err)
 		                       : rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
 		cJSON_Delete(doc);
 		if (s != RS_OK)
 			goto done;
 	}
-	printf("%s: %zu triangles, bvh %s (%zu nodes, %.1f ms), %ux%u, %u pass(es), %u light(s): "
-	       "%.1f ms, hit numbers %.3f (box %.3f + triangle %.3f)\n",
-	       o->scene, rs_scene_triangle_count(scene), rs_bvh_builder_name(o->builder),
-	       accel.node_count, accel.build_ms, w, h, o->passes, lights, ms, stats.total_per_pixel,
-	       stats.box_per_pixel, stats.triangle_per_pixel);
+	const struct rs_render_stats *st = rs_renderer_stats(renderer);
+	printf("%s: %zu triangles, %s (%s), bvh %s (%.1f ms), %ux%u, %u pass(es), %u light(s): "
+	       "%.1f ms",
+	       o->scene, rs_scene_triangle_count(scene), st->backend, st->renderer,
+	       rs_bvh_builder_name(o->builder), st->build_ms, w, h, d->passes, lights, ms);
+	if (st->counters_valid)
+		printf(", hit numbers %.3f (box %.3f + triangle %.3f)", st->total_per_pixel,
+		       st->box_per_pixel, st->triangle_per_pixel);
+	printf("\n");
 	code = 0;
 done:
 	if (code != 0) {
@@ -210,7 +297,7 @@ done:
 	}
 	free(rgb);
 	free(depth);
-	rs_tool_accel_free(&accel);
+	rs_renderer_destroy(&renderer);
 	rs_scene_destroy(&scene);
 	return code;
 }

@@ -12,6 +12,7 @@
 #ifndef RS_IMAGE_H
 #define RS_IMAGE_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -23,6 +24,13 @@ extern "C" {
 
 /** Largest width or height accepted by the image calls. */
 #define RS_IMAGE_MAX_SIDE 16384u
+
+/** One channel as rs_image_quantize() rounds it: round(clamp(c, 0, 1) * 255), NaN -> 0. */
+static inline uint8_t rs_image_quantize_value(float c)
+{
+	c = !(c > 0.0f) ? 0.0f : c > 1.0f ? 1.0f : c; /* !(c > 0) also catches NaN */
+	return (uint8_t)lrintf(c * 255.0f);
+}
 
 /**
  * Quantise linear RGB floats (row 0 = top) to 8 bits: round(clamp(c, 0, 1) * 255); NaN

@@ -158,6 +158,10 @@ void rs_scene_bounds(const struct rs_scene *scene, struct rs_bounds *out);
  */
 void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg, struct rs_camera *camera);
 
+/** Check a camera as rs_scene_set_camera() does: RS_ERR_BAD_DATA for non-finite values,
+ * eye == target, zero or parallel up, fov outside [0, 180); RS_ERR_LIMIT for a size > 16384. */
+enum rs_status rs_camera_check(const struct rs_camera *camera, struct rs_error *err);
+
 /** Resolved camera values: fov 45 and 512x512 where zero. */
 void rs_camera_resolve(const struct rs_camera *in, struct rs_camera *out);
 

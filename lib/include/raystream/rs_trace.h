@@ -103,6 +103,9 @@ struct rs_trace_desc {
 	enum rs_triangle_test triangle_test;
 	double ray_epsilon; /**< self-hit offset relative to the scene's extent; 0 -> 1e-6 */
 	uint32_t row_begin, row_end; /**< render only rows [begin, end); both 0 -> all */
+	/** Camera to render from instead of the scene's (its size is used when width or
+	 * height is 0, like the scene camera's); NULL: the scene's. */
+	const struct rs_camera *camera;
 };
 
 /** Counts over the rendered pixels. Hit numbers are means per pixel over all its rays. */

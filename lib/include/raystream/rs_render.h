@@ -1,0 +1,214 @@
+/**
+ * @file rs_render.h
+ * One render interface for every backend: a descriptor, one stats struct, and an opaque
+ * renderer object behind a small table of operations. The CPU double-precision reference
+ * (rs_trace.h, threaded) is one backend, built into this module; the GLES backends (EGL,
+ * OSMesa) plug in through the same table from backends/ and are opened by name with
+ * rs_renderer_open() (rs_renderer_open.h, module rs_renderers).
+ *
+ * Life cycle: create -> set_scene (builds the BVH, packs and uploads once) -> render any
+ * number of frames, each with an optional camera (the tracked viewer changes only the
+ * camera every frame; nothing else is uploaded) -> destroy.
+ *
+ * Threading: a renderer is used by one thread at a time. GL backends make their context
+ * current in set_scene and render and release it before returning.
+ */
+#ifndef RS_RENDER_H
+#define RS_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "raystream/rs_bvh.h"
+#include "raystream/rs_pack.h"
+#include "raystream/rs_scene.h"
+#include "raystream/rs_status.h"
+#include "raystream/rs_trace.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Where primary hits come from. */
+enum rs_primary_mode {
+	RS_PRIMARY_TRACE = 0,  /**< primary rays traced through the BVH (default) */
+	RS_PRIMARY_RASTER = 1, /**< a raster pass writes triangle id, barycentrics, depth */
+};
+
+/** How lights are tested for occlusion. */
+enum rs_shadow_mode {
+	RS_SHADOW_RAYS = 0, /**< exact shadow feelers through the BVH (default) */
+	RS_SHADOW_MAP = 1,  /**< cube shadow maps, box-filtered (GL backends only) */
+};
+
+/** How the GL backends chain their kernels. */
+enum rs_kernel_chain {
+	RS_CHAIN_FUSED = 0,    /**< adjacent kernels fused where that measures faster */
+	RS_CHAIN_SEPARATE = 1, /**< the paper's chain: one pass per kernel */
+};
+
+/** Largest rs_render_desc.threads. */
+#define RS_RENDER_MAX_THREADS 256u
+
+/** Renderer options; zero-initialised means defaults (resolved by rs_render_desc_resolve). */
+struct rs_render_desc {
+	uint32_t width, height; /**< image size; 0: the scene camera's (at set_scene) */
+	uint32_t passes;        /**< ray segments per path; 0 -> 2 */
+	uint32_t lights;        /**< the scene's first N lights; 0 -> all */
+	enum rs_triangle_test triangle_test;
+	double ray_epsilon; /**< as rs_trace_desc.ray_epsilon; 0 -> the tracer's default */
+	enum rs_primary_mode primary;
+	enum rs_shadow_mode shadows;
+	uint32_t shadow_map_size; /**< cube face side in texels; 0 -> 512 */
+	uint32_t shadow_filter;   /**< box filter side in texels (1 = none); 0 -> 3 */
+	bool counters;            /**< count box and triangle tests (costs time on GPUs) */
+	struct rs_bvh_desc bvh;   /**< the BVH builder and its options */
+	uint32_t threads;         /**< CPU backend threads; 0 -> the machine's cores */
+	enum rs_kernel_chain chain;
+	/** GL backends: EGL platform to use ("surfaceless", "device", "gbm"); NULL: the
+	 * RS_EGL_PLATFORM environment variable, else the first that works in that order.
+	 * Read only while the renderer is created. */
+	const char *egl_platform;
+};
+
+/** Kernel timing, GL backends (summed over the passes of one frame). */
+struct rs_render_kernel_time {
+	char name[24];
+	uint32_t calls;
+	double ms;
+};
+
+/** Largest number of kernel timings a stats struct carries. */
+#define RS_RENDER_MAX_KERNELS 16u
+
+/** What a frame cost and counted; the same struct for every backend. */
+struct rs_render_stats {
+	char backend[16];   /**< "cpu", "egl", "osmesa" */
+	char renderer[128]; /**< GL_RENDERER (or the CPU's description) */
+	uint32_t width, height;
+	uint64_t pixels;
+	uint64_t primary_rays;   /**< one per pixel (rasterized ones included) */
+	uint64_t secondary_rays; /**< reflected and refracted segments */
+	uint64_t shadow_rays;    /**< shadow feelers (0 with shadow maps) */
+	bool counters_valid;     /**< box/triangle counts below were measured */
+	uint64_t box_tests;
+	uint64_t triangle_tests;
+	double box_per_pixel; /**< the paper's hit numbers: means per pixel */
+	double triangle_per_pixel;
+	double total_per_pixel;
+	double build_ms;    /**< BVH build (set_scene) */
+	double pack_ms;     /**< packing into textures (set_scene) */
+	double upload_ms;   /**< texture upload and shader compile (set_scene) */
+	double render_ms;   /**< the last frame, up to the image being ready on the device */
+	double readback_ms; /**< copying the last frame to host memory */
+	uint32_t kernel_count;
+	struct rs_render_kernel_time kernels[RS_RENDER_MAX_KERNELS];
+};
+
+/** Where a frame goes; caller-owned buffers of the renderer's width * height pixels. */
+struct rs_frame {
+	float *rgb;     /**< 3 linear floats per pixel, row 0 = top, or NULL */
+	uint8_t *rgba8; /**< 4 bytes per pixel as rs_image_quantize() rounds, alpha 255, or NULL */
+	float *depth;   /**< primary-hit distance, +INFINITY on a miss, or NULL */
+};
+
+struct rs_renderer;
+
+/**
+ * A backend's operations. `impl` is the backend's own state. Every call fills `err` on
+ * failure. Ops other than destroy are never called with a NULL impl.
+ */
+struct rs_renderer_ops {
+	const char *name;
+	/** Upload a scene (after any earlier one). `scene` stays valid until the next
+	 * set_scene or destroy; the BVH and packed textures are owned by the renderer. */
+	enum rs_status (*set_scene)(void *impl, const struct rs_scene *scene,
+	                            const struct rs_render_desc *desc,
+	                            struct rs_render_stats *stats, struct rs_error *err);
+	/** Render one frame from `camera` (already resolved, never NULL). */
+	enum rs_status (*render)(void *impl, const struct rs_camera *camera,
+	                         const struct rs_frame *frame, struct rs_render_stats *stats,
+	                         struct rs_error *err);
+	/** Release everything, `impl` included. */
+	void (*destroy)(void *impl);
+	/** Optional: describe the device (GL_RENDERER) into `out` for stats.renderer. */
+	void (*describe)(const void *impl, char *out, size_t cap);
+};
+
+/**
+ * Wrap a backend: on success the renderer owns `impl` (ops->destroy runs in
+ * rs_renderer_destroy()); on failure ops->destroy(impl) has already run. `ops` must outlive
+ * the renderer (a static const table). `desc` is copied and resolved; NULL means defaults.
+ */
+enum rs_status rs_renderer_create(const struct rs_renderer_ops *ops, void *impl,
+                                  const struct rs_render_desc *desc, struct rs_renderer **out,
+                                  struct rs_error *err);
+
+/** The CPU reference backend (rs_trace_render over threads). Trace-only: RS_PRIMARY_RASTER
+ * and RS_SHADOW_MAP are refused with RS_ERR_UNSUPPORTED. */
+enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
+                                      struct rs_error *err);
+
+/** Destroy and set *renderer to NULL; NULL and *renderer == NULL are allowed. */
+void rs_renderer_destroy(struct rs_renderer **renderer);
+
+/**
+ * Build the BVH, pack and upload `scene`, which must stay alive and unchanged until the
+ * next set_scene or destroy. The image size is fixed here when the descriptor leaves it 0.
+ */
+enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct rs_scene *scene,
+                                     struct rs_error *err);
+
+/**
+ * Render a frame. `camera` NULL: the scene's camera; else its eye, target, up and fov are
+ * used (its width/height are ignored: the size was fixed at set_scene). RS_ERR_INVALID
+ * before set_scene or for a camera rs_scene_set_camera() would refuse.
+ */
+enum rs_status rs_renderer_render(struct rs_renderer *renderer, const struct rs_camera *camera,
+                                  const struct rs_frame *frame, struct rs_error *err);
+
+/** The resolved descriptor (defaults filled in, size known after set_scene). */
+const struct rs_render_desc *rs_renderer_desc(const struct rs_renderer *renderer);
+
+/** Stats of the last set_scene and frame; owned by the renderer. */
+const struct rs_render_stats *rs_renderer_stats(const struct rs_renderer *renderer);
+
+/** Last error message of this renderer (empty if none); owned by the renderer. */
+const char *rs_renderer_last_error(const struct rs_renderer *renderer);
+
+/** Backend name ("cpu", "egl", "osmesa"). */
+const char *rs_renderer_backend(const struct rs_renderer *renderer);
+
+/** Fill the zero fields of `desc` with defaults (size stays 0 until a scene is known).
+ * RS_ERR_INVALID for out-of-range values (unknown enums, passes > RS_TRACE_MAX_PASSES,
+ * negative or non-finite epsilon, filter larger than the map, more threads than
+ * RS_RENDER_MAX_THREADS). */
+enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct rs_render_desc *out,
+                                      struct rs_error *err);
+
+/** A scene's BVH and its packed textures, owned together: what every backend uploads. */
+struct rs_render_accel {
+	struct rs_bvh_node *nodes;
+	size_t node_count;
+	uint32_t *triangle_order;
+	struct rs_packed packed;
+	double build_ms; /**< rs_bvh_build() only */
+	double pack_ms;
+};
+
+/** Build the BVH of `scene` with `bvh` (NULL: defaults) and pack it. Free with
+ * rs_render_accel_free(), also after a failure (which leaves *out zeroed). */
+enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
+                                     struct rs_render_accel *out, struct rs_error *err);
+
+/** Free what rs_render_accel_build() allocated and zero the struct; NULL is allowed. */
+void rs_render_accel_free(struct rs_render_accel *accel);
+
+/** Recompute the per-pixel means of `stats` from its counts. */
+void rs_render_stats_finish(struct rs_render_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,52 @@
+/* The BVH-and-pack step every backend starts from: build the scene's BVH with the chosen
+ * builder and pack it into the textures the kernels (and the CPU reference) read. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_internal.h"
+
+enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
+                                     struct rs_render_accel *out, struct rs_error *err)
+{
+	RS_ASSERT(scene && out);
+	static const struct rs_bvh_desc zero_bvh;
+	if (!bvh)
+		bvh = &zero_bvh;
+	memset(out, 0, sizeof *out);
+	size_t tris = rs_scene_triangle_count(scene);
+	size_t cap = rs_bvh_node_bound(bvh, tris);
+	out->nodes = malloc((cap ? cap : 1) * sizeof *out->nodes);
+	out->triangle_order = malloc((tris ? tris : 1) * sizeof *out->triangle_order);
+	if (!out->nodes || !out->triangle_order) {
+		rs_render_accel_free(out);
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "render: out of memory for the BVH");
+	}
+	double t0 = rs_render_now_ms();
+	enum rs_status status = rs_bvh_build(
+	    bvh, rs_scene_positions(scene), rs_scene_vertex_count(scene), rs_scene_indices(scene),
+	    tris, out->nodes, cap, out->triangle_order, &out->node_count, err);
+	out->build_ms = rs_render_now_ms() - t0;
+	if (status == RS_OK)
+		status = rs_pack_layout(out->node_count, tris, rs_scene_material_count(scene),
+		                        &out->packed, err);
+	if (status == RS_OK)
+		status = rs_pack_alloc(&out->packed, err);
+	double t1 = rs_render_now_ms();
+	if (status == RS_OK)
+		status = rs_pack_scene(scene, out->nodes, out->node_count, out->triangle_order,
+		                       &out->packed, err);
+	out->pack_ms = rs_render_now_ms() - t1;
+	if (status != RS_OK)
+		rs_render_accel_free(out);
+	return status;
+}
+
+void rs_render_accel_free(struct rs_render_accel *accel)
+{
+	if (!accel)
+		return;
+	free(accel->nodes);
+	free(accel->triangle_order);
+	rs_pack_free(&accel->packed);
+	memset(accel, 0, sizeof *accel);
+}

@@ -1,0 +1,231 @@
+/* The renderer object: descriptor defaults in one place, the camera and size rules, stats
+ * and the last error, in front of whichever backend's table of operations. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "render_internal.h"
+
+struct rs_renderer {
+	const struct rs_renderer_ops *ops;
+	void *impl;
+	struct rs_render_desc desc;  /* resolved; size fixed at set_scene */
+	struct rs_render_desc asked; /* as given: a 0 size follows each new scene's camera */
+	const struct rs_scene *scene;
+	struct rs_render_stats stats;
+	struct rs_error error;
+};
+
+double rs_render_now_ms(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+void rs_render_copy_name(char *dst, size_t cap, const char *src)
+{
+	if (!cap)
+		return;
+	size_t n = src ? strlen(src) : 0;
+	if (n >= cap)
+		n = cap - 1;
+	if (n)
+		memcpy(dst, src, n);
+	dst[n] = '\0';
+}
+
+enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct rs_render_desc *out,
+                                      struct rs_error *err)
+{
+	RS_ASSERT(out);
+	static const struct rs_render_desc zero_desc;
+	struct rs_render_desc d = desc ? *desc : zero_desc;
+	if ((d.width == 0) != (d.height == 0))
+		return rs_error_set(err, RS_ERR_INVALID, "render: size %ux%u has a zero side",
+		                    d.width, d.height);
+	if (d.width > 16384 || d.height > 16384)
+		return rs_error_set(err, RS_ERR_LIMIT, "render: image %ux%u is too large (16384)",
+		                    d.width, d.height);
+	if (d.passes == 0)
+		d.passes = 2;
+	if (d.passes > RS_TRACE_MAX_PASSES)
+		return rs_error_set(err, RS_ERR_INVALID, "render: %u passes (at most %u)", d.passes,
+		                    RS_TRACE_MAX_PASSES);
+	if (d.triangle_test != RS_TRIANGLE_MOLLER_TRUMBORE &&
+	    d.triangle_test != RS_TRIANGLE_WATERTIGHT)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown triangle test %d",
+		                    (int)d.triangle_test);
+	if (!isfinite(d.ray_epsilon) || d.ray_epsilon < 0.0)
+		return rs_error_set(err, RS_ERR_INVALID, "render: ray epsilon %g is not >= 0",
+		                    d.ray_epsilon);
+	if (d.primary != RS_PRIMARY_TRACE && d.primary != RS_PRIMARY_RASTER)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown primary mode %d",
+		                    (int)d.primary);
+	if (d.shadows != RS_SHADOW_RAYS && d.shadows != RS_SHADOW_MAP)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown shadow mode %d",
+		                    (int)d.shadows);
+	if (d.chain != RS_CHAIN_FUSED && d.chain != RS_CHAIN_SEPARATE)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown kernel chain %d",
+		                    (int)d.chain);
+	if (d.shadow_map_size == 0)
+		d.shadow_map_size = 512;
+	if (d.shadow_map_size > 16384)
+		return rs_error_set(err, RS_ERR_LIMIT, "render: shadow map side %u is too large",
+		                    d.shadow_map_size);
+	if (d.shadow_filter == 0)
+		d.shadow_filter = 3;
+	if (d.shadow_filter > d.shadow_map_size)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "render: shadow filter %u is wider than the %u-texel map",
+		                    d.shadow_filter, d.shadow_map_size);
+	if (d.threads > RS_RENDER_MAX_THREADS)
+		return rs_error_set(err, RS_ERR_INVALID, "render: %u threads (at most %u)",
+		                    d.threads, RS_RENDER_MAX_THREADS);
+	*out = d;
+	return RS_OK;
+}
+
+void rs_render_stats_finish(struct rs_render_stats *stats)
+{
+	RS_ASSERT(stats);
+	double px = (double)stats->pixels;
+	stats->box_per_pixel = px > 0 ? (double)stats->box_tests / px : 0.0;
+	stats->triangle_per_pixel = px > 0 ? (double)stats->triangle_tests / px : 0.0;
+	stats->total_per_pixel = stats->box_per_pixel + stats->triangle_per_pixel;
+}
+
+enum rs_status rs_renderer_create(const struct rs_renderer_ops *ops, void *impl,
+                                  const struct rs_render_desc *desc, struct rs_renderer **out,
+                                  struct rs_error *err)
+{
+	RS_ASSERT(ops && ops->set_scene && ops->render && ops->destroy && out);
+	*out = NULL;
+	struct rs_renderer *r = calloc(1, sizeof *r);
+	enum rs_status status =
+	    r ? rs_render_desc_resolve(desc, &r->desc, err)
+	      : rs_error_set(err, RS_ERR_NO_MEMORY, "render: out of memory for a renderer");
+	if (status != RS_OK) {
+		free(r);
+		ops->destroy(impl);
+		return status;
+	}
+	r->asked = r->desc;
+	r->ops = ops;
+	r->impl = impl;
+	rs_render_copy_name(r->stats.backend, sizeof r->stats.backend, ops->name);
+	if (ops->describe)
+		ops->describe(impl, r->stats.renderer, sizeof r->stats.renderer);
+	*out = r;
+	return RS_OK;
+}
+
+void rs_renderer_destroy(struct rs_renderer **renderer)
+{
+	if (!renderer || !*renderer)
+		return;
+	struct rs_renderer *r = *renderer;
+	r->ops->destroy(r->impl);
+	free(r);
+	*renderer = NULL;
+}
+
+/* Record a failure as the renderer's last error and hand it to the caller's err too. */
+static enum rs_status fail(struct rs_renderer *r, enum rs_status status, struct rs_error *err)
+{
+	if (err)
+		*err = r->error;
+	return status;
+}
+
+enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct rs_scene *scene,
+                                     struct rs_error *err)
+{
+	RS_ASSERT(renderer && scene);
+	struct rs_renderer *r = renderer;
+	rs_error_clear(&r->error);
+	struct rs_render_desc d = r->asked;
+	if (d.width == 0) {
+		struct rs_camera cam;
+		rs_camera_resolve(rs_scene_camera(scene), &cam);
+		d.width = cam.width;
+		d.height = cam.height;
+	}
+	if (d.lights > rs_scene_light_count(scene))
+		return fail(r,
+		            rs_error_set(&r->error, RS_ERR_INVALID,
+		                         "render: %u lights asked, the scene has %zu", d.lights,
+		                         rs_scene_light_count(scene)),
+		            err);
+	/* A failed upload leaves no scene behind: rendering the previous one would show a
+	 * picture of something the caller replaced. */
+	r->scene = NULL;
+	struct rs_render_stats stats = {0};
+	memcpy(stats.backend, r->stats.backend, sizeof stats.backend);
+	memcpy(stats.renderer, r->stats.renderer, sizeof stats.renderer);
+	stats.width = d.width;
+	stats.height = d.height;
+	enum rs_status status = r->ops->set_scene(r->impl, scene, &d, &stats, &r->error);
+	r->stats = stats;
+	if (status != RS_OK)
+		return fail(r, status, err);
+	r->desc = d;
+	r->scene = scene;
+	return RS_OK;
+}
+
+enum rs_status rs_renderer_render(struct rs_renderer *renderer, const struct rs_camera *camera,
+                                  const struct rs_frame *frame, struct rs_error *err)
+{
+	RS_ASSERT(renderer && frame);
+	struct rs_renderer *r = renderer;
+	rs_error_clear(&r->error);
+	if (!r->scene)
+		return fail(r, rs_error_set(&r->error, RS_ERR_INVALID, "render: no scene set"),
+		            err);
+	struct rs_camera cam;
+	if (camera) {
+		enum rs_status status = rs_camera_check(camera, &r->error);
+		if (status != RS_OK)
+			return fail(r, status, err);
+		rs_camera_resolve(camera, &cam);
+	} else {
+		rs_camera_resolve(rs_scene_camera(r->scene), &cam);
+	}
+	cam.width = r->desc.width;
+	cam.height = r->desc.height;
+	struct rs_render_stats *s = &r->stats;
+	s->pixels = s->primary_rays = s->secondary_rays = s->shadow_rays = 0;
+	s->box_tests = s->triangle_tests = 0;
+	s->counters_valid = false;
+	s->render_ms = s->readback_ms = 0.0;
+	s->kernel_count = 0;
+	enum rs_status status = r->ops->render(r->impl, &cam, frame, s, &r->error);
+	rs_render_stats_finish(s);
+	return status == RS_OK ? RS_OK : fail(r, status, err);
+}
+
+const struct rs_render_desc *rs_renderer_desc(const struct rs_renderer *renderer)
+{
+	RS_ASSERT(renderer);
+	return &renderer->desc;
+}
+
+const struct rs_render_stats *rs_renderer_stats(const struct rs_renderer *renderer)
+{
+	RS_ASSERT(renderer);
+	return &renderer->stats;
+}
+
+const char *rs_renderer_last_error(const struct rs_renderer *renderer)
+{
+	RS_ASSERT(renderer);
+	return renderer->error.message;
+}
+
+const char *rs_renderer_backend(const struct rs_renderer *renderer)
+{
+	RS_ASSERT(renderer);
+	return renderer->ops->name;
+}
