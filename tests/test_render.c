@@ -229,6 +229,11 @@ static void bad_cameras_are_refused_per_frame(void **state)
 	memcpy(c.target, c.eye, sizeof c.eye);
 	assert_int_equal(rs_renderer_render(r, &c, &frame, &err), RS_ERR_BAD_DATA);
 	assert_non_null(strstr(err.message, "eye equals"));
+	c = *rs_scene_camera(fx.scene);
+	c.shift[0] = NAN;
+	assert_int_equal(rs_renderer_render(r, &c, &frame, &err), RS_ERR_BAD_DATA);
+	c.shift[0] = 1e9;
+	assert_int_equal(rs_renderer_render(r, &c, &frame, &err), RS_ERR_BAD_DATA);
 	/* The renderer still works afterwards. */
 	assert_int_equal(rs_renderer_render(r, NULL, &frame, &err), RS_OK);
 	assert_string_equal(rs_renderer_last_error(r), "");

@@ -72,6 +72,28 @@ static void pixel_centres_are_at_half_offsets(void **state)
 	assert_true(fabs(ray.dir[2] + 1.0 / len) < TOL);
 }
 
+static void lens_shift_moves_the_window_off_axis(void **state)
+{
+	/* A shift of (0.5, -0.25) half-heights moves the image centre's ray to the point
+	 * (0.5 b, -0.25 b) of the image plane at distance 1, b = tan(30 deg); the eye and the
+	 * view direction stay, and a zero shift changes no bit. */
+	struct rs_camera shifted = cam;
+	shifted.shift[0] = 0.5;
+	shifted.shift[1] = -0.25;
+	struct rs_ray ray, plain, zero;
+	rs_trace_camera_ray(&shifted, 0, 0, 32.0, 16.0, &ray);
+	double b = tan(30.0 * PI / 180.0);
+	assert_true(fabs(ray.dir[0] / -ray.dir[2] - 0.5 * b) < TOL);
+	assert_true(fabs(ray.dir[1] / -ray.dir[2] + 0.25 * b) < TOL);
+	for (int a = 0; a < 3; ++a)
+		assert_true(ray.origin[a] == cam.eye[a]);
+	struct rs_camera unshifted = cam;
+	unshifted.shift[0] = unshifted.shift[1] = 0.0;
+	rs_trace_camera_ray(&cam, 0, 0, 5.5, 7.5, &plain);
+	rs_trace_camera_ray(&unshifted, 0, 0, 5.5, 7.5, &zero);
+	assert_memory_equal(plain.dir, zero.dir, sizeof plain.dir);
+}
+
 static void explicit_size_overrides_the_camera_size(void **state)
 {
 	/* a 32x32 image of the same camera: aspect 1, so the right edge is at tan(30 deg) */
@@ -97,6 +119,7 @@ int main(void)
 	    cmocka_unit_test(top_and_bottom_edges_span_the_vertical_fov),
 	    cmocka_unit_test(pixels_are_square_and_x_grows_to_the_right),
 	    cmocka_unit_test(pixel_centres_are_at_half_offsets),
+	    cmocka_unit_test(lens_shift_moves_the_window_off_axis),
 	    cmocka_unit_test(explicit_size_overrides_the_camera_size),
 	    cmocka_unit_test(zero_fov_means_45_degrees),
 	};

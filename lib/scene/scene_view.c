@@ -29,7 +29,7 @@ enum rs_status rs_camera_check(const struct rs_camera *camera, struct rs_error *
 {
 	RS_ASSERT(camera);
 	if (!finite_n(camera->eye, 3) || !finite_n(camera->target, 3) || !finite_n(camera->up, 3) ||
-	    !isfinite(camera->fov_y_deg))
+	    !isfinite(camera->fov_y_deg) || !finite_n(camera->shift, 2))
 		return rs_error_set(err, RS_ERR_BAD_DATA, "camera has a non-finite value");
 	double view[3] = {camera->target[0] - camera->eye[0], camera->target[1] - camera->eye[1],
 	                  camera->target[2] - camera->eye[2]};
@@ -50,6 +50,9 @@ enum rs_status rs_camera_check(const struct rs_camera *camera, struct rs_error *
 		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "camera field of view %g is outside (0, 180)",
 		                    camera->fov_y_deg);
+	if (fabs(camera->shift[0]) > 1e6 || fabs(camera->shift[1]) > 1e6)
+		return rs_error_set(err, RS_ERR_BAD_DATA, "camera lens shift (%g, %g) is too large",
+		                    camera->shift[0], camera->shift[1]);
 	if (camera->width > 16384 || camera->height > 16384)
 		return rs_error_set(err, RS_ERR_LIMIT, "camera image %ux%u is too large",
 		                    camera->width, camera->height);

@@ -57,7 +57,13 @@ struct rs_camera {
 	double eye[3];
 	double target[3];
 	double up[3];
-	double fov_y_deg;       /**< vertical field of view; 0 means 45 */
+	double fov_y_deg; /**< vertical field of view; 0 means 45 */
+	/**
+	 * Lens shift for off-axis frusta (a head-coupled view through a handheld screen): the
+	 * image window's centre moves by shift[0] * b right and shift[1] * b up in the image
+	 * plane at distance 1 along the view direction, b = tan(fov_y / 2). 0, 0: centred.
+	 */
+	double shift[2];
 	uint32_t width, height; /**< image size the scene was framed for; 0 means 512 */
 };
 
