@@ -8,6 +8,7 @@ packages=(
   libcglm-dev libassimp-dev libcmocka-dev libpng-dev libcjson-dev
   libhidapi-dev libusb-1.0-0-dev
   clang-14 libclang-rt-14-dev clang-format-14
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libosmesa6-dev
 )
 
 missing=()
