@@ -14,8 +14,7 @@
 #define PSNR_MIN_DB 40.0
 #define BAD_SHARE_MAX 0.001 /* pixels off by more than 8/255 */
 
-static void compare_scene(const char *backend, const char *name,
-                          enum rs_triangle_test test)
+static void compare_scene(const char *backend, const char *name, enum rs_triangle_test test)
 {
 	struct rs_render_desc desc = {
 	    .width = SIZE, .height = SIZE, .passes = 2, .lights = 4, .triangle_test = test};
@@ -47,14 +46,26 @@ static void compare_scene(const char *backend, const char *name,
 	rs_renderer_destroy(&r);
 }
 
-static void egl_box(void **state) { compare_scene("egl", "box", RS_TRIANGLE_MOLLER_TRUMBORE); }
-static void egl_cow1(void **state) { compare_scene("egl", "cow1", RS_TRIANGLE_MOLLER_TRUMBORE); }
-static void egl_cow5(void **state) { compare_scene("egl", "cow5", RS_TRIANGLE_MOLLER_TRUMBORE); }
+static void egl_box(void **state)
+{
+	compare_scene("egl", "box", RS_TRIANGLE_MOLLER_TRUMBORE);
+}
+static void egl_cow1(void **state)
+{
+	compare_scene("egl", "cow1", RS_TRIANGLE_MOLLER_TRUMBORE);
+}
+static void egl_cow5(void **state)
+{
+	compare_scene("egl", "cow5", RS_TRIANGLE_MOLLER_TRUMBORE);
+}
 static void egl_cow1_watertight(void **state)
 {
 	compare_scene("egl", "cow1", RS_TRIANGLE_WATERTIGHT);
 }
-static void osmesa_box(void **state) { compare_scene("osmesa", "box", RS_TRIANGLE_MOLLER_TRUMBORE); }
+static void osmesa_box(void **state)
+{
+	compare_scene("osmesa", "box", RS_TRIANGLE_MOLLER_TRUMBORE);
+}
 static void osmesa_cow1(void **state)
 {
 	compare_scene("osmesa", "cow1", RS_TRIANGLE_MOLLER_TRUMBORE);
@@ -67,9 +78,9 @@ static void osmesa_cow5(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-	    cmocka_unit_test(egl_box),    cmocka_unit_test(egl_cow1),
-	    cmocka_unit_test(egl_cow5),   cmocka_unit_test(egl_cow1_watertight),
-	    cmocka_unit_test(osmesa_box), cmocka_unit_test(osmesa_cow1),
+	    cmocka_unit_test(egl_box),     cmocka_unit_test(egl_cow1),
+	    cmocka_unit_test(egl_cow5),    cmocka_unit_test(egl_cow1_watertight),
+	    cmocka_unit_test(osmesa_box),  cmocka_unit_test(osmesa_cow1),
 	    cmocka_unit_test(osmesa_cow5),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

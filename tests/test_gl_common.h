@@ -14,7 +14,7 @@
 #include "raystream/rs_scenegen.h"
 
 /* A GL renderer, or NULL when this machine cannot make the context (then skip()). */
-static struct rs_renderer *gl_open(const char *backend, const struct rs_render_desc *desc)
+static inline struct rs_renderer *gl_open(const char *backend, const struct rs_render_desc *desc)
 {
 	struct rs_renderer *r = NULL;
 	struct rs_error err;
@@ -28,7 +28,7 @@ static struct rs_renderer *gl_open(const char *backend, const struct rs_render_d
 	return r;
 }
 
-static struct rs_scene *gl_scene(const char *name)
+static inline struct rs_scene *gl_scene(const char *name)
 {
 	struct rs_scenegen_desc d;
 	struct rs_error err;
@@ -42,8 +42,8 @@ static struct rs_scene *gl_scene(const char *name)
 }
 
 /* Render `scene` with renderer `r` into rgb (and depth) of desc's size. */
-static void gl_render(struct rs_renderer *r, const struct rs_scene *scene, float *rgb,
-                      float *depth)
+static inline void gl_render(struct rs_renderer *r, const struct rs_scene *scene, float *rgb,
+                             float *depth)
 {
 	struct rs_error err;
 	if (rs_renderer_set_scene(r, scene, &err) != RS_OK)
@@ -54,8 +54,8 @@ static void gl_render(struct rs_renderer *r, const struct rs_scene *scene, float
 }
 
 /* The CPU reference for the same descriptor. */
-static void gl_reference(const struct rs_render_desc *desc, const struct rs_scene *scene,
-                         float *rgb, float *depth)
+static inline void gl_reference(const struct rs_render_desc *desc, const struct rs_scene *scene,
+                                float *rgb, float *depth)
 {
 	struct rs_renderer *cpu = NULL;
 	struct rs_error err;

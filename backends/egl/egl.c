@@ -121,8 +121,8 @@ static bool make_context(struct egl_ctx *c)
 {
 	if (!eglBindAPI(EGL_OPENGL_ES_API))
 		return false;
-	static const EGLint cfg_attr[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT,
-	                                  EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_NONE};
+	static const EGLint cfg_attr[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT, EGL_SURFACE_TYPE,
+	                                  EGL_PBUFFER_BIT, EGL_NONE};
 	EGLConfig cfg = NULL;
 	EGLint n = 0;
 	if (!eglChooseConfig(c->display, cfg_attr, &cfg, 1, &n) || n < 1) {
@@ -168,7 +168,8 @@ static bool open_device(struct egl_ctx *c)
 	if (!query || !query(8, devices, &n))
 		return false;
 	for (EGLint i = 0; i < n; ++i)
-		if (try_display(c, eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL)))
+		if (try_display(c,
+		                eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL)))
 			return true;
 	return false;
 }
@@ -196,8 +197,8 @@ static bool open_gbm(struct egl_ctx *c)
 
 static bool open_surfaceless(struct egl_ctx *c)
 {
-	return try_display(c, eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA,
-	                                            EGL_DEFAULT_DISPLAY, NULL));
+	return try_display(
+	    c, eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL));
 }
 
 static const struct {
@@ -210,7 +211,8 @@ enum rs_status rs_renderer_create_egl(const struct rs_render_desc *desc, struct 
 {
 	RS_ASSERT(out);
 	*out = NULL;
-	const char *want = desc && desc->egl_platform ? desc->egl_platform : getenv("RS_EGL_PLATFORM");
+	const char *want =
+	    desc && desc->egl_platform ? desc->egl_platform : getenv("RS_EGL_PLATFORM");
 	if (want && !*want)
 		want = NULL;
 	size_t count = sizeof platforms / sizeof platforms[0];
@@ -219,7 +221,8 @@ enum rs_status rs_renderer_create_egl(const struct rs_render_desc *desc, struct 
 		known = known || strcmp(want, platforms[i].name) == 0;
 	if (!known)
 		return rs_error_set(err, RS_ERR_INVALID,
-		                    "egl: unknown platform '%s' (device, gbm or surfaceless)", want);
+		                    "egl: unknown platform '%s' (device, gbm or surfaceless)",
+		                    want);
 	struct egl_ctx *c = calloc(1, sizeof *c);
 	if (!c)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "egl: out of memory");
@@ -236,8 +239,10 @@ enum rs_status rs_renderer_create_egl(const struct rs_render_desc *desc, struct 
 	}
 	EGLint e = eglGetError();
 	egl_destroy(c);
+	char why[48] = "";
+	if (e != EGL_SUCCESS)
+		snprintf(why, sizeof why, " (EGL error 0x%04x)", (unsigned)e);
 	return rs_error_set(err, RS_ERR_DEVICE,
-	                    "egl: no EGL display with a GLES 3 context on platform %s (EGL error "
-	                    "0x%04x)",
-	                    want ? want : "device, gbm or surfaceless", (unsigned)e);
+	                    "egl: no EGL display with a GLES 3 context on platform %s%s",
+	                    want ? want : "device, gbm or surfaceless", why);
 }

@@ -11,60 +11,60 @@
 #include "raystream/rs_status.h"
 
 /* X(return type, name, parameter list) for every entry point used. */
-#define RS_GL_FUNCS(X)                                                                          \
-	X(void, ActiveTexture, (GLenum texture))                                                \
-	X(void, AttachShader, (GLuint program, GLuint shader))                                  \
-	X(void, BindFramebuffer, (GLenum target, GLuint framebuffer))                           \
-	X(void, BindTexture, (GLenum target, GLuint texture))                                   \
-	X(void, BindVertexArray, (GLuint array))                                                \
-	X(GLenum, CheckFramebufferStatus, (GLenum target))                                      \
-	X(void, CompileShader, (GLuint shader))                                                 \
-	X(GLuint, CreateProgram, (void))                                                        \
-	X(GLuint, CreateShader, (GLenum type))                                                  \
-	X(void, DeleteFramebuffers, (GLsizei n, const GLuint *framebuffers))                    \
-	X(void, DeleteProgram, (GLuint program))                                                \
-	X(void, DeleteShader, (GLuint shader))                                                  \
-	X(void, DeleteTextures, (GLsizei n, const GLuint *textures))                            \
-	X(void, DeleteVertexArrays, (GLsizei n, const GLuint *arrays))                          \
-	X(void, Disable, (GLenum cap))                                                          \
-	X(void, DrawArrays, (GLenum mode, GLint first, GLsizei count))                          \
-	X(void, DrawBuffers, (GLsizei n, const GLenum *bufs))                                   \
-	X(void, Finish, (void))                                                                 \
-	X(void, FramebufferTexture2D,                                                           \
-	  (GLenum target, GLenum attachment, GLenum textarget, GLuint texture, GLint level))    \
-	X(void, GenFramebuffers, (GLsizei n, GLuint * framebuffers))                            \
-	X(void, GenTextures, (GLsizei n, GLuint * textures))                                    \
-	X(void, GenVertexArrays, (GLsizei n, GLuint * arrays))                                  \
-	X(GLenum, GetError, (void))                                                             \
-	X(void, GetIntegerv, (GLenum pname, GLint * data))                                      \
-	X(void, GetProgramInfoLog,                                                              \
-	  (GLuint program, GLsizei bufSize, GLsizei * length, GLchar * infoLog))                \
-	X(void, GetProgramiv, (GLuint program, GLenum pname, GLint * params))                   \
-	X(void, GetShaderInfoLog,                                                               \
-	  (GLuint shader, GLsizei bufSize, GLsizei * length, GLchar * infoLog))                 \
-	X(void, GetShaderiv, (GLuint shader, GLenum pname, GLint * params))                     \
-	X(const GLubyte *, GetString, (GLenum name))                                            \
-	X(const GLubyte *, GetStringi, (GLenum name, GLuint index))                             \
-	X(GLint, GetUniformLocation, (GLuint program, const GLchar *name))                      \
-	X(GLboolean, IsEnabled, (GLenum cap))                                                   \
-	X(void, LinkProgram, (GLuint program))                                                  \
-	X(void, PixelStorei, (GLenum pname, GLint param))                                       \
-	X(void, ReadBuffer, (GLenum src))                                                       \
-	X(void, ReadPixels,                                                                     \
-	  (GLint x, GLint y, GLsizei width, GLsizei height, GLenum format, GLenum type,         \
-	   void *pixels))                                                                       \
-	X(void, ShaderSource,                                                                   \
-	  (GLuint shader, GLsizei count, const GLchar *const *string, const GLint *length))     \
-	X(void, TexImage2D,                                                                     \
-	  (GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,     \
-	   GLint border, GLenum format, GLenum type, const void *pixels))                       \
-	X(void, TexParameteri, (GLenum target, GLenum pname, GLint param))                      \
-	X(void, Uniform1f, (GLint location, GLfloat v0))                                        \
-	X(void, Uniform1i, (GLint location, GLint v0))                                          \
-	X(void, Uniform2f, (GLint location, GLfloat v0, GLfloat v1))                            \
-	X(void, Uniform3f, (GLint location, GLfloat v0, GLfloat v1, GLfloat v2))                \
-	X(void, Uniform3fv, (GLint location, GLsizei count, const GLfloat *value))              \
-	X(void, UseProgram, (GLuint program))                                                   \
+#define RS_GL_FUNCS(X)                                                                             \
+	X(void, ActiveTexture, (GLenum texture))                                                   \
+	X(void, AttachShader, (GLuint program, GLuint shader))                                     \
+	X(void, BindFramebuffer, (GLenum target, GLuint framebuffer))                              \
+	X(void, BindTexture, (GLenum target, GLuint texture))                                      \
+	X(void, BindVertexArray, (GLuint array))                                                   \
+	X(GLenum, CheckFramebufferStatus, (GLenum target))                                         \
+	X(void, CompileShader, (GLuint shader))                                                    \
+	X(GLuint, CreateProgram, (void))                                                           \
+	X(GLuint, CreateShader, (GLenum type))                                                     \
+	X(void, DeleteFramebuffers, (GLsizei n, const GLuint *framebuffers))                       \
+	X(void, DeleteProgram, (GLuint program))                                                   \
+	X(void, DeleteShader, (GLuint shader))                                                     \
+	X(void, DeleteTextures, (GLsizei n, const GLuint *textures))                               \
+	X(void, DeleteVertexArrays, (GLsizei n, const GLuint *arrays))                             \
+	X(void, Disable, (GLenum cap))                                                             \
+	X(void, DrawArrays, (GLenum mode, GLint first, GLsizei count))                             \
+	X(void, DrawBuffers, (GLsizei n, const GLenum *bufs))                                      \
+	X(void, Finish, (void))                                                                    \
+	X(void, FramebufferTexture2D,                                                              \
+	  (GLenum target, GLenum attachment, GLenum textarget, GLuint texture, GLint level))       \
+	X(void, GenFramebuffers, (GLsizei n, GLuint * framebuffers))                               \
+	X(void, GenTextures, (GLsizei n, GLuint * textures))                                       \
+	X(void, GenVertexArrays, (GLsizei n, GLuint * arrays))                                     \
+	X(GLenum, GetError, (void))                                                                \
+	X(void, GetIntegerv, (GLenum pname, GLint * data))                                         \
+	X(void, GetProgramInfoLog,                                                                 \
+	  (GLuint program, GLsizei bufSize, GLsizei * length, GLchar * infoLog))                   \
+	X(void, GetProgramiv, (GLuint program, GLenum pname, GLint * params))                      \
+	X(void, GetShaderInfoLog,                                                                  \
+	  (GLuint shader, GLsizei bufSize, GLsizei * length, GLchar * infoLog))                    \
+	X(void, GetShaderiv, (GLuint shader, GLenum pname, GLint * params))                        \
+	X(const GLubyte *, GetString, (GLenum name))                                               \
+	X(const GLubyte *, GetStringi, (GLenum name, GLuint index))                                \
+	X(GLint, GetUniformLocation, (GLuint program, const GLchar *name))                         \
+	X(GLboolean, IsEnabled, (GLenum cap))                                                      \
+	X(void, LinkProgram, (GLuint program))                                                     \
+	X(void, PixelStorei, (GLenum pname, GLint param))                                          \
+	X(void, ReadBuffer, (GLenum src))                                                          \
+	X(void, ReadPixels,                                                                        \
+	  (GLint x, GLint y, GLsizei width, GLsizei height, GLenum format, GLenum type,            \
+	   void *pixels))                                                                          \
+	X(void, ShaderSource,                                                                      \
+	  (GLuint shader, GLsizei count, const GLchar *const *string, const GLint *length))        \
+	X(void, TexImage2D,                                                                        \
+	  (GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,        \
+	   GLint border, GLenum format, GLenum type, const void *pixels))                          \
+	X(void, TexParameteri, (GLenum target, GLenum pname, GLint param))                         \
+	X(void, Uniform1f, (GLint location, GLfloat v0))                                           \
+	X(void, Uniform1i, (GLint location, GLint v0))                                             \
+	X(void, Uniform2f, (GLint location, GLfloat v0, GLfloat v1))                               \
+	X(void, Uniform3f, (GLint location, GLfloat v0, GLfloat v1, GLfloat v2))                   \
+	X(void, Uniform3fv, (GLint location, GLsizei count, const GLfloat *value))                 \
+	X(void, UseProgram, (GLuint program))                                                      \
 	X(void, Viewport, (GLint x, GLint y, GLsizei width, GLsizei height))
 
 #define RS_GL_MEMBER(ret, name, params) ret(GL_APIENTRY *name) params;

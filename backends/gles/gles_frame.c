@@ -16,8 +16,7 @@ double rs_gles_now_ms(void)
 	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static void bind_unit(const struct rs_gl *gl, GLuint prog, int unit, const char *name,
-                      GLuint tex)
+static void bind_unit(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLuint tex)
 {
 	GLint loc = gl->GetUniformLocation(prog, name);
 	gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
@@ -256,7 +255,8 @@ static enum rs_status readback(struct gles *g, const struct rs_frame *frame, int
 	if (frame->depth) {
 		read_floats(g, g->hit[0]);
 		for (size_t i = 0; i < n; ++i)
-			frame->depth[i] = g->scratch[4 * i + 3] >= 0.0f ? g->scratch[4 * i] : INFINITY;
+			frame->depth[i] =
+			    g->scratch[4 * i + 3] >= 0.0f ? g->scratch[4 * i] : INFINITY;
 	}
 	if (g->desc.counters) {
 		read_floats(g, g->cnt[cc]);
@@ -273,9 +273,7 @@ static enum rs_status readback(struct gles *g, const struct rs_frame *frame, int
 	return rs_gles_check(gl, "reading the frame back", err);
 }
 
-enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
-                             const struct rs_frame *frame, struct rs_render_stats *stats,
-                             struct rs_error *err)
+static void frame_state(struct gles *g, GLsizei w, GLsizei h)
 {
 	const struct rs_gl *gl = &g->gl;
 	static const GLenum off[] = {GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_SCISSOR_TEST,
@@ -284,8 +282,31 @@ enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
 		gl->Disable(off[i]);
 	gl->BindVertexArray(g->vao);
 	gl->BindFramebuffer(GL_FRAMEBUFFER, g->fbo);
-	gl->Viewport(0, 0, (GLsizei)g->desc.width, (GLsizei)g->desc.height);
+	gl->Viewport(0, 0, w, h);
 	gl->PixelStorei(GL_PACK_ALIGNMENT, 4);
+}
+
+enum rs_status rs_gles_warm_up(struct gles *g, const struct rs_camera *camera, struct rs_error *err)
+{
+	frame_state(g, 1, 1);
+	struct rs_render_stats stats = {0};
+	int cur = 0, cc = 0;
+	enum rs_status st = passes(g, camera, &stats, &cur, &cc, err);
+	if (st == RS_OK) {
+		GLuint prog = g->prog[PROG_DISPLAY];
+		g->gl.UseProgram(prog);
+		bind_unit(&g->gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
+		st = draw(g, "display", &g->color, 1, &stats, rs_gles_now_ms(), err);
+	}
+	return st;
+}
+
+enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
+                             const struct rs_frame *frame, struct rs_render_stats *stats,
+                             struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	frame_state(g, (GLsizei)g->desc.width, (GLsizei)g->desc.height);
 	double t0 = rs_gles_now_ms();
 	int cur = 0, cc = 0;
 	enum rs_status st = passes(g, camera, stats, &cur, &cc, err);

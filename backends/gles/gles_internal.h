@@ -63,6 +63,9 @@ struct gles {
 enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *files, size_t count,
                                const char *defines, GLuint *out, struct rs_error *err);
 
+/* Tests only: compile `source` in place of kernel file `name` (NULL name: none). */
+void rs__gles_override_kernel(const char *name, const char *source);
+
 /* Check glGetError after `what`; RS_ERR_NO_MEMORY for GL_OUT_OF_MEMORY, else RS_ERR_DEVICE. */
 enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err);
 
@@ -73,5 +76,10 @@ double rs_gles_now_ms(void);
 enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
                              const struct rs_frame *frame, struct rs_render_stats *stats,
                              struct rs_error *err);
+
+/* The whole chain once on a 1x1 viewport, results unused: drivers (llvmpipe) compile a
+ * kernel at its first draw, which would otherwise land in the first frame's timings. */
+enum rs_status rs_gles_warm_up(struct gles *g, const struct rs_camera *camera,
+                               struct rs_error *err);
 
 #endif

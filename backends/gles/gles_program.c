@@ -15,8 +15,19 @@ static const char prelude[] = "#version 300 es\n"
                               "precision highp int;\n"
                               "precision highp sampler2D;\n";
 
+/* Test seam (gles_internal.h): one kernel's source replaced, to check compile errors. */
+static const char *override_name, *override_source;
+
+void rs__gles_override_kernel(const char *name, const char *source)
+{
+	override_name = name;
+	override_source = source;
+}
+
 static const char *kernel_source(const char *name)
 {
+	if (override_name && strcmp(override_name, name) == 0)
+		return override_source;
 	for (const struct rs_gles_kernel *k = rs_gles_kernels; k->name; ++k)
 		if (strcmp(k->name, name) == 0)
 			return k->source;
@@ -60,8 +71,8 @@ static enum rs_status compile_error(const char *log, const char *const *files, s
 			char text[96];
 			source_line(kernel_source(file), line, text, sizeof text);
 			return rs_error_set(err, RS_ERR_DEVICE,
-			                    "gles: kernel %s line %d does not compile: %s [%s]", file,
-			                    line, first, text);
+			                    "gles: kernel %s line %d does not compile: %s [%s]",
+			                    file, line, first, text);
 		}
 	}
 	return rs_error_set(err, RS_ERR_DEVICE, "gles: a kernel does not compile: %s", first);

@@ -37,8 +37,8 @@ static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h
 	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
 	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-	gl->TexImage2D(GL_TEXTURE_2D, 0, format, w, h, 0,
-	               format == GL_RGBA8 ? GL_RGBA : GL_RGBA, type, data);
+	gl->TexImage2D(GL_TEXTURE_2D, 0, format, w, h, 0, format == GL_RGBA8 ? GL_RGBA : GL_RGBA,
+	               type, data);
 	return t;
 }
 
@@ -50,10 +50,11 @@ static enum rs_status check_limits(const struct gles *g, const struct rs_packed 
 	static const char *const names[4] = {"node", "triangle", "normal", "material"};
 	for (int i = 0; i < 4; ++i)
 		if (t[i]->width > (uint32_t)g->max_tex || t[i]->height > (uint32_t)g->max_tex)
-			return rs_error_set(err, RS_ERR_LIMIT,
-			                    "gles: the scene's %s texture is %ux%u texels, over this "
-			                    "GL's GL_MAX_TEXTURE_SIZE of %d",
-			                    names[i], t[i]->width, t[i]->height, g->max_tex);
+			return rs_error_set(
+			    err, RS_ERR_LIMIT,
+			    "gles: the scene's %s texture is %ux%u texels, over this "
+			    "GL's GL_MAX_TEXTURE_SIZE of %d",
+			    names[i], t[i]->width, t[i]->height, g->max_tex);
 	GLint side = g->max_tex < g->max_view ? g->max_tex : g->max_view;
 	if (d->width > (uint32_t)side || d->height > (uint32_t)side)
 		return rs_error_set(err, RS_ERR_LIMIT,
@@ -114,8 +115,8 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	snprintf(defines, sizeof defines,
 	         "#define RS_ROW_ITEMS %u\n#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n",
-	         RS_PACK_ROW_ITEMS, g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT,
-	         g->light_count, g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
+	         RS_PACK_ROW_ITEMS, g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
+	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
 	char full[320];
@@ -187,6 +188,11 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	}
 	if (st == RS_OK)
 		st = upload(g, err);
+	if (st == RS_OK) {
+		struct rs_camera cam;
+		rs_camera_resolve(rs_scene_camera(scene), &cam);
+		st = rs_gles_warm_up(g, &cam, err);
+	}
 	if (st == RS_OK) {
 		g->gl.Finish();
 		stats->build_ms = g->accel.build_ms;
@@ -262,6 +268,14 @@ static enum rs_status probe(struct gles *g, struct rs_error *err)
 		if (e && strcmp(e, "GL_ARB_ES3_compatibility") == 0)
 			es3_compat = true;
 	}
+	GLint dims[2] = {0, 0};
+	gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &g->max_tex);
+	gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
+	gl->GetIntegerv(GL_MAX_DRAW_BUFFERS, &g->max_draw);
+	g->max_view = dims[0] < dims[1] ? dims[0] : dims[1];
+	if (g->max_draw < 4)
+		return rs_error_set(err, RS_ERR_UNSUPPORTED, "gles: %d draw buffers (need 4)",
+		                    (int)g->max_draw);
 	if (!float_targets)
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "gles: %s cannot render to float textures "
@@ -271,15 +285,15 @@ static enum rs_status probe(struct gles *g, struct rs_error *err)
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "gles: desktop GL without ARB_ES3_compatibility cannot run "
 		                    "the #version 300 es kernels");
-	GLint dims[2] = {0, 0};
-	gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &g->max_tex);
-	gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
-	gl->GetIntegerv(GL_MAX_DRAW_BUFFERS, &g->max_draw);
-	g->max_view = dims[0] < dims[1] ? dims[0] : dims[1];
-	if (g->max_draw < 4)
-		return rs_error_set(err, RS_ERR_UNSUPPORTED, "gles: %d draw buffers (need 4)",
-		                    (int)g->max_draw);
-	snprintf(g->renderer, sizeof g->renderer, "%s (%s)", renderer ? renderer : "?", version);
+	char platform[48];
+	g->cops->describe(g->ctx, platform, sizeof platform);
+	snprintf(g->renderer, sizeof g->renderer, "%s (%s; %s)", renderer ? renderer : "?", version,
+	         platform);
+	/* RS_GLES_MAX_TEXTURE_SIZE lowers the limit, e.g. to GLES 3.0's guaranteed 2048, to
+	 * check on a big desktop GL that a scene fits small devices. */
+	const char *cap = getenv("RS_GLES_MAX_TEXTURE_SIZE");
+	if (cap && atoi(cap) > 0 && atoi(cap) < g->max_tex)
+		g->max_tex = atoi(cap);
 	gl->GenVertexArrays(1, &g->vao);
 	gl->GenFramebuffers(1, &g->fbo);
 	return rs_gles_check(gl, "probing the context", err);
@@ -297,8 +311,8 @@ static const struct rs_renderer_ops gles_ops_osmesa = {.name = "osmesa",
                                                        .describe = gles_describe};
 
 enum rs_status rs_gles_renderer_create(const struct rs_gl_context_ops *ops, void *ctx,
-                                       const struct rs_render_desc *desc,
-                                       struct rs_renderer **out, struct rs_error *err)
+                                       const struct rs_render_desc *desc, struct rs_renderer **out,
+                                       struct rs_error *err)
 {
 	RS_ASSERT(ops && out);
 	*out = NULL;

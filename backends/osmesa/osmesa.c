@@ -82,8 +82,9 @@ enum rs_status rs_renderer_create_osmesa(const struct rs_render_desc *desc,
 	c->context = OSMesaCreateContextAttribs(attr, NULL);
 	if (!c->context) {
 		free(c);
-		return rs_error_set(err, RS_ERR_DEVICE,
-		                    "osmesa: no OpenGL 3.3 core context (OSMesaCreateContextAttribs)");
+		return rs_error_set(
+		    err, RS_ERR_DEVICE,
+		    "osmesa: no OpenGL 3.3 core context (OSMesaCreateContextAttribs)");
 	}
 	return rs_gles_renderer_create(&osmesa_ops, c, desc, out, err);
 }

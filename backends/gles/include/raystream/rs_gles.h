@@ -46,8 +46,8 @@ struct rs_gl_context_ops {
  * ARB_ES3_compatibility) or cannot render to float textures.
  */
 enum rs_status rs_gles_renderer_create(const struct rs_gl_context_ops *ops, void *ctx,
-                                       const struct rs_render_desc *desc,
-                                       struct rs_renderer **out, struct rs_error *err);
+                                       const struct rs_render_desc *desc, struct rs_renderer **out,
+                                       struct rs_error *err);
 
 #ifdef __cplusplus
 }
