@@ -1,7 +1,8 @@
 /* The GL kernel chain beyond the image: GPU hit counters against the CPU's (same BVH:
  * hit numbers and box tests within 0.1%; triangle tests within 0.5%, since a leaf box that
- * fp32 and double decide differently at a grazing ray adds or drops its whole triangle list), fused and separate chains alike, RGBA8 as rs_image_quantize() rounds,
- * per-frame cameras, per-kernel timings. EGL (llvmpipe in CI); skipped without a context. */
+ * fp32 and double decide differently at a grazing ray adds or drops its whole triangle list), fused
+ * and separate chains alike, RGBA8 as rs_image_quantize() rounds, per-frame cameras, per-kernel
+ * timings. EGL (llvmpipe in CI); skipped without a context. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -35,10 +36,9 @@ static void counters_match(const char *name)
 	print_message("%s: boxes %llu / %llu, triangles %llu / %llu, shadow %llu / %llu, "
 	              "secondary %llu / %llu\n",
 	              name, (unsigned long long)g->box_tests, (unsigned long long)c->box_tests,
-	              (unsigned long long)g->triangle_tests,
-	              (unsigned long long)c->triangle_tests, (unsigned long long)g->shadow_rays,
-	              (unsigned long long)c->shadow_rays, (unsigned long long)g->secondary_rays,
-	              (unsigned long long)c->secondary_rays);
+	              (unsigned long long)g->triangle_tests, (unsigned long long)c->triangle_tests,
+	              (unsigned long long)g->shadow_rays, (unsigned long long)c->shadow_rays,
+	              (unsigned long long)g->secondary_rays, (unsigned long long)c->secondary_rays);
 	assert_true(g->counters_valid);
 	assert_true(c->box_tests > 0 && c->triangle_tests > 0);
 	assert_true(rel(g->box_tests, c->box_tests) <= 0.001);
@@ -53,8 +53,14 @@ static void counters_match(const char *name)
 	rs_scene_destroy(&scene);
 }
 
-static void gpu_counters_equal_the_cpu_reference_on_box(void **state) { counters_match("box"); }
-static void gpu_counters_equal_the_cpu_reference_on_cow1(void **state) { counters_match("cow1"); }
+static void gpu_counters_equal_the_cpu_reference_on_box(void **state)
+{
+	counters_match("box");
+}
+static void gpu_counters_equal_the_cpu_reference_on_cow1(void **state)
+{
+	counters_match("cow1");
+}
 
 static void fused_and_separate_chains_render_alike(void **state)
 {

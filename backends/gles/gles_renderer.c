@@ -108,14 +108,25 @@ static bool scene_has_optics(const struct rs_scene *scene)
 	return false;
 }
 
+/* log2 of a power of two, else -1 (the kernels then divide). */
+static int row_shift(uint32_t items)
+{
+	for (int s = 0; s < 31; ++s)
+		if ((1u << s) == items)
+			return s;
+	return -1;
+}
+
 static enum rs_status build_programs(struct gles *g, const struct rs_scene *scene,
                                      struct rs_error *err)
 {
 	char defines[256];
 	snprintf(defines, sizeof defines,
-	         "#define RS_ROW_ITEMS %u\n#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
+	         "#define RS_ROW_ITEMS %u\n#define RS_ROW_SHIFT %d\n"
+	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n",
-	         RS_PACK_ROW_ITEMS, g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
+	         RS_PACK_ROW_ITEMS, row_shift(RS_PACK_ROW_ITEMS),
+	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */

@@ -3,7 +3,7 @@
 // stackless walk of the threaded BVH, surface data, environment cube, spawn rule.
 // Inputs:  u_nodes, u_tris, u_normals, u_materials (packed RGBA32F, rs_pack.h),
 //          u_node_count, u_tri_count, u_material_count, u_offset (self-hit offset).
-// Defines: RS_ROW_ITEMS, RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY.
+// Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY.
 uniform sampler2D u_nodes;
 uniform sampler2D u_tris;
 uniform sampler2D u_normals;
@@ -19,6 +19,7 @@ const float RS_FAR = 1.0e38;
 const float RS_HUGE = 3.0e38;
 // The CPU widens the far slab distance by 8 double ulps; fp32 needs 16 float ulps.
 const float RS_BOX_GROW = 1.0 + 16.0 * 5.9604645e-8;
+const float RS_BOX_SHRINK = 1.0 - 16.0 * 5.9604645e-8;
 const float RS_PARALLEL_EPS = 1.0e-13;
 // Ray states, the paper's numbers (docs/tracer.md).
 const float RS_STATE_ACTIVE = 0.0;
@@ -42,7 +43,12 @@ struct Hit {
 
 ivec2 rs_item(int item, int texels, int j)
 {
+#if RS_ROW_SHIFT >= 0
+	// RS_ROW_ITEMS = 1 << RS_ROW_SHIFT and items are >= 0: mask and shift, no division.
+	return ivec2((item & (RS_ROW_ITEMS - 1)) * texels + j, item >> RS_ROW_SHIFT);
+#else
 	return ivec2((item % RS_ROW_ITEMS) * texels + j, item / RS_ROW_ITEMS);
+#endif
 }
 
 vec4 rs_node(int i, int j) { return texelFetch(u_nodes, rs_item(i, 3, j), 0); }
@@ -56,6 +62,7 @@ float rs_maxabs(vec3 a) { return max(max(abs(a.x), abs(a.y)), abs(a.z)); }
 struct Pre {
 	vec3 inv;
 	bvec3 zero; // direction component 0: the ray stays in that slab's plane
+	bvec3 pos; // inv >= 0: near is the lo plane
 	float dmax;
 	ivec3 k;   // watertight: (kx, ky, kz)
 	vec3 shear; // (sx, sy, sz)
@@ -66,6 +73,7 @@ Pre rs_prepare(Ray r)
 	Pre p;
 	p.zero = equal(r.d, vec3(0.0));
 	p.inv = mix(1.0 / r.d, vec3(0.0), p.zero);
+	p.pos = greaterThanEqual(p.inv, vec3(0.0));
 	p.dmax = rs_maxabs(r.d);
 	int kz = 0;
 	if (abs(r.d.y) > abs(r.d[kz]))
@@ -84,15 +92,18 @@ Pre rs_prepare(Ray r)
 }
 
 // Slab test, near/far picked by the direction's sign (an empty box stays empty), the far
-// end widened outwards; a zero component keeps the ray inside iff the origin is.
+// end widened outwards by a constant factor (no division); a zero direction component
+// keeps the ray inside iff the origin is in that slab (selects, no branch: a branch in the
+// innermost loop measured slower on llvmpipe).
 bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
 {
-	vec3 t0 = (lo - r.o) * p.inv, t1 = (hi - r.o) * p.inv;
-	bvec3 pos = greaterThanEqual(p.inv, vec3(0.0));
-	vec3 near = mix(t1, t0, pos);
-	vec3 far = mix(t0, t1, pos);
-	far = mix(far / RS_BOX_GROW, far * RS_BOX_GROW, greaterThanEqual(far, vec3(0.0)));
-	bvec3 inside = bvec3(uvec3(greaterThanEqual(r.o, lo)) & uvec3(lessThanEqual(r.o, hi)));
+	vec3 a = lo - r.o, b = hi - r.o;
+	vec3 t0 = a * p.inv, t1 = b * p.inv;
+	vec3 near = mix(t1, t0, p.pos);
+	vec3 far = mix(t0, t1, p.pos);
+	far *= mix(vec3(RS_BOX_SHRINK), vec3(RS_BOX_GROW), greaterThanEqual(far, vec3(0.0)));
+	bvec3 inside =
+	    bvec3(uvec3(lessThanEqual(a, vec3(0.0))) & uvec3(greaterThanEqual(b, vec3(0.0))));
 	near = mix(near, mix(vec3(RS_HUGE), vec3(-RS_HUGE), inside), p.zero);
 	far = mix(far, mix(vec3(-RS_HUGE), vec3(RS_HUGE), inside), p.zero);
 	float tn = max(max(near.x, near.y), max(near.z, 0.0));
