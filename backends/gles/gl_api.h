@@ -16,23 +16,32 @@
 	X(void, AttachShader, (GLuint program, GLuint shader))                                     \
 	X(void, BindFramebuffer, (GLenum target, GLuint framebuffer))                              \
 	X(void, BindTexture, (GLenum target, GLuint texture))                                      \
+	X(void, BindRenderbuffer, (GLenum target, GLuint renderbuffer))                            \
 	X(void, BindVertexArray, (GLuint array))                                                   \
 	X(GLenum, CheckFramebufferStatus, (GLenum target))                                         \
+	X(void, ClearBufferfv, (GLenum buffer, GLint drawbuffer, const GLfloat *value))            \
 	X(void, CompileShader, (GLuint shader))                                                    \
 	X(GLuint, CreateProgram, (void))                                                           \
 	X(GLuint, CreateShader, (GLenum type))                                                     \
 	X(void, DeleteFramebuffers, (GLsizei n, const GLuint *framebuffers))                       \
 	X(void, DeleteProgram, (GLuint program))                                                   \
+	X(void, DeleteRenderbuffers, (GLsizei n, const GLuint *renderbuffers))                     \
 	X(void, DeleteShader, (GLuint shader))                                                     \
 	X(void, DeleteTextures, (GLsizei n, const GLuint *textures))                               \
 	X(void, DeleteVertexArrays, (GLsizei n, const GLuint *arrays))                             \
+	X(void, DepthFunc, (GLenum func))                                                          \
+	X(void, DepthMask, (GLboolean flag))                                                       \
 	X(void, Disable, (GLenum cap))                                                             \
 	X(void, DrawArrays, (GLenum mode, GLint first, GLsizei count))                             \
 	X(void, DrawBuffers, (GLsizei n, const GLenum *bufs))                                      \
+	X(void, Enable, (GLenum cap))                                                              \
 	X(void, Finish, (void))                                                                    \
 	X(void, FramebufferTexture2D,                                                              \
 	  (GLenum target, GLenum attachment, GLenum textarget, GLuint texture, GLint level))       \
 	X(void, GenFramebuffers, (GLsizei n, GLuint * framebuffers))                               \
+	X(void, FramebufferRenderbuffer,                                                           \
+	  (GLenum target, GLenum attachment, GLenum renderbuffertarget, GLuint renderbuffer))      \
+	X(void, GenRenderbuffers, (GLsizei n, GLuint * renderbuffers))                             \
 	X(void, GenTextures, (GLsizei n, GLuint * textures))                                       \
 	X(void, GenVertexArrays, (GLsizei n, GLuint * arrays))                                     \
 	X(GLenum, GetError, (void))                                                                \
@@ -50,6 +59,8 @@
 	X(void, LinkProgram, (GLuint program))                                                     \
 	X(void, PixelStorei, (GLenum pname, GLint param))                                          \
 	X(void, ReadBuffer, (GLenum src))                                                          \
+	X(void, RenderbufferStorage,                                                               \
+	  (GLenum target, GLenum internalformat, GLsizei width, GLsizei height))                   \
 	X(void, ReadPixels,                                                                        \
 	  (GLint x, GLint y, GLsizei width, GLsizei height, GLenum format, GLenum type,            \
 	   void *pixels))                                                                          \

@@ -116,6 +116,8 @@ static void camera_uniforms(const struct gles *g, GLuint prog, const struct rs_c
 		gl->Uniform2f(loc, (GLfloat)c->shift[0], (GLfloat)c->shift[1]);
 }
 
+static void kernel_time(struct rs_render_stats *stats, const char *name, double ms);
+
 /* Attach `n` colour targets and draw the fullscreen triangle with `prog`. */
 static enum rs_status draw(struct gles *g, const char *name, const GLuint *targets, int n,
                            struct rs_render_stats *stats, double t0, struct rs_error *err)
@@ -132,7 +134,17 @@ static enum rs_status draw(struct gles *g, const char *name, const GLuint *targe
 		                    "gles: the %s kernel's render targets are not complete", name);
 	gl->DrawArrays(GL_TRIANGLES, 0, 3);
 	gl->Finish();
-	double ms = rs_gles_now_ms() - t0;
+	kernel_time(stats, name, rs_gles_now_ms() - t0);
+#ifndef NDEBUG
+	return rs_gles_check(gl, name, err);
+#else
+	(void)err;
+	return RS_OK;
+#endif
+}
+
+static void kernel_time(struct rs_render_stats *stats, const char *name, double ms)
+{
 	uint32_t k = 0;
 	while (k < stats->kernel_count && strcmp(stats->kernels[k].name, name) != 0)
 		++k;
@@ -145,12 +157,55 @@ static enum rs_status draw(struct gles *g, const char *name, const GLuint *targe
 		stats->kernels[k].calls++;
 		stats->kernels[k].ms += ms;
 	}
-#ifndef NDEBUG
-	return rs_gles_check(gl, name, err);
-#else
-	(void)err;
-	return RS_OK;
-#endif
+}
+
+/* Rasterized primary hits into `hit`: triangle slot, barycentrics and t per pixel, the
+ * nearest t winning through a 32-bit float depth buffer holding t / far. */
+static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLuint hit,
+                             struct rs_render_stats *stats, struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	double t0 = rs_gles_now_ms();
+	GLuint prog = g->prog[PROG_RASTER];
+	gl->UseProgram(prog);
+	scene_uniforms(g, prog);
+	camera_uniforms(g, prog, camera);
+	/* Clip planes around the scene's bounding sphere as seen from this eye. */
+	double d2 = 0.0;
+	for (int a = 0; a < 3; ++a)
+		d2 +=
+		    (camera->eye[a] - g->bounds_center[a]) * (camera->eye[a] - g->bounds_center[a]);
+	double far = 1.01 * (sqrt(d2) + g->bounds_radius) + 1e-30;
+	uniform_f(gl, prog, "u_far", (GLfloat)far);
+	uniform_f(gl, prog, "u_near", (GLfloat)(far * 1e-6));
+	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g->depth);
+	static const GLenum buf0 = GL_COLOR_ATTACHMENT0;
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, hit, 0);
+	for (int i = 1; i < 4; ++i)
+		gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i,
+		                         GL_TEXTURE_2D, 0, 0);
+	gl->DrawBuffers(1, &buf0);
+	enum rs_status st = RS_OK;
+	if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+		st = rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                  "gles: the raster kernel's render targets are not complete");
+	if (st == RS_OK) {
+		static const GLfloat miss[4] = {1.0e38f, 0.0f, 0.0f, -1.0f};
+		gl->ClearBufferfv(GL_COLOR, 0, miss);
+		gl->DepthMask(GL_TRUE);
+		static const GLfloat one = 1.0f;
+		gl->ClearBufferfv(GL_DEPTH, 0, &one);
+		gl->Enable(GL_DEPTH_TEST);
+		gl->DepthFunc(GL_LESS);
+		gl->DrawArrays(GL_TRIANGLES, 0, (GLsizei)(3 * g->accel.packed.triangle_count));
+		gl->Disable(GL_DEPTH_TEST);
+	}
+	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, 0);
+	if (st != RS_OK)
+		return st;
+	gl->Finish();
+	kernel_time(stats, "raster", rs_gles_now_ms() - t0);
+	return rs_gles_check(gl, "raster", err);
 }
 
 static void state_inputs(const struct gles *g, GLuint prog, int cur, int cc)
@@ -181,7 +236,8 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		GLuint hit = g->hit[pass == 0 ? 0 : 1];
 		int nxt = 1 - cur;
 		double t0 = rs_gles_now_ms();
-		if (fused) {
+		bool rasterized = pass == 0 && g->desc.primary == RS_PRIMARY_RASTER;
+		if (fused && !rasterized) {
 			GLuint prog = g->prog[PROG_FUSED];
 			gl->UseProgram(prog);
 			scene_uniforms(g, prog);
@@ -193,13 +249,17 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 			continue;
 		}
 		GLuint prog = g->prog[PROG_INTERSECT];
-		gl->UseProgram(prog);
-		scene_uniforms(g, prog);
-		state_inputs(g, prog, cur, cc);
-		GLuint out_i[2] = {hit, g->cnt[1 - cc]};
-		st = draw(g, "intersect", out_i, counters ? 2 : 1, stats, t0, err);
-		if (counters)
-			cc = 1 - cc;
+		if (rasterized) {
+			st = raster(g, camera, hit, stats, err);
+		} else {
+			gl->UseProgram(prog);
+			scene_uniforms(g, prog);
+			state_inputs(g, prog, cur, cc);
+			GLuint out_i[2] = {hit, g->cnt[1 - cc]};
+			st = draw(g, "intersect", out_i, counters ? 2 : 1, stats, t0, err);
+			if (counters)
+				cc = 1 - cc;
+		}
 		if (st != RS_OK)
 			break;
 		prog = g->prog[PROG_SHADE];
@@ -252,11 +312,18 @@ static enum rs_status readback(struct gles *g, const struct rs_frame *frame, int
 			for (int c = 0; c < 3; ++c)
 				frame->rgb[3 * i + c] = g->scratch[4 * i + c];
 	}
-	if (frame->depth) {
+	if (frame->depth || frame->triangle) {
 		read_floats(g, g->hit[0]);
-		for (size_t i = 0; i < n; ++i)
-			frame->depth[i] =
-			    g->scratch[4 * i + 3] >= 0.0f ? g->scratch[4 * i] : INFINITY;
+		const uint32_t *order = g->accel.triangle_order;
+		uint32_t tris = g->accel.packed.triangle_count;
+		for (size_t i = 0; i < n; ++i) {
+			float slot = g->scratch[4 * i + 3];
+			bool hit = slot >= 0.0f && slot < (float)tris;
+			if (frame->depth)
+				frame->depth[i] = hit ? g->scratch[4 * i] : INFINITY;
+			if (frame->triangle)
+				frame->triangle[i] = hit ? order[(uint32_t)slot] : RS_NO_SLOT;
+		}
 	}
 	if (g->desc.counters) {
 		read_floats(g, g->cnt[cc]);
@@ -264,7 +331,8 @@ static enum rs_status readback(struct gles *g, const struct rs_frame *frame, int
 		for (size_t i = 0; i < n; ++i)
 			for (int c = 0; c < 4; ++c)
 				sum[c] += (uint64_t)g->scratch[4 * i + c];
-		stats->secondary_rays = sum[0] - n;
+		/* a rasterized primary is no traced segment */
+		stats->secondary_rays = sum[0] - (g->desc.primary == RS_PRIMARY_RASTER ? 0 : n);
 		stats->shadow_rays = sum[1];
 		stats->box_tests = sum[2];
 		stats->triangle_tests = sum[3];

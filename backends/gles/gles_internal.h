@@ -24,7 +24,15 @@ enum {
 	UNIT_COUNT
 };
 
-enum { PROG_RAYGEN = 0, PROG_INTERSECT, PROG_SHADE, PROG_FUSED, PROG_DISPLAY, PROG_COUNT };
+enum {
+	PROG_RAYGEN = 0,
+	PROG_INTERSECT,
+	PROG_SHADE,
+	PROG_FUSED,
+	PROG_DISPLAY,
+	PROG_RASTER,
+	PROG_COUNT
+};
 
 struct gles {
 	const struct rs_gl_context_ops *cops;
@@ -44,8 +52,10 @@ struct gles {
 	GLuint scene_tex[4];
 	GLuint state[2][ST_COUNT];
 	GLuint cnt[2];
-	GLuint hit[2]; /* [0]: pass 0 (depth), [1]: later passes */
-	GLuint color;  /* RGBA8 display target */
+	GLuint hit[2];                          /* [0]: pass 0 (depth), [1]: later passes */
+	GLuint color;                           /* RGBA8 display target */
+	GLuint depth;                           /* raster primary: depth renderbuffer */
+	double bounds_center[3], bounds_radius; /* raster primary: clip planes per camera */
 	GLuint prog[PROG_COUNT];
 	uint32_t light_count;
 	float light_pos[16 * 3], light_color[16 * 3];
@@ -57,11 +67,12 @@ struct gles {
 /* Largest number of lights a kernel is specialised for (uniform arrays). */
 #define RS_GLES_MAX_LIGHTS 16u
 
-/* Compile and link the fullscreen vertex kernel with fragment kernel files `files`
- * (common first), under `defines` (#define lines). A compile error names the file and line
- * with the driver's first log line and the offending source line. */
-enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *files, size_t count,
-                               const char *defines, GLuint *out, struct rs_error *err);
+/* Compile and link vertex kernel files `vfiles` (NULL: the fullscreen triangle) with
+ * fragment kernel files `files` (common first), under `defines` (#define lines). A compile
+ * error names the file and line with the driver's first log line and the source line. */
+enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *vfiles, size_t vcount,
+                               const char *const *files, size_t count, const char *defines,
+                               GLuint *out, struct rs_error *err);
 
 /* Tests only: compile `source` in place of kernel file `name` (NULL name: none). */
 void rs__gles_override_kernel(const char *name, const char *source);

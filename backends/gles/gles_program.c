@@ -97,12 +97,12 @@ static enum rs_status compile(const struct rs_gl *gl, GLenum type, const char **
 	return RS_OK;
 }
 
-enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *files, size_t count,
-                               const char *defines, GLuint *out, struct rs_error *err)
+/* Sources of one stage: prelude, defines, then each file at line LINE_BASE * (k + 1). */
+static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *const *files,
+                            size_t count, const char *defines, GLuint *out, struct rs_error *err)
 {
 	enum { MAX_FILES = 6 };
 	RS_ASSERT(count > 0 && count <= MAX_FILES);
-	*out = 0;
 	const char *parts[2 + 2 * MAX_FILES];
 	char lines[MAX_FILES][32];
 	GLsizei n = 0;
@@ -117,12 +117,20 @@ enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *files,
 		parts[n++] = lines[i];
 		parts[n++] = src;
 	}
-	const char *vparts[3] = {prelude, "#line 1001\n", kernel_source("fullscreen.glsl")};
-	static const char *const vfile[1] = {"fullscreen.glsl"};
+	return compile(gl, type, parts, n, files, count, out, err);
+}
+
+enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *vfiles, size_t vcount,
+                               const char *const *files, size_t count, const char *defines,
+                               GLuint *out, struct rs_error *err)
+{
+	static const char *const fullscreen[1] = {"fullscreen.glsl"};
+	*out = 0;
 	GLuint vs = 0, fs = 0;
-	enum rs_status st = compile(gl, GL_VERTEX_SHADER, vparts, 3, vfile, 1, &vs, err);
+	enum rs_status st = stage(gl, GL_VERTEX_SHADER, vfiles ? vfiles : fullscreen,
+	                          vfiles ? vcount : 1, defines, &vs, err);
 	if (st == RS_OK)
-		st = compile(gl, GL_FRAGMENT_SHADER, parts, n, files, count, &fs, err);
+		st = stage(gl, GL_FRAGMENT_SHADER, files, count, defines, &fs, err);
 	if (st != RS_OK) {
 		if (vs)
 			gl->DeleteShader(vs);

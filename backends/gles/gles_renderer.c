@@ -21,6 +21,9 @@ static void delete_scene(struct gles *g)
 		gl->DeleteTextures((GLsizei)n[i], tex[i]);
 		memset(tex[i], 0, n[i] * sizeof(GLuint));
 	}
+	if (g->depth)
+		gl->DeleteRenderbuffers(1, &g->depth);
+	g->depth = 0;
 	rs_render_accel_free(&g->accel);
 	free(g->scratch);
 	g->scratch = NULL;
@@ -77,6 +80,12 @@ static void frame_constants(struct gles *g, const struct rs_scene *scene, uint32
 			extent = fmax(extent, b.hi[a] - b.lo[a]);
 	if (!(extent > 0.0) || !isfinite(extent))
 		extent = 1.0;
+	double r2 = 0.0;
+	for (int a = 0; a < 3; ++a) {
+		g->bounds_center[a] = 0.5 * (b.lo[a] + b.hi[a]);
+		r2 += 0.25 * (b.hi[a] - b.lo[a]) * (b.hi[a] - b.lo[a]);
+	}
+	g->bounds_radius = sqrt(r2);
 	g->offset = (float)((g->desc.ray_epsilon > 0.0 ? g->desc.ray_epsilon : 1e-6) * extent);
 	g->ambient = (float)rs_scene_ambient(scene);
 	g->light_count = lights;
@@ -134,18 +143,23 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
 	         g->light_count ? g->light_count : 1u);
 	static const char *const files[PROG_COUNT][4] = {
-	    {"raygen.glsl"},
+	    {"camera.glsl", "raygen.glsl"},
 	    {"common.glsl", "surface.glsl", "intersect.glsl"},
 	    {"common.glsl", "surface.glsl", "shade.glsl"},
 	    {"common.glsl", "surface.glsl", "fused.glsl"},
 	    {"display.glsl"},
+	    {"common.glsl", "camera.glsl", "raster.glsl"},
 	};
-	static const size_t counts[PROG_COUNT] = {1, 3, 3, 3, 1};
+	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3};
+	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
+	                                             "raster_vertex.glsl"};
 	for (int i = 0; i < PROG_COUNT; ++i) {
 		if (i == PROG_FUSED && g->desc.counters)
 			continue; /* counters run the separate chain (render targets) */
-		enum rs_status st =
-		    rs_gles_program(&g->gl, files[i], counts[i], full, &g->prog[i], err);
+		if (i == PROG_RASTER && g->desc.primary != RS_PRIMARY_RASTER)
+			continue;
+		enum rs_status st = rs_gles_program(&g->gl, i == PROG_RASTER ? raster_vertex : NULL,
+		                                    3, files[i], counts[i], full, &g->prog[i], err);
 		if (st != RS_OK)
 			return st;
 	}
@@ -169,6 +183,11 @@ static enum rs_status upload(struct gles *g, struct rs_error *err)
 			g->cnt[k] = texture(gl, GL_RGBA32F, w, h, GL_FLOAT, NULL);
 	}
 	g->color = texture(gl, GL_RGBA8, w, h, GL_UNSIGNED_BYTE, NULL);
+	if (g->desc.primary == RS_PRIMARY_RASTER) {
+		gl->GenRenderbuffers(1, &g->depth);
+		gl->BindRenderbuffer(GL_RENDERBUFFER, g->depth);
+		gl->RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+	}
 	return rs_gles_check(gl, "uploading the scene", err);
 }
 
