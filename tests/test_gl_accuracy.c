@@ -1,7 +1,7 @@
 /* GL backends (EGL, OSMesa) against the CPU double reference on the paper's scenes: Box,
  * Cow1, Cow5 at 2 passes, 4 lights, exact shadow feelers. The bars sit just under what
- * llvmpipe reaches (docs/gles.md): the differences are fp32 against double at silhouettes,
- * shadow edges and environment grid lines. */
+ * llvmpipe reaches (docs/gles.md): what differences remain are fp32 against double (ray
+ * directions, hit points, environment coordinates), far below one display step. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -11,8 +11,10 @@
 #include "test_gl_common.h"
 
 #define SIZE 96u
-#define PSNR_MIN_DB 40.0
-#define BAD_SHARE_MAX 0.001 /* pixels off by more than 8/255 */
+/* The issue asks for >= 40 dB and <= 0.1%; llvmpipe reaches 117-137 dB and no pixel off
+ * by more than 8/255 (docs/gles.md), so the bars sit just under that. */
+#define PSNR_MIN_DB 100.0
+#define BAD_SHARE_MAX 0.0005 /* pixels off by more than 8/255 */
 
 static void compare_scene(const char *backend, const char *name, enum rs_triangle_test test)
 {
@@ -37,7 +39,7 @@ static void compare_scene(const char *backend, const char *name, enum rs_triangl
 	for (size_t i = 0; i < SIZE * SIZE * 3; ++i)
 		mean += want[i];
 	mean /= SIZE * SIZE * 3;
-	print_message("mean %.4f\n", mean);
+	assert_true(mean > 0.1); /* a picture, not a blank frame that would match trivially */
 	assert_true(diff.psnr_db >= PSNR_MIN_DB);
 	assert_true(diff.bad_share <= BAD_SHARE_MAX);
 	assert_true(ddiff.mismatched <= SIZE * SIZE / 1000);

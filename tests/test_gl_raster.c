@@ -61,15 +61,24 @@ static void agree(const char *name)
 	assert_true(covered > SIZE * SIZE / 10);
 	assert_true((double)same >= 0.999 * (double)covered);
 	assert_true((double)cpu_same >= 0.999 * SIZE * SIZE);
-	assert_true(diff.psnr_db >= 40.0);
-	assert_true(diff.bad_share <= 0.001);
+	assert_true(diff.psnr_db >= 44.0); /* reached: 45.9 (Cow1) to 137 dB (Box) */
+	assert_true(diff.bad_share <= 0.0005);
 	rs_renderer_destroy(&cpu);
 	rs_scene_destroy(&scene);
 }
 
-static void raster_and_traced_primaries_agree_on_box(void **state) { agree("box"); }
-static void raster_and_traced_primaries_agree_on_cow1(void **state) { agree("cow1"); }
-static void raster_and_traced_primaries_agree_on_cow5(void **state) { agree("cow5"); }
+static void raster_and_traced_primaries_agree_on_box(void **state)
+{
+	agree("box");
+}
+static void raster_and_traced_primaries_agree_on_cow1(void **state)
+{
+	agree("cow1");
+}
+static void raster_and_traced_primaries_agree_on_cow5(void **state)
+{
+	agree("cow5");
+}
 
 static void raster_counters_count_no_primary_traversal(void **state)
 {

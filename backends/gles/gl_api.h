@@ -41,6 +41,8 @@
 	X(void, GenFramebuffers, (GLsizei n, GLuint * framebuffers))                               \
 	X(void, FramebufferRenderbuffer,                                                           \
 	  (GLenum target, GLenum attachment, GLenum renderbuffertarget, GLuint renderbuffer))      \
+	X(void, FramebufferTextureLayer,                                                           \
+	  (GLenum target, GLenum attachment, GLuint texture, GLint level, GLint layer))            \
 	X(void, GenRenderbuffers, (GLsizei n, GLuint * renderbuffers))                             \
 	X(void, GenTextures, (GLsizei n, GLuint * textures))                                       \
 	X(void, GenVertexArrays, (GLsizei n, GLuint * arrays))                                     \
@@ -69,6 +71,9 @@
 	X(void, TexImage2D,                                                                        \
 	  (GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,        \
 	   GLint border, GLenum format, GLenum type, const void *pixels))                          \
+	X(void, TexImage3D,                                                                        \
+	  (GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,        \
+	   GLsizei depth, GLint border, GLenum format, GLenum type, const void *pixels))           \
 	X(void, TexParameteri, (GLenum target, GLenum pname, GLint param))                         \
 	X(void, Uniform1f, (GLint location, GLfloat v0))                                           \
 	X(void, Uniform1i, (GLint location, GLint v0))                                             \

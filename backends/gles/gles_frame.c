@@ -16,13 +16,19 @@ double rs_gles_now_ms(void)
 	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static void bind_unit(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLuint tex)
+void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,
+                  GLuint tex)
 {
 	GLint loc = gl->GetUniformLocation(prog, name);
 	gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-	gl->BindTexture(GL_TEXTURE_2D, tex);
+	gl->BindTexture(target, tex);
 	if (loc >= 0)
 		gl->Uniform1i(loc, unit);
+}
+
+static void bind_unit(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLuint tex)
+{
+	rs_gles_bind(gl, prog, unit, name, GL_TEXTURE_2D, tex);
 }
 
 static void uniform_i(const struct rs_gl *gl, GLuint prog, const char *name, GLint v)
@@ -68,6 +74,11 @@ static void scene_uniforms(const struct gles *g, GLuint prog)
 	uniform_f(gl, prog, "u_env_grid", g->env_grid);
 	uniform_f(gl, prog, "u_env_line_width", g->env_line_width);
 	uniform_f(gl, prog, "u_env_line_scale", g->env_line_scale);
+	if (g->shadow) {
+		rs_gles_bind(gl, prog, UNIT_SHADOW, "u_shadow", GL_TEXTURE_2D_ARRAY, g->shadow);
+		uniform_i(gl, prog, "u_shadow_size", (GLint)g->desc.shadow_map_size);
+		uniform_i(gl, prog, "u_shadow_filter", (GLint)g->desc.shadow_filter);
+	}
 }
 
 /* The camera basis in double, as lib/trace/camera_rays.c builds it, handed over in fp32. */

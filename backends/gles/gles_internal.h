@@ -21,6 +21,7 @@ enum {
 	UNIT_ACC,
 	UNIT_HIT,
 	UNIT_CNT,
+	UNIT_SHADOW,
 	UNIT_COUNT
 };
 
@@ -31,6 +32,7 @@ enum {
 	PROG_FUSED,
 	PROG_DISPLAY,
 	PROG_RASTER,
+	PROG_SHADOW,
 	PROG_COUNT
 };
 
@@ -52,9 +54,10 @@ struct gles {
 	GLuint scene_tex[4];
 	GLuint state[2][ST_COUNT];
 	GLuint cnt[2];
-	GLuint hit[2];                          /* [0]: pass 0 (depth), [1]: later passes */
-	GLuint color;                           /* RGBA8 display target */
-	GLuint depth;                           /* raster primary: depth renderbuffer */
+	GLuint hit[2];               /* [0]: pass 0 (depth), [1]: later passes */
+	GLuint color;                /* RGBA8 display target */
+	GLuint depth;                /* raster primary: depth renderbuffer */
+	GLuint shadow, shadow_depth; /* shadow maps: R32F array (6 faces a light), depth */
 	double bounds_center[3], bounds_radius; /* raster primary: clip planes per camera */
 	GLuint prog[PROG_COUNT];
 	uint32_t light_count;
@@ -87,6 +90,13 @@ double rs_gles_now_ms(void);
 enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
                              const struct rs_frame *frame, struct rs_render_stats *stats,
                              struct rs_error *err);
+
+/* Render the cube shadow maps of every light (set_scene: lights and geometry are fixed). */
+enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);
+
+/* Bind `tex` (target GL_TEXTURE_2D or GL_TEXTURE_2D_ARRAY) to `unit` as sampler `name`. */
+void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,
+                  GLuint tex);
 
 /* The whole chain once on a 1x1 viewport, results unused: drivers (llvmpipe) compile a
  * kernel at its first draw, which would otherwise land in the first frame's timings. */

@@ -13,7 +13,8 @@
 static const char prelude[] = "#version 300 es\n"
                               "precision highp float;\n"
                               "precision highp int;\n"
-                              "precision highp sampler2D;\n";
+                              "precision highp sampler2D;\n"
+                              "precision highp sampler2DArray;\n";
 
 /* Test seam (gles_internal.h): one kernel's source replaced, to check compile errors. */
 static const char *override_name, *override_source;

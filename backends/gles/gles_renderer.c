@@ -21,9 +21,10 @@ static void delete_scene(struct gles *g)
 		gl->DeleteTextures((GLsizei)n[i], tex[i]);
 		memset(tex[i], 0, n[i] * sizeof(GLuint));
 	}
-	if (g->depth)
-		gl->DeleteRenderbuffers(1, &g->depth);
-	g->depth = 0;
+	GLuint rbs[2] = {g->depth, g->shadow_depth};
+	gl->DeleteRenderbuffers(2, rbs);
+	gl->DeleteTextures(1, &g->shadow);
+	g->depth = g->shadow_depth = g->shadow = 0;
 	rs_render_accel_free(&g->accel);
 	free(g->scratch);
 	g->scratch = NULL;
@@ -63,6 +64,12 @@ static enum rs_status check_limits(const struct gles *g, const struct rs_packed 
 		return rs_error_set(err, RS_ERR_LIMIT,
 		                    "gles: image %ux%u is over this GL's limit of %d texels a side",
 		                    d->width, d->height, side);
+	if (d->shadows == RS_SHADOW_MAP && d->shadow_map_size > (uint32_t)g->max_tex)
+		return rs_error_set(
+		    err, RS_ERR_LIMIT,
+		    "gles: shadow map side %u is over this GL's GL_MAX_TEXTURE_SIZE "
+		    "of %d",
+		    d->shadow_map_size, g->max_tex);
 	if (d->lights > RS_GLES_MAX_LIGHTS)
 		return rs_error_set(err, RS_ERR_LIMIT, "gles: %u lights (the kernels take %u)",
 		                    d->lights, RS_GLES_MAX_LIGHTS);
@@ -133,11 +140,12 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	snprintf(defines, sizeof defines,
 	         "#define RS_ROW_ITEMS %u\n#define RS_ROW_SHIFT %d\n"
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
-	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n",
+	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
+	         "#define RS_SHADOW_MAP %d\n",
 	         RS_PACK_ROW_ITEMS, row_shift(RS_PACK_ROW_ITEMS),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
-	         rs_scene_triangle_count(scene) > 0);
+	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
 	char full[320];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
@@ -149,17 +157,24 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    {"common.glsl", "surface.glsl", "fused.glsl"},
 	    {"display.glsl"},
 	    {"common.glsl", "camera.glsl", "raster.glsl"},
+	    {"shadow.glsl"},
 	};
-	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3};
+	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1};
 	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
 	                                             "raster_vertex.glsl"};
+	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
 	for (int i = 0; i < PROG_COUNT; ++i) {
 		if (i == PROG_FUSED && g->desc.counters)
 			continue; /* counters run the separate chain (render targets) */
 		if (i == PROG_RASTER && g->desc.primary != RS_PRIMARY_RASTER)
 			continue;
-		enum rs_status st = rs_gles_program(&g->gl, i == PROG_RASTER ? raster_vertex : NULL,
-		                                    3, files[i], counts[i], full, &g->prog[i], err);
+		if (i == PROG_SHADOW && g->desc.shadows != RS_SHADOW_MAP)
+			continue;
+		const char *const *vs = i == PROG_RASTER   ? raster_vertex
+		                        : i == PROG_SHADOW ? shadow_vertex
+		                                           : NULL;
+		enum rs_status st = rs_gles_program(&g->gl, vs, i == PROG_SHADOW ? 2 : 3, files[i],
+		                                    counts[i], full, &g->prog[i], err);
 		if (st != RS_OK)
 			return st;
 	}
@@ -218,6 +233,8 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	}
 	if (st == RS_OK)
 		st = upload(g, err);
+	if (st == RS_OK && desc->shadows == RS_SHADOW_MAP)
+		st = rs_gles_shadow_maps(g, err);
 	if (st == RS_OK) {
 		struct rs_camera cam;
 		rs_camera_resolve(rs_scene_camera(scene), &cam);

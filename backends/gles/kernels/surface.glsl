@@ -107,7 +107,45 @@ vec3 rs_environment(vec3 o, vec3 d)
 	return u_env_color[face] * (line ? u_env_line_scale : 1.0);
 }
 
-// Phong with exact shadow feelers (any-hit); counts += (shadow rays, box, triangle tests).
+#if RS_SHADOW_MAP
+uniform sampler2DArray u_shadow; // layer 6 light + face: distance to the nearest surface
+uniform int u_shadow_size;
+uniform int u_shadow_filter; // box filter side in texels
+
+// Share of the box-filtered cube map texels around the direction light -> p that see p
+// (paper: shadow maps with a box filter). The filter stays on the face. The bias grows
+// with the filter's reach and the slope (cos_l = Ng . L): a texel k steps away samples the
+// surface up to k footprints / cos_l nearer the light, which must not shadow p itself.
+float rs_shadow_lit(int light, vec3 p, float cos_l)
+{
+	vec3 q = p - u_light_pos[light];
+	vec3 aq = abs(q);
+	int axis = aq.x >= aq.y && aq.x >= aq.z ? 0 : (aq.y >= aq.z ? 1 : 2);
+	float major = aq[axis];
+	if (!(major > 0.0))
+		return 1.0;
+	int face = 2 * axis + (q[axis] > 0.0 ? 0 : 1);
+	vec2 uv = vec2(q[(axis + 1) % 3], q[(axis + 2) % 3]) / major;
+	float size = float(u_shadow_size);
+	ivec2 c = ivec2(clamp(floor((uv * 0.5 + 0.5) * size), 0.0, size - 1.0));
+	float dist = length(q);
+	int half_width = u_shadow_filter / 2;
+	float footprint = 2.0 * dist / size;
+	float bias = footprint * (1.5 + float(half_width)) / max(cos_l, 0.05);
+	float lit = 0.0, n = 0.0;
+	for (int dy = 0; dy < u_shadow_filter; dy++)
+		for (int dx = 0; dx < u_shadow_filter; dx++) {
+			ivec2 t = clamp(c + ivec2(dx, dy) - half_width, ivec2(0), ivec2(u_shadow_size - 1));
+			float stored = texelFetch(u_shadow, ivec3(t, 6 * light + face), 0).x;
+			lit += dist - bias <= stored ? 1.0 : 0.0;
+			n += 1.0;
+		}
+	return lit / n;
+}
+#endif
+
+// Phong with exact shadow feelers (any-hit) or shadow maps; counts += (shadow rays, box,
+// triangle tests).
 vec3 rs_shade(Ray r, Hit h, Surf s, inout vec3 counts)
 {
 	vec3 local = u_ambient * s.diffuse;
@@ -120,6 +158,12 @@ vec3 rs_shade(Ray r, Hit h, Surf s, inout vec3 counts)
 		float ndl = dot(s.n, l);
 		if (dot(s.ng, l) <= 0.0 || ndl <= 0.0)
 			continue;
+		float lit = 1.0;
+#if RS_SHADOW_MAP
+		lit = rs_shadow_lit(i, s.p, dot(s.ng, l));
+		if (lit <= 0.0)
+			continue;
+#else
 		Ray f = rs_spawn(s, l, h.slot);
 		vec3 fd = u_light_pos[i] - f.o;
 		f.tmax = length(fd);
@@ -135,13 +179,14 @@ vec3 rs_shade(Ray r, Hit h, Surf s, inout vec3 counts)
 		if (blocked)
 			continue;
 #endif
+#endif
 		float spec = 0.0;
 		if (s.specular > 0.0) {
 			float rdv = dot(2.0 * ndl * s.n - l, -r.d);
 			if (rdv > 0.0)
 				spec = s.specular * pow(min(rdv, 1.0), s.shininess);
 		}
-		local += u_light_color[i] * (s.diffuse * ndl + spec);
+		local += lit * u_light_color[i] * (s.diffuse * ndl + spec);
 	}
 	return local;
 }
