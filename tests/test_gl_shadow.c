@@ -46,10 +46,22 @@ static void map_error(const char *name, uint32_t map, uint32_t filter, double ps
 	rs_scene_destroy(&scene);
 }
 
-static void box_map_1024_unfiltered(void **state) { map_error("box", 1024, 1, 40.0, 0.001); }
-static void box_map_512_box3(void **state) { map_error("box", 512, 3, 36.0, 0.007); }
-static void cow1_map_1024_unfiltered(void **state) { map_error("cow1", 1024, 1, 36.0, 0.007); }
-static void cow1_map_256_box5(void **state) { map_error("cow1", 256, 5, 27.5, 0.06); }
+static void box_map_1024_unfiltered(void **state)
+{
+	map_error("box", 1024, 1, 40.0, 0.001);
+}
+static void box_map_512_box3(void **state)
+{
+	map_error("box", 512, 3, 36.0, 0.007);
+}
+static void cow1_map_1024_unfiltered(void **state)
+{
+	map_error("cow1", 1024, 1, 36.0, 0.007);
+}
+static void cow1_map_256_box5(void **state)
+{
+	map_error("cow1", 256, 5, 27.5, 0.06);
+}
 
 int main(void)
 {

@@ -4,7 +4,6 @@
 #include <EGL/eglext.h>
 #include <fcntl.h>
 #include <gbm.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,45 +20,10 @@ struct egl_ctx {
 	char platform[16];
 };
 
-/* eglTerminate is per display, and Mesa hands every caller the same display: count users
- * so one renderer's destroy does not pull the display from under another. */
-static pthread_mutex_t display_lock = PTHREAD_MUTEX_INITIALIZER;
-static struct {
-	EGLDisplay display;
-	int users;
-} displays[8];
-
-static bool display_acquire(EGLDisplay d)
-{
-	pthread_mutex_lock(&display_lock);
-	int free_slot = -1, found = -1;
-	for (int i = 0; i < 8; ++i) {
-		if (displays[i].users > 0 && displays[i].display == d)
-			found = i;
-		else if (displays[i].users == 0 && free_slot < 0)
-			free_slot = i;
-	}
-	bool ok = true;
-	if (found >= 0) {
-		displays[found].users++;
-	} else if (free_slot >= 0 && eglInitialize(d, NULL, NULL)) {
-		displays[free_slot].display = d;
-		displays[free_slot].users = 1;
-	} else {
-		ok = false;
-	}
-	pthread_mutex_unlock(&display_lock);
-	return ok;
-}
-
-static void display_release(EGLDisplay d)
-{
-	pthread_mutex_lock(&display_lock);
-	for (int i = 0; i < 8; ++i)
-		if (displays[i].users > 0 && displays[i].display == d && --displays[i].users == 0)
-			eglTerminate(d);
-	pthread_mutex_unlock(&display_lock);
-}
+/* Displays are never terminated: an EGLDisplay is per process and shared by every user of
+ * the same platform and device (the host application included), so eglTerminate here
+ * would pull the display from under them. eglInitialize on an initialised display is a
+ * no-op, so each renderer initialises it and leaves it so. */
 
 static void egl_destroy(void *p)
 {
@@ -70,7 +34,6 @@ static void egl_destroy(void *p)
 		eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
 		if (c->context != EGL_NO_CONTEXT)
 			eglDestroyContext(c->display, c->context);
-		display_release(c->display);
 	}
 	if (c->gbm)
 		gbm_device_destroy(c->gbm);
@@ -148,12 +111,11 @@ static bool make_context(struct egl_ctx *c)
 
 static bool try_display(struct egl_ctx *c, EGLDisplay d)
 {
-	if (d == EGL_NO_DISPLAY || !display_acquire(d))
+	if (d == EGL_NO_DISPLAY || !eglInitialize(d, NULL, NULL))
 		return false;
 	c->display = d;
 	if (make_context(c))
 		return true;
-	display_release(d);
 	c->display = EGL_NO_DISPLAY;
 	return false;
 }

@@ -18,8 +18,11 @@ static void osmesa_destroy(void *p)
 	struct osmesa_ctx *c = p;
 	if (!c)
 		return;
-	if (c->context)
+	if (c->context) {
+		if (OSMesaGetCurrentContext() == c->context)
+			OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);
 		OSMesaDestroyContext(c->context);
+	}
 	free(c);
 }
 
@@ -33,9 +36,10 @@ static enum rs_status osmesa_make_current(void *p, struct rs_error *err)
 
 static void osmesa_release(void *p)
 {
-	/* OSMesa cannot unbind a context (OSMesaMakeCurrent(NULL, ...) is not defined on
-	 * every version); the next make_current of any context replaces it. */
+	/* Mesa's gallium OSMesa unbinds with a NULL context and buffer (a context destroyed
+	 * while current leaks its framebuffer). */
 	(void)p;
+	OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);
 }
 
 static void *osmesa_proc(void *p, const char *name)
