@@ -25,13 +25,13 @@ static void cross3(const double *a, const double *b, double *out)
 	out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera)
+enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera,
+                                   struct rs_error *err)
 {
 	RS_ASSERT(scene && camera);
 	if (!finite_n(camera->eye, 3) || !finite_n(camera->target, 3) || !finite_n(camera->up, 3) ||
 	    !isfinite(camera->fov_y_deg))
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-		                    "camera has a non-finite value");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "camera has a non-finite value");
 	double view[3] = {camera->target[0] - camera->eye[0], camera->target[1] - camera->eye[1],
 	                  camera->target[2] - camera->eye[2]};
 	double side[3];
@@ -40,38 +40,37 @@ enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camer
 	 * checks below compare NaN and would pass. */
 	if (!finite_n(view, 3) || !isfinite(dot3(view, view)) ||
 	    !isfinite(dot3(camera->up, camera->up)))
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-		                    "camera eye, target or up is too large");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "camera eye, target or up is too large");
 	if (dot3(view, view) == 0.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "camera eye equals its target");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "camera eye equals its target");
 	if (dot3(side, side) <= 1e-12 * dot3(view, view) * dot3(camera->up, camera->up) ||
 	    dot3(camera->up, camera->up) == 0.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "camera up is zero or parallel to the view direction");
 	if (camera->fov_y_deg < 0.0 || camera->fov_y_deg >= 180.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "camera field of view %g is outside (0, 180)",
 		                    camera->fov_y_deg);
 	if (camera->width > 16384 || camera->height > 16384)
-		return rs_error_set(&scene->error, RS_ERR_LIMIT, "camera image %ux%u is too large",
+		return rs_error_set(err, RS_ERR_LIMIT, "camera image %ux%u is too large",
 		                    camera->width, camera->height);
 	scene->camera = *camera;
 	return RS_OK;
 }
 
-enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light)
+enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light,
+                                  struct rs_error *err)
 {
 	RS_ASSERT(scene && light);
 	if (!finite_n(light->position, 3) || !finite_n(light->color, 3))
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "light has a non-finite value");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "light has a non-finite value");
 	if (light->color[0] < 0 || light->color[1] < 0 || light->color[2] < 0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "light colour is negative");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "light colour is negative");
 	if (scene->light_count == scene->light_capacity) {
 		size_t cap = scene->light_capacity ? scene->light_capacity * 2 : 4;
 		struct rs_light *p = realloc(scene->lights, cap * sizeof *p);
 		if (!p)
-			return rs_error_set(&scene->error, RS_ERR_NO_MEMORY,
-			                    "out of memory adding a light");
+			return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding a light");
 		scene->lights = p;
 		scene->light_capacity = cap;
 	}
@@ -80,33 +79,33 @@ enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light 
 }
 
 enum rs_status rs_scene_set_environment(struct rs_scene *scene,
-                                        const struct rs_environment *environment)
+                                        const struct rs_environment *environment,
+                                        struct rs_error *err)
 {
 	RS_ASSERT(scene && environment);
 	const struct rs_environment *e = environment;
 	if (!finite_n(e->center, 3) || !isfinite(e->half_size) || e->half_size < 0.0 ||
 	    !isfinite(e->line_width) || !isfinite(e->line_scale) || e->line_width < 0.0f ||
 	    e->line_width > 1.0f || e->line_scale < 0.0f)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "environment has a non-finite or out-of-range value");
 	for (int f = 0; f < 6; ++f)
 		for (int c = 0; c < 3; ++c)
 			if (!isfinite(e->face_color[f][c]) || e->face_color[f][c] < 0.0f)
-				return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+				return rs_error_set(err, RS_ERR_BAD_DATA,
 				                    "environment face %d colour is invalid", f);
 	if (e->grid > 4096)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-		                    "environment grid %u is too fine", e->grid);
+		return rs_error_set(err, RS_ERR_BAD_DATA, "environment grid %u is too fine",
+		                    e->grid);
 	scene->environment = *e;
 	return RS_OK;
 }
 
-enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient)
+enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient, struct rs_error *err)
 {
 	RS_ASSERT(scene);
 	if (!isfinite(ambient) || ambient < 0.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "ambient %g is invalid",
-		                    ambient);
+		return rs_error_set(err, RS_ERR_BAD_DATA, "ambient %g is invalid", ambient);
 	scene->ambient = ambient;
 	return RS_OK;
 }
