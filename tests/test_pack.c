@@ -41,8 +41,8 @@ static struct fixture make(size_t tris, enum rs_bvh_builder builder)
 	                         .reflectance = 0.25f,
 	                         .flags = RS_MATERIAL_FRESNEL};
 	struct rs_material m1 = {.diffuse = {0.8f, 0.8f, 0.8f}, .transmittance = 0.9f, .ior = 1.5f};
-	assert_int_equal(rs_scene_add_material(f.scene, &m0, &mat[0]), RS_OK);
-	assert_int_equal(rs_scene_add_material(f.scene, &m1, &mat[1]), RS_OK);
+	assert_int_equal(rs_scene_add_material(f.scene, &m0, &mat[0], NULL), RS_OK);
+	assert_int_equal(rs_scene_add_material(f.scene, &m1, &mat[1], NULL), RS_OK);
 	size_t half = tris / 2;
 	for (int part = 0; part < 2; part++) {
 		size_t n = part ? tris - half : half;
@@ -59,7 +59,7 @@ static struct fixture make(size_t tris, enum rs_bvh_builder builder)
 		                          .indices = idx,
 		                          .triangle_count = n,
 		                          .material = mat[part]};
-		assert_int_equal(rs_scene_add_mesh(f.scene, &md), RS_OK);
+		assert_int_equal(rs_scene_add_mesh(f.scene, &md, NULL), RS_OK);
 		free(pos);
 		free(idx);
 	}

@@ -40,14 +40,15 @@ static struct world make_world(const float *pos, size_t verts, const uint32_t *i
 	struct rs_error err;
 	uint32_t mat;
 	assert_int_equal(rs_scene_create(NULL, &w.scene, &err), RS_OK);
-	assert_int_equal(rs_scene_add_material(w.scene, &(struct rs_material){0}, &mat), RS_OK);
+	assert_int_equal(rs_scene_add_material(w.scene, &(struct rs_material){0}, &mat, NULL),
+	                 RS_OK);
 	struct rs_mesh_desc md = {.positions = pos,
 	                          .vertex_count = verts,
 	                          .indices = idx,
 	                          .triangle_count = tris,
 	                          .material = mat};
-	if (rs_scene_add_mesh(w.scene, &md) != RS_OK)
-		fail_msg("add mesh: %s", rs_scene_last_error(w.scene));
+	if (rs_scene_add_mesh(w.scene, &md, &err) != RS_OK)
+		fail_msg("add mesh: %s", err.message);
 	struct rs_bvh_desc d = {.builder = builder};
 	size_t cap = rs_bvh_node_bound(&d, tris);
 	w.nodes = malloc(cap * sizeof *w.nodes);

@@ -181,10 +181,9 @@ static enum rs_status check_materials(const struct rs_load_desc *desc, const cha
 		if (mesh_triangles(ai->mMeshes[m]) == 0)
 			continue;
 		resolve_material(desc, ai, slot, &mat);
-		st = rs_scene_add_material(scratch, &mat, &id);
+		st = rs_scene_add_material(scratch, &mat, &id, err);
 		if (st != RS_OK)
-			rs_error_set(err, st, "%s: bad material (%s)", path,
-			             rs_scene_last_error(scratch));
+			rs_error_prefix(err, st, "%s: bad material", path);
 	}
 	rs_scene_destroy(&scratch);
 	return st;
@@ -218,10 +217,9 @@ static enum rs_status add_meshes(const struct rs_load_desc *desc, const char *pa
 			struct rs_material mat;
 
 			resolve_material(desc, ai, slot, &mat);
-			st = rs_scene_add_material(scene, &mat, &ids[slot]);
+			st = rs_scene_add_material(scene, &mat, &ids[slot], err);
 			if (st != RS_OK) {
-				rs_error_set(err, st, "%s: material %u: %s", path, slot,
-				             rs_scene_last_error(scene));
+				rs_error_prefix(err, st, "%s: material %u", path, slot);
 				break;
 			}
 		}
@@ -252,10 +250,9 @@ static enum rs_status add_meshes(const struct rs_load_desc *desc, const char *pa
 		md.indices = indices;
 		md.triangle_count = tris;
 		md.material = ids[slot];
-		st = rs_scene_add_mesh(scene, &md);
+		st = rs_scene_add_mesh(scene, &md, err);
 		if (st != RS_OK)
-			rs_error_set(err, st, "%s: mesh %u: %s", path, m,
-			             rs_scene_last_error(scene));
+			rs_error_prefix(err, st, "%s: mesh %u", path, m);
 	}
 	free(indices);
 	free(ids);

@@ -5,7 +5,6 @@
 #include "raystream/rs_scene.h"
 
 struct rs_scene {
-	struct rs_error error;
 	size_t max_triangles;
 
 	float *positions;

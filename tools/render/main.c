@@ -97,7 +97,7 @@ static int parse_args(int argc, char **argv, struct options *o)
 		else if (!strcmp(a, "--depth"))
 			o->depth = v;
 		else if (!strcmp(a, "--bvh")) {
-			if (rs_bvh_builder_parse(v, &o->builder) != RS_OK)
+			if (rs_bvh_builder_parse(v, &o->builder, NULL) != RS_OK)
 				return fail_usage("unknown BVH builder '%s'", v);
 		} else if (!strcmp(a, "--passes")) {
 			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))

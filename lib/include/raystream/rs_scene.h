@@ -111,29 +111,30 @@ enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene
 /** Free a scene and set *scene to NULL; NULL and *scene == NULL are allowed. */
 void rs_scene_destroy(struct rs_scene **scene);
 
-/** Last error message recorded on this scene (empty if none); owned by the scene. */
-const char *rs_scene_last_error(const struct rs_scene *scene);
-
 /** Add a material; its id (0, 1, ...) is written to out_id. Rejects NaN/negative values. */
 enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_material *material,
-                                     uint32_t *out_id);
+                                     uint32_t *out_id, struct rs_error *err);
 
 /**
  * Copy a mesh into the scene. Rejects (RS_ERR_BAD_DATA, nothing added) NaN or infinite
  * positions/normals, indices out of range, zero triangles, unknown material ids, and totals
  * beyond max_triangles. Zero-area triangles are kept (the tracers handle them).
  */
-enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh);
+enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                 struct rs_error *err);
 
 /** Set the camera (rejects eye == target, zero/parallel up, fov outside (0, 180)). */
-enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera);
+enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera,
+                                   struct rs_error *err);
 /** Add a point light (rejects non-finite values or negative colour). */
-enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light);
+enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light,
+                                  struct rs_error *err);
 /** Set the environment cube (rejects non-finite values). */
 enum rs_status rs_scene_set_environment(struct rs_scene *scene,
-                                        const struct rs_environment *environment);
+                                        const struct rs_environment *environment,
+                                        struct rs_error *err);
 /** Ambient term added to every lit surface (scaled by its diffuse colour); default 0.1. */
-enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient);
+enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient, struct rs_error *err);
 
 /* Read access. Pointers stay valid until the scene is changed or destroyed. */
 size_t rs_scene_triangle_count(const struct rs_scene *scene);
