@@ -24,8 +24,9 @@ static void usage(FILE *to)
 	    "usage: raystream-render --scene box|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
 	    "         [--backend cpu] [--bvh none|linear|paper|sah] [--passes N] [--lights N]\n"
 	    "         [--size WxH] [--out FILE.png] [--stats FILE.json] [--depth FILE.pfm]\n"
-	    "         [--triangle-test mt|watertight] [--threads N]\n"
+	    "         [--triangle-test watertight|mt] [--threads N]\n"
 	    "Renders with the double-precision CPU reference tracer. FILE is an OBJ or PLY mesh;\n"
+	    "--triangle-test defaults to watertight; mt is the paper's Moller-Trumbore.\n"
 	    "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n"
 	    "--lights defaults to 1 (0 for a scene without lights).\n",
 	    to);
