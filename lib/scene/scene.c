@@ -1,6 +1,7 @@
 /* The scene container: copies caller geometry in, validates it, computes normals. */
 #include "raystream/rs_scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +42,7 @@ void rs_scene_destroy(struct rs_scene **scene)
 		return;
 	struct rs_scene *s = *scene;
 	free(s->positions);
+	free(s->positions_f64);
 	free(s->normals);
 	free(s->indices);
 	free(s->triangle_materials);
@@ -53,6 +55,21 @@ void rs_scene_destroy(struct rs_scene **scene)
 static int finite3(const float *v)
 {
 	return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+/* Vertex i of the mesh in double, whichever precision it was given in. */
+static void mesh_position(const struct rs_mesh_desc *mesh, size_t i, double out[3])
+{
+	if (mesh->positions_f64) {
+		size_t stride = mesh->position_stride ? mesh->position_stride : 3 * sizeof(double);
+		memcpy(out, (const char *)mesh->positions_f64 + i * stride, 3 * sizeof(double));
+		return;
+	}
+	size_t stride = mesh->position_stride ? mesh->position_stride : 3 * sizeof(float);
+	float f[3];
+	memcpy(f, (const char *)mesh->positions + i * stride, sizeof f);
+	for (int a = 0; a < 3; ++a)
+		out[a] = f[a];
 }
 
 /* Grow an array to hold `count` elements of `size` bytes, doubling capacity. */
@@ -121,8 +138,10 @@ static const uint32_t *strided_u32(const uint32_t *base, size_t stride, size_t i
 static enum rs_status validate_mesh(const struct rs_scene *scene, const struct rs_mesh_desc *mesh,
                                     struct rs_error *err)
 {
-	if (!mesh->positions || !mesh->indices)
-		return rs_error_set(err, RS_ERR_INVALID, "mesh has no positions or no indices");
+	if (!mesh->positions == !mesh->positions_f64 || !mesh->indices)
+		return rs_error_set(
+		    err, RS_ERR_INVALID,
+		    "mesh needs exactly one of positions/positions_f64, and indices");
 	if (mesh->triangle_count == 0)
 		return rs_error_set(err, RS_ERR_BAD_DATA, "mesh has zero triangles");
 	if (mesh->vertex_count == 0 || mesh->vertex_count > UINT32_MAX)
@@ -135,9 +154,15 @@ static enum rs_status validate_mesh(const struct rs_scene *scene, const struct r
 		return rs_error_set(err, RS_ERR_LIMIT, "scene would have more than %zu triangles",
 		                    scene->max_triangles);
 	for (size_t i = 0; i < mesh->vertex_count; ++i) {
-		if (!finite3(strided(mesh->positions, mesh->position_stride, i)))
-			return rs_error_set(err, RS_ERR_BAD_DATA,
-			                    "vertex %zu has a NaN or infinite coordinate", i);
+		double p[3];
+		mesh_position(mesh, i, p);
+		/* also refuses doubles that would overflow to an infinite float */
+		for (int a = 0; a < 3; ++a)
+			if (!isfinite(p[a]) || fabs(p[a]) > FLT_MAX)
+				return rs_error_set(err, RS_ERR_BAD_DATA,
+				                    "vertex %zu has a NaN, infinite or too large "
+				                    "coordinate",
+				                    i);
 		if (mesh->normals && !finite3(strided(mesh->normals, mesh->normal_stride, i)))
 			return rs_error_set(err, RS_ERR_BAD_DATA,
 			                    "normal %zu has a NaN or infinite component", i);
@@ -166,15 +191,20 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
 	size_t vn = v0 + mesh->vertex_count, tn = t0 + mesh->triangle_count;
 	if (vn > UINT32_MAX ||
 	    !grow((void **)&scene->positions, &scene->position_capacity, vn * 3, sizeof(float)) ||
+	    !grow((void **)&scene->positions_f64, &scene->position_f64_capacity, vn * 3,
+	          sizeof(double)) ||
 	    !grow((void **)&scene->normals, &scene->normal_capacity, vn * 3, sizeof(float)) ||
 	    !grow((void **)&scene->indices, &scene->index_capacity, tn * 3, sizeof(uint32_t)) ||
 	    !grow((void **)&scene->triangle_materials, &scene->triangle_material_capacity, tn,
 	          sizeof(uint32_t)))
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding %zu triangles",
 		                    mesh->triangle_count);
-	for (size_t i = 0; i < mesh->vertex_count; ++i)
-		memcpy(scene->positions + (v0 + i) * 3,
-		       strided(mesh->positions, mesh->position_stride, i), 3 * sizeof(float));
+	for (size_t i = 0; i < mesh->vertex_count; ++i) {
+		double *p = scene->positions_f64 + (v0 + i) * 3;
+		mesh_position(mesh, i, p);
+		for (int a = 0; a < 3; ++a)
+			scene->positions[(v0 + i) * 3 + a] = (float)p[a];
+	}
 	for (size_t t = 0; t < mesh->triangle_count; ++t) {
 		const uint32_t *tri = strided_u32(mesh->indices, mesh->index_stride, t);
 		for (int k = 0; k < 3; ++k)
@@ -196,7 +226,7 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
 	scene->triangle_count = tn;
 	for (size_t i = v0; i < vn; ++i)
 		for (int a = 0; a < 3; ++a) {
-			double p = scene->positions[i * 3 + a];
+			double p = scene->positions_f64[i * 3 + a];
 			if (i == 0) {
 				scene->bounds.lo[a] = scene->bounds.hi[a] = p;
 			} else {

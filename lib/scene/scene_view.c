@@ -133,6 +133,11 @@ const float *rs_scene_positions(const struct rs_scene *s)
 {
 	return s->positions;
 }
+
+const double *rs_scene_positions_f64(const struct rs_scene *s)
+{
+	return s->positions_f64;
+}
 const float *rs_scene_normals(const struct rs_scene *s)
 {
 	return s->normals;
