@@ -1,6 +1,6 @@
-/* The GL kernel chain beyond the image: GPU hit counters against the CPU's (same BVH:
- * hit numbers and box tests within 0.1%; triangle tests within 0.5%, since a leaf box that
- * fp32 and double decide differently at a grazing ray adds or drops its whole triangle list), fused
+/* The GL kernel chain beyond the image: GPU hit counters against the CPU's (same BVH,
+ * within 0.1%; with both slab ends widened (docs/tracer.md R3) they agree exactly on Box
+ * and to 0.005% on Cow1: what is left is fp32 against double at grazing box tests), fused
  * and separate chains alike, RGBA8 as rs_image_quantize() rounds, per-frame cameras, per-kernel
  * timings. EGL (llvmpipe in CI); skipped without a context. */
 #include <setjmp.h>
@@ -42,7 +42,7 @@ static void counters_match(const char *name)
 	assert_true(g->counters_valid);
 	assert_true(c->box_tests > 0 && c->triangle_tests > 0);
 	assert_true(rel(g->box_tests, c->box_tests) <= 0.001);
-	assert_true(rel(g->triangle_tests, c->triangle_tests) <= 0.005);
+	assert_true(rel(g->triangle_tests, c->triangle_tests) <= 0.001);
 	assert_true(rel(g->box_tests + g->triangle_tests, c->box_tests + c->triangle_tests) <=
 	            0.001);
 	assert_true(rel(g->shadow_rays, c->shadow_rays) <= 0.001);

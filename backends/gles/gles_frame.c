@@ -64,7 +64,7 @@ static void scene_uniforms(const struct gles *g, GLuint prog)
 	uniform_i(gl, prog, "u_node_count", (GLint)p->node_count);
 	uniform_i(gl, prog, "u_tri_count", (GLint)p->triangle_count);
 	uniform_i(gl, prog, "u_material_count", (GLint)p->material_count);
-	uniform_f(gl, prog, "u_offset", g->offset);
+	uniform_f(gl, prog, "u_spawn_scale", g->spawn_scale);
 	uniform_f(gl, prog, "u_ambient", g->ambient);
 	uniform_3fv(gl, prog, "u_light_pos", (GLsizei)g->light_count, g->light_pos);
 	uniform_3fv(gl, prog, "u_light_color", (GLsizei)g->light_count, g->light_color);
@@ -110,7 +110,7 @@ static void camera_uniforms(const struct gles *g, GLuint prog, const struct rs_c
 	u[2] = r[0] * f[1] - r[1] * f[0];
 	GLfloat eye[3], fw[3], rt[3], upv[3];
 	for (int a = 0; a < 3; ++a) {
-		eye[a] = (GLfloat)c->eye[a];
+		eye[a] = (GLfloat)(c->eye[a] - g->accel.packed.origin[a]); /* R1 */
 		fw[a] = (GLfloat)f[a];
 		rt[a] = (GLfloat)r[a];
 		upv[a] = (GLfloat)u[a];
@@ -183,9 +183,10 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 	camera_uniforms(g, prog, camera);
 	/* Clip planes around the scene's bounding sphere as seen from this eye. */
 	double d2 = 0.0;
-	for (int a = 0; a < 3; ++a)
-		d2 +=
-		    (camera->eye[a] - g->bounds_center[a]) * (camera->eye[a] - g->bounds_center[a]);
+	for (int a = 0; a < 3; ++a) {
+		double e = camera->eye[a] - g->accel.packed.origin[a] - g->bounds_center[a];
+		d2 += e * e;
+	}
 	double far = 1.01 * (sqrt(d2) + g->bounds_radius) + 1e-30;
 	uniform_f(gl, prog, "u_far", (GLfloat)far);
 	uniform_f(gl, prog, "u_near", (GLfloat)(far * 1e-6));

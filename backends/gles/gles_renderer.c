@@ -79,33 +79,30 @@ static enum rs_status check_limits(const struct gles *g, const struct rs_packed 
 /* The constants every frame's kernels read, resolved once as rs_trace_frame_init() does. */
 static void frame_constants(struct gles *g, const struct rs_scene *scene, uint32_t lights)
 {
+	/* R1: everything moves into the packed frame here, in double, before rounding. */
+	const double *o = g->accel.packed.origin;
 	struct rs_bounds b;
 	rs_scene_bounds(scene, &b);
-	double extent = 0.0;
-	for (int a = 0; a < 3; ++a)
-		if (b.hi[a] >= b.lo[a])
-			extent = fmax(extent, b.hi[a] - b.lo[a]);
-	if (!(extent > 0.0) || !isfinite(extent))
-		extent = 1.0;
 	double r2 = 0.0;
 	for (int a = 0; a < 3; ++a) {
-		g->bounds_center[a] = 0.5 * (b.lo[a] + b.hi[a]);
-		r2 += 0.25 * (b.hi[a] - b.lo[a]) * (b.hi[a] - b.lo[a]);
+		g->bounds_center[a] = b.hi[a] >= b.lo[a] ? 0.5 * (b.lo[a] + b.hi[a]) - o[a] : 0.0;
+		r2 += b.hi[a] >= b.lo[a] ? 0.25 * (b.hi[a] - b.lo[a]) * (b.hi[a] - b.lo[a]) : 0.0;
 	}
 	g->bounds_radius = sqrt(r2);
-	g->offset = (float)((g->desc.ray_epsilon > 0.0 ? g->desc.ray_epsilon : 1e-6) * extent);
+	g->spawn_scale =
+	    (float)(g->desc.ray_epsilon > 0.0 ? g->desc.ray_epsilon : RS_TRACE_SPAWN_SCALE);
 	g->ambient = (float)rs_scene_ambient(scene);
 	g->light_count = lights;
 	const struct rs_light *l = rs_scene_lights(scene);
 	for (uint32_t i = 0; i < lights; ++i)
 		for (int a = 0; a < 3; ++a) {
-			g->light_pos[3 * i + a] = (float)l[i].position[a];
+			g->light_pos[3 * i + a] = (float)(l[i].position[a] - o[a]);
 			g->light_color[3 * i + a] = (float)l[i].color[a];
 		}
 	struct rs_environment env;
 	rs_scene_environment(scene, &env);
 	for (int a = 0; a < 3; ++a)
-		g->env_center[a] = (float)env.center[a];
+		g->env_center[a] = (float)(env.center[a] - o[a]);
 	g->env_half = (float)(env.half_size > 0.0 && isfinite(env.half_size) ? env.half_size : 1.0);
 	for (int f = 0; f < 6; ++f)
 		for (int c = 0; c < 3; ++c)

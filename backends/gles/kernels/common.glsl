@@ -2,7 +2,9 @@
 // (lib/trace, docs/tracer.md): packed-texture access, slab and triangle tests, the
 // stackless walk of the threaded BVH, surface data, environment cube, spawn rule.
 // Inputs:  u_nodes, u_tris, u_normals, u_materials (packed RGBA32F, rs_pack.h),
-//          u_node_count, u_tri_count, u_material_count, u_offset (self-hit offset).
+//          u_node_count, u_tri_count, u_material_count, u_spawn_scale (R5's S).
+// Every position is in the packed frame (docs/tracer.md R1): the CPU moved the camera,
+// lights and environment by rs_packed.origin in double before handing them over.
 // Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY.
 uniform sampler2D u_nodes;
 uniform sampler2D u_tris;
@@ -11,15 +13,16 @@ uniform sampler2D u_materials;
 uniform int u_node_count;
 uniform int u_tri_count;
 uniform int u_material_count;
-uniform float u_offset;
+uniform float u_spawn_scale;
 
 // "No hit yet" distance: far beyond any scene, finite so no kernel depends on how a GPU
 // treats infinities. Zero-direction slabs use +-RS_HUGE, beyond it.
 const float RS_FAR = 1.0e38;
 const float RS_HUGE = 3.0e38;
-// The CPU widens the far slab distance by 8 double ulps; fp32 needs 16 float ulps.
-const float RS_BOX_GROW = 1.0 + 16.0 * 5.9604645e-8;
-const float RS_BOX_SHRINK = 1.0 - 16.0 * 5.9604645e-8;
+// Slab distances are widened outwards by K = 2^-19, 16 fp32 ulps (docs/tracer.md R3; the
+// double reference uses 16 double ulps).
+const float RS_BOX_GROW = 1.0 + 1.9073486e-6;
+const float RS_BOX_SHRINK = 1.0 - 1.9073486e-6;
 const float RS_PARALLEL_EPS = 1.0e-13;
 // Ray states, the paper's numbers (docs/tracer.md).
 const float RS_STATE_ACTIVE = 0.0;
@@ -39,6 +42,7 @@ struct Hit {
 	float u;
 	float v;
 	int slot; // -1: miss
+	float id; // scene triangle id (the tie-break's key)
 };
 
 ivec2 rs_item(int item, int texels, int j)
@@ -91,8 +95,8 @@ Pre rs_prepare(Ray r)
 	return p;
 }
 
-// Slab test, near/far picked by the direction's sign (an empty box stays empty), the far
-// end widened outwards by a constant factor (no division); a zero direction component
+// Slab test (R3), near/far picked by the direction's sign (an empty box stays empty), both
+// ends widened outwards by a constant factor (no division); a zero direction component
 // keeps the ray inside iff the origin is in that slab (selects, no branch: a branch in the
 // innermost loop measured slower on llvmpipe).
 bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
@@ -101,7 +105,8 @@ bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
 	vec3 t0 = a * p.inv, t1 = b * p.inv;
 	vec3 near = mix(t1, t0, p.pos);
 	vec3 far = mix(t0, t1, p.pos);
-	far *= mix(vec3(RS_BOX_SHRINK), vec3(RS_BOX_GROW), greaterThanEqual(far, vec3(0.0)));
+	near *= mix(vec3(RS_BOX_GROW), vec3(RS_BOX_SHRINK), greaterThan(near, vec3(0.0)));
+	far *= mix(vec3(RS_BOX_SHRINK), vec3(RS_BOX_GROW), greaterThan(far, vec3(0.0)));
 	bvec3 inside =
 	    bvec3(uvec3(lessThanEqual(a, vec3(0.0))) & uvec3(greaterThanEqual(b, vec3(0.0))));
 	near = mix(near, mix(vec3(RS_HUGE), vec3(-RS_HUGE), inside), p.zero);
@@ -136,7 +141,7 @@ bool rs_triangle(vec3 v0, vec3 v1, vec3 v2, Ray r, Pre p, float tmax, out vec3 t
 		return false;
 	float sz = p.shear.z;
 	float t = (U * sz * a.z + V * sz * b.z + W * sz * c.z) / det;
-	if (!(t > 0.0 && t < tmax))
+	if (!(t > 0.0 && t <= tmax))
 		return false;
 	tuv = vec3(t, V / det, W / det);
 	return true;
@@ -161,23 +166,28 @@ bool rs_triangle(vec3 v0, vec3 v1, vec3 v2, Ray r, Pre p, float tmax, out vec3 t
 		return false;
 	float inv = 1.0 / det;
 	float t = dot(e2, q) * inv;
-	if (!(t > 0.0 && t < tmax))
+	if (!(t > 0.0 && t <= tmax))
 		return false;
 	tuv = vec3(t, un * sgn * inv, vn * sgn * inv);
 	return true;
 }
 #endif
 
-// Is a triangle hit at t better than the best so far? (The order-free tie-break of the
-// robustness rules, equal t and a lower scene triangle id, drops in here.)
-bool rs_closer(float t, Hit best) { return t < best.t; }
+// The closest-hit rule (R4): nearer wins, and on exactly equal t the lower scene triangle
+// id, so the answer does not depend on the order the BVH visits triangles. The triangle
+// test accepts t <= the bound passed; the ray's own tmax stays exclusive.
+bool rs_better(float t, float id, Hit best, bool found, float tmax)
+{
+	return found ? t < best.t || (t == best.t && id < best.id) : t < tmax;
+}
 
 // Stackless walk of the threaded BVH (pre-order, escape indices). `any`: stop at the first
 // hit (shadow feelers). counts += (box tests, triangle tests), as the CPU counts them.
 bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 {
 	Pre p = rs_prepare(r);
-	h = Hit(r.tmax, 0.0, 0.0, -1);
+	h = Hit(r.tmax, 0.0, 0.0, -1, -1.0);
+	bool found = false;
 	int i = 0;
 	while (i < u_node_count) {
 		vec4 n0 = rs_node(i, 0), n1 = rs_node(i, 1);
@@ -198,16 +208,17 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 			if (s == r.skip)
 				continue;
 			counts.y += 1.0;
+			vec4 v0 = rs_tri(s, 0);
 			vec3 tuv;
-			if (!rs_triangle(rs_tri(s, 0).xyz, rs_tri(s, 1).xyz, rs_tri(s, 2).xyz, r, p,
-			                 r.tmax, tuv) ||
-			    !rs_closer(tuv.x, h))
+			if (!rs_triangle(v0.xyz, rs_tri(s, 1).xyz, rs_tri(s, 2).xyz, r, p, h.t, tuv) ||
+			    !rs_better(tuv.x, v0.w, h, found, r.tmax))
 				continue;
-			h = Hit(tuv.x, tuv.y, tuv.z, s);
+			found = true;
+			h = Hit(tuv.x, tuv.y, tuv.z, s, v0.w);
 			if (any)
 				return true;
 		}
 		i = escape;
 	}
-	return h.slot >= 0;
+	return found;
 }

@@ -16,7 +16,7 @@ void main()
 	ivec2 px = ivec2(gl_FragCoord.xy);
 	vec4 orig = texelFetch(u_orig, px, 0), dir = texelFetch(u_dir, px, 0);
 	vec4 acc = texelFetch(u_acc, px, 0);
-	Hit h = Hit(RS_FAR, 0.0, 0.0, -2);
+	Hit h = Hit(RS_FAR, 0.0, 0.0, -2, -1.0);
 	if (acc.w == RS_STATE_ACTIVE) {
 		h.slot = -1;
 		vec2 c = vec2(0.0);

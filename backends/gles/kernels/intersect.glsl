@@ -15,7 +15,7 @@ layout(location = 0) out vec4 o_hit;
 void main()
 {
 	ivec2 px = ivec2(gl_FragCoord.xy);
-	Hit h = Hit(RS_FAR, 0.0, 0.0, -2);
+	Hit h = Hit(RS_FAR, 0.0, 0.0, -2, -1.0);
 	vec2 c = vec2(0.0);
 	if (texelFetch(u_acc, px, 0).w == RS_STATE_ACTIVE) {
 		vec4 o = texelFetch(u_orig, px, 0), d = texelFetch(u_dir, px, 0);

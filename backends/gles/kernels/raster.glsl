@@ -16,9 +16,9 @@ void main()
 	Pre p = rs_prepare(r);
 	vec3 tuv;
 	Hit h;
-	if (rs_triangle(rs_tri(v_slot, 0).xyz, rs_tri(v_slot, 1).xyz, rs_tri(v_slot, 2).xyz, r, p,
-	                RS_FAR, tuv)) {
-		h = Hit(tuv.x, tuv.y, tuv.z, v_slot);
+	vec4 v0 = rs_tri(v_slot, 0);
+	if (rs_triangle(v0.xyz, rs_tri(v_slot, 1).xyz, rs_tri(v_slot, 2).xyz, r, p, RS_FAR, tuv)) {
+		h = Hit(tuv.x, tuv.y, tuv.z, v_slot, v0.w);
 	} else {
 		vec2 counts = vec2(0.0);
 		if (!rs_traverse(r, false, h, counts))

@@ -16,7 +16,8 @@ uniform float u_env_line_scale;
 const int RS_FRESNEL = 1;
 
 struct Surf {
-	vec3 p;
+	vec3 p;      // R5's point: from the barycentrics, pulled into the triangle
+	float delta; // R5's offset for rays leaving here
 	vec3 ng; // unit geometric normal facing the ray
 	vec3 n;  // unit shading normal on ng's side
 	bool entering;
@@ -29,9 +30,21 @@ Surf rs_surface(Ray r, Hit h)
 {
 	Surf s;
 	vec4 t0 = rs_tri(h.slot, 0), t1 = rs_tri(h.slot, 1), t2 = rs_tri(h.slot, 2);
-	s.p = r.o + h.t * r.d;
-	vec3 g = cross(t1.xyz - t0.xyz, t2.xyz - t0.xyz);
+	vec3 e1 = t1.xyz - t0.xyz, e2 = t2.xyz - t0.xyz;
+	vec3 g = cross(e1, e2);
 	float gl = length(g);
+	// R5: pulled at least ~4 delta away from every edge (small triangles: the centroid),
+	// so the point lies in front of every neighbour's plane at a concave edge.
+	vec3 m3 = max(max(abs(t0.xyz), abs(t1.xyz)), abs(t2.xyz));
+	s.delta = u_spawn_scale * max(max(max(m3.x, m3.y), m3.z), 5.421011e-20);
+	vec3 edge = vec3(length(t2.xyz - t1.xyz), length(t0.xyz - t2.xyz), length(e1));
+	vec3 b = vec3(1.0 - h.u - h.v, h.u, h.v);
+	for (int i = 0; i < 3; i++) {
+		float hi = edge[i] > 0.0 ? gl / edge[i] : 0.0;
+		b[i] = max(b[i], hi > 12.0 * s.delta ? 4.0 * s.delta / hi : 1.0 / 3.0);
+	}
+	float bs = b.x + b.y + b.z;
+	s.p = t0.xyz + (b.y / bs) * e1 + (b.z / bs) * e2;
 	g = gl > 0.0 ? g / gl : -r.d;
 	float dg = dot(r.d, g);
 	s.entering = dg < 0.0;
@@ -60,11 +73,11 @@ Surf rs_surface(Ray r, Hit h)
 	return s;
 }
 
-// A ray leaving the surface: off the plane to dir's side, never the same triangle again.
-// (The robustness rules' barycentric spawn point replaces this one function.)
+// A ray leaving the surface (R5): from the pulled-in point, delta off the own plane to the
+// side it leaves on, never the same triangle again.
 Ray rs_spawn(Surf s, vec3 dir, int slot)
 {
-	float side = dot(dir, s.ng) >= 0.0 ? u_offset : -u_offset;
+	float side = dot(dir, s.ng) >= 0.0 ? s.delta : -s.delta;
 	return Ray(s.p + side * s.ng, dir, RS_FAR, slot);
 }
 
