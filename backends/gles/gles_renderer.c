@@ -121,6 +121,14 @@ static bool scene_has_optics(const struct rs_scene *scene)
 	return false;
 }
 
+/* Items per texture row of the packed layout: the one place the kernels learn it (a
+ * packing parameter once rs_pack takes the device's GL_MAX_TEXTURE_SIZE). */
+static uint32_t row_items(const struct rs_packed *packed)
+{
+	(void)packed;
+	return RS_PACK_ROW_ITEMS;
+}
+
 /* log2 of a power of two, else -1 (the kernels then divide). */
 static int row_shift(uint32_t items)
 {
@@ -139,7 +147,7 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
 	         "#define RS_SHADOW_MAP %d\n",
-	         RS_PACK_ROW_ITEMS, row_shift(RS_PACK_ROW_ITEMS),
+	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP);
