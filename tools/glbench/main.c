@@ -1,8 +1,10 @@
 /* raystream-glbench: frame times of a render backend (the GLES kernels above all) per scene
  * and option set, for docs/benchmarks.md: median and min-max over N frames after one
- * warm-up frame, fps, Mrays/s (rays counted in one extra counting frame, not timed), and
- * the median time of each kernel. Same scene, camera and options for every backend. */
+ * warm-up frame, fps, Mrays/s (rays counted in one extra counting frame, not timed), the
+ * median time of each kernel, and the process CPU time per frame (llvmpipe's threads
+ * included): on a shared machine that is far steadier than wall time. */
 #include <stdio.h>
+#include <sys/resource.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,14 +21,21 @@ static int usage(void)
 	return 2;
 }
 
+static double cpu_ms(void)
+{
+	struct rusage u;
+	getrusage(RUSAGE_SELF, &u);
+	return (double)(u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 +
+	       (double)(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;
 	return x < y ? -1 : x > y;
 }
 
-static int bench(const char *name, const char *backend, struct rs_render_desc desc,
-                 uint32_t frames)
+static int bench(const char *name, const char *backend, struct rs_render_desc desc, uint32_t frames)
 {
 	struct rs_error err = {0};
 	struct rs_scene *scene = NULL;
@@ -56,24 +65,28 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	    rs_renderer_set_scene(r, scene, &err) != RS_OK ||
 	    rs_renderer_render(r, NULL, &frame, &err) != RS_OK) /* warm-up */
 		goto done;
-	double ms[MAX_FRAMES], kms[RS_RENDER_MAX_KERNELS][MAX_FRAMES];
+	double ms[MAX_FRAMES], cpu[MAX_FRAMES], kms[RS_RENDER_MAX_KERNELS][MAX_FRAMES];
 	s = rs_renderer_stats(r);
 	for (uint32_t f = 0; f < frames; ++f) {
+		double c0 = cpu_ms();
 		if (rs_renderer_render(r, NULL, &frame, &err) != RS_OK)
 			goto done;
+		cpu[f] = cpu_ms() - c0;
 		ms[f] = s->render_ms + s->readback_ms;
 		for (uint32_t k = 0; k < s->kernel_count; ++k)
 			kms[k][f] = s->kernels[k].ms;
 	}
 	qsort(ms, frames, sizeof ms[0], cmp_double);
+	qsort(cpu, frames, sizeof cpu[0], cmp_double);
 	double med = ms[frames / 2];
-	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s: %.1f ms (%.1f-%.1f) = %.2f fps, "
-	       "%.2f Mrays/s (%llu rays), hit numbers %.1f;",
+	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s: cpu %.1f ms (%.1f-%.1f), wall "
+	       "%.1f ms (%.1f-%.1f) = %.2f fps, %.2f Mrays/s (%llu rays), hit numbers %.1f;",
 	       name, s->backend, desc.width, desc.height, desc.passes, desc.lights,
 	       desc.chain == RS_CHAIN_SEPARATE ? "separate" : "fused",
 	       desc.primary == RS_PRIMARY_RASTER ? "raster" : "trace",
-	       desc.shadows == RS_SHADOW_MAP ? "map" : "rays", med, ms[0], ms[frames - 1],
-	       1000.0 / med, (double)rays / (med * 1000.0), (unsigned long long)rays, hits);
+	       desc.shadows == RS_SHADOW_MAP ? "map" : "rays", cpu[frames / 2], cpu[0],
+	       cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
+	       (double)rays / (med * 1000.0), (unsigned long long)rays, hits);
 	for (uint32_t k = 0; k < s->kernel_count; ++k) {
 		qsort(kms[k], frames, sizeof kms[k][0], cmp_double);
 		printf(" %s %.1f", s->kernels[k].name, kms[k][frames / 2]);
@@ -112,8 +125,7 @@ int main(int argc, char **argv)
 			;
 		else if (strcmp(a, "--lights") == 0 && rs_tool_parse_u32(v, 1, 16, &desc.lights))
 			;
-		else if (strcmp(a, "--frames") == 0 &&
-		         rs_tool_parse_u32(v, 1, MAX_FRAMES, &frames))
+		else if (strcmp(a, "--frames") == 0 && rs_tool_parse_u32(v, 1, MAX_FRAMES, &frames))
 			;
 		else if (strcmp(a, "--chain") == 0 && strcmp(v, "fused") == 0)
 			desc.chain = RS_CHAIN_FUSED;
