@@ -5,127 +5,8 @@
  * anyway, a GPU loses a little overlap). */
 #include <math.h>
 #include <string.h>
-#include <time.h>
 
 #include "gles_internal.h"
-
-double rs_gles_now_ms(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
-void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,
-                  GLuint tex)
-{
-	GLint loc = gl->GetUniformLocation(prog, name);
-	gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-	gl->BindTexture(target, tex);
-	if (loc >= 0)
-		gl->Uniform1i(loc, unit);
-}
-
-static void bind_unit(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLuint tex)
-{
-	rs_gles_bind(gl, prog, unit, name, GL_TEXTURE_2D, tex);
-}
-
-static void uniform_i(const struct rs_gl *gl, GLuint prog, const char *name, GLint v)
-{
-	GLint loc = gl->GetUniformLocation(prog, name);
-	if (loc >= 0)
-		gl->Uniform1i(loc, v);
-}
-
-static void uniform_f(const struct rs_gl *gl, GLuint prog, const char *name, GLfloat v)
-{
-	GLint loc = gl->GetUniformLocation(prog, name);
-	if (loc >= 0)
-		gl->Uniform1f(loc, v);
-}
-
-static void uniform_3fv(const struct rs_gl *gl, GLuint prog, const char *name, GLsizei n,
-                        const GLfloat *v)
-{
-	GLint loc = gl->GetUniformLocation(prog, name);
-	if (loc >= 0 && n > 0)
-		gl->Uniform3fv(loc, n, v);
-}
-
-/* Scene textures and constants shared by the tracing kernels. */
-static void scene_uniforms(const struct gles *g, GLuint prog)
-{
-	const struct rs_gl *gl = &g->gl;
-	static const char *const names[4] = {"u_nodes", "u_tris", "u_normals", "u_materials"};
-	for (int i = 0; i < 4; ++i)
-		bind_unit(gl, prog, UNIT_NODES + i, names[i], g->scene_tex[i]);
-	const struct rs_packed *p = &g->accel.packed;
-	uniform_i(gl, prog, "u_node_count", (GLint)p->node_count);
-	uniform_i(gl, prog, "u_tri_count", (GLint)p->triangle_count);
-	uniform_i(gl, prog, "u_material_count", (GLint)p->material_count);
-	uniform_f(gl, prog, "u_spawn_scale", g->spawn_scale);
-	uniform_f(gl, prog, "u_ambient", g->ambient);
-	uniform_3fv(gl, prog, "u_light_pos", (GLsizei)g->light_count, g->light_pos);
-	uniform_3fv(gl, prog, "u_light_color", (GLsizei)g->light_count, g->light_color);
-	uniform_3fv(gl, prog, "u_env_center", 1, g->env_center);
-	uniform_f(gl, prog, "u_env_half", g->env_half);
-	uniform_3fv(gl, prog, "u_env_color", 6, g->env_color);
-	uniform_f(gl, prog, "u_env_grid", g->env_grid);
-	uniform_f(gl, prog, "u_env_line_width", g->env_line_width);
-	uniform_f(gl, prog, "u_env_line_scale", g->env_line_scale);
-	if (g->shadow) {
-		rs_gles_bind(gl, prog, UNIT_SHADOW, "u_shadow", GL_TEXTURE_2D_ARRAY, g->shadow);
-		uniform_i(gl, prog, "u_shadow_size", (GLint)g->desc.shadow_map_size);
-		uniform_i(gl, prog, "u_shadow_filter", (GLint)g->desc.shadow_filter);
-	}
-}
-
-/* The camera basis in double, as lib/trace/camera_rays.c builds it, handed over in fp32. */
-static void camera_uniforms(const struct gles *g, GLuint prog, const struct rs_camera *c)
-{
-	const struct rs_gl *gl = &g->gl;
-	double f[3], r[3], u[3];
-	for (int a = 0; a < 3; ++a)
-		f[a] = c->target[a] - c->eye[a];
-	double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-	for (int a = 0; a < 3; ++a)
-		f[a] = fl > 0.0 ? f[a] / fl : (a == 2 ? -1.0 : 0.0);
-	const double *up = c->up;
-	r[0] = f[1] * up[2] - f[2] * up[1];
-	r[1] = f[2] * up[0] - f[0] * up[2];
-	r[2] = f[0] * up[1] - f[1] * up[0];
-	double rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-	if (!(rl > 1e-300)) {
-		double alt[3] = {fabs(f[1]) < 0.9 ? 0.0 : 1.0, fabs(f[1]) < 0.9 ? 1.0 : 0.0, 0.0};
-		r[0] = f[1] * alt[2] - f[2] * alt[1];
-		r[1] = f[2] * alt[0] - f[0] * alt[2];
-		r[2] = f[0] * alt[1] - f[1] * alt[0];
-		rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-	}
-	for (int a = 0; a < 3; ++a)
-		r[a] /= rl;
-	u[0] = r[1] * f[2] - r[2] * f[1];
-	u[1] = r[2] * f[0] - r[0] * f[2];
-	u[2] = r[0] * f[1] - r[1] * f[0];
-	GLfloat eye[3], fw[3], rt[3], upv[3];
-	for (int a = 0; a < 3; ++a) {
-		eye[a] = (GLfloat)(c->eye[a] - g->accel.packed.origin[a]); /* R1 */
-		fw[a] = (GLfloat)f[a];
-		rt[a] = (GLfloat)r[a];
-		upv[a] = (GLfloat)u[a];
-	}
-	uniform_3fv(gl, prog, "u_eye", 1, eye);
-	uniform_3fv(gl, prog, "u_fwd", 1, fw);
-	uniform_3fv(gl, prog, "u_right", 1, rt);
-	uniform_3fv(gl, prog, "u_up", 1, upv);
-	GLint loc = gl->GetUniformLocation(prog, "u_size");
-	gl->Uniform2f(loc, (GLfloat)g->desc.width, (GLfloat)g->desc.height);
-	uniform_f(gl, prog, "u_tan", (GLfloat)tan(c->fov_y_deg * (3.14159265358979323846 / 360.0)));
-	loc = gl->GetUniformLocation(prog, "u_shift");
-	if (loc >= 0)
-		gl->Uniform2f(loc, (GLfloat)c->shift[0], (GLfloat)c->shift[1]);
-}
 
 static void kernel_time(struct rs_render_stats *stats, const char *name, double ms);
 
@@ -179,8 +60,8 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 	double t0 = rs_gles_now_ms();
 	GLuint prog = g->prog[PROG_RASTER];
 	gl->UseProgram(prog);
-	scene_uniforms(g, prog);
-	camera_uniforms(g, prog, camera);
+	rs_gles_scene_uniforms(g, prog);
+	rs_gles_camera_uniforms(g, prog, camera);
 	/* Clip planes around the scene's bounding sphere as seen from this eye. */
 	double d2 = 0.0;
 	for (int a = 0; a < 3; ++a) {
@@ -188,8 +69,8 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 		d2 += e * e;
 	}
 	double far = 1.01 * (sqrt(d2) + g->bounds_radius) + 1e-30;
-	uniform_f(gl, prog, "u_far", (GLfloat)far);
-	uniform_f(gl, prog, "u_near", (GLfloat)(far * 1e-6));
+	rs_gles_uniform_f(gl, prog, "u_far", (GLfloat)far);
+	rs_gles_uniform_f(gl, prog, "u_near", (GLfloat)(far * 1e-6));
 	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g->depth);
 	static const GLenum buf0 = GL_COLOR_ATTACHMENT0;
 	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, hit, 0);
@@ -223,11 +104,11 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 static void state_inputs(const struct gles *g, GLuint prog, int cur, int cc)
 {
 	const struct rs_gl *gl = &g->gl;
-	bind_unit(gl, prog, UNIT_ORIG, "u_orig", g->state[cur][ST_ORIG]);
-	bind_unit(gl, prog, UNIT_DIR, "u_dir", g->state[cur][ST_DIR]);
-	bind_unit(gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
+	rs_gles_bind_2d(gl, prog, UNIT_ORIG, "u_orig", g->state[cur][ST_ORIG]);
+	rs_gles_bind_2d(gl, prog, UNIT_DIR, "u_dir", g->state[cur][ST_DIR]);
+	rs_gles_bind_2d(gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
 	if (g->desc.counters)
-		bind_unit(gl, prog, UNIT_CNT, "u_cnt", g->cnt[cc]);
+		rs_gles_bind_2d(gl, prog, UNIT_CNT, "u_cnt", g->cnt[cc]);
 }
 
 /* Every pass of the chain; returns the index of the state pair and counter texture
@@ -241,7 +122,7 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 	int cur = 0, cc = 0;
 	GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC], g->cnt[0]};
 	gl->UseProgram(g->prog[PROG_RAYGEN]);
-	camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
+	rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
 	enum rs_status st = draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
 	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters;
 	for (uint32_t pass = 0; st == RS_OK && pass < g->desc.passes; ++pass) {
@@ -252,7 +133,7 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		if (fused && !rasterized) {
 			GLuint prog = g->prog[PROG_FUSED];
 			gl->UseProgram(prog);
-			scene_uniforms(g, prog);
+			rs_gles_scene_uniforms(g, prog);
 			state_inputs(g, prog, cur, cc);
 			GLuint out[4] = {g->state[nxt][ST_ORIG], g->state[nxt][ST_DIR],
 			                 g->state[nxt][ST_ACC], hit};
@@ -265,7 +146,7 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 			st = raster(g, camera, hit, stats, err);
 		} else {
 			gl->UseProgram(prog);
-			scene_uniforms(g, prog);
+			rs_gles_scene_uniforms(g, prog);
 			state_inputs(g, prog, cur, cc);
 			GLuint out_i[2] = {hit, g->cnt[1 - cc]};
 			st = draw(g, "intersect", out_i, counters ? 2 : 1, stats, t0, err);
@@ -276,9 +157,9 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 			break;
 		prog = g->prog[PROG_SHADE];
 		gl->UseProgram(prog);
-		scene_uniforms(g, prog);
+		rs_gles_scene_uniforms(g, prog);
 		state_inputs(g, prog, cur, cc);
-		bind_unit(gl, prog, UNIT_HIT, "u_hit", hit);
+		rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_hit", hit);
 		GLuint out_s[4] = {g->state[nxt][ST_ORIG], g->state[nxt][ST_DIR],
 		                   g->state[nxt][ST_ACC], g->cnt[1 - cc]};
 		st = draw(g, "shade", out_s, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
@@ -375,7 +256,7 @@ enum rs_status rs_gles_warm_up(struct gles *g, const struct rs_camera *camera, s
 	if (st == RS_OK) {
 		GLuint prog = g->prog[PROG_DISPLAY];
 		g->gl.UseProgram(prog);
-		bind_unit(&g->gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
+		rs_gles_bind_2d(&g->gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
 		st = draw(g, "display", &g->color, 1, &stats, rs_gles_now_ms(), err);
 	}
 	return st;
@@ -393,7 +274,7 @@ enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
 	if (st == RS_OK && frame->rgba8) {
 		GLuint prog = g->prog[PROG_DISPLAY];
 		gl->UseProgram(prog);
-		bind_unit(gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
+		rs_gles_bind_2d(gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
 		st = draw(g, "display", &g->color, 1, stats, rs_gles_now_ms(), err);
 	}
 	stats->render_ms = rs_gles_now_ms() - t0;

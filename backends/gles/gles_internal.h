@@ -97,6 +97,16 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);
 /* Bind `tex` (target GL_TEXTURE_2D or GL_TEXTURE_2D_ARRAY) to `unit` as sampler `name`. */
 void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,
                   GLuint tex);
+void rs_gles_bind_2d(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLuint tex);
+/* Uniforms by name; a name the compiler dropped (unused in this specialisation) is skipped. */
+void rs_gles_uniform_i(const struct rs_gl *gl, GLuint prog, const char *name, GLint v);
+void rs_gles_uniform_f(const struct rs_gl *gl, GLuint prog, const char *name, GLfloat v);
+void rs_gles_uniform_3fv(const struct rs_gl *gl, GLuint prog, const char *name, GLsizei n,
+                         const GLfloat *v);
+/* The packed textures and scene constants of the tracing kernels (gles_uniforms.c). */
+void rs_gles_scene_uniforms(const struct gles *g, GLuint prog);
+/* Camera basis, eye moved into the packed frame (R1), size, fov, lens shift. */
+void rs_gles_camera_uniforms(const struct gles *g, GLuint prog, const struct rs_camera *c);
 
 /* The whole chain once on a 1x1 viewport, results unused: drivers (llvmpipe) compile a
  * kernel at its first draw, which would otherwise land in the first frame's timings. */
