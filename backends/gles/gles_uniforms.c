@@ -42,7 +42,7 @@ void rs_gles_uniform_f(const struct rs_gl *gl, GLuint prog, const char *name, GL
 }
 
 void rs_gles_uniform_3fv(const struct rs_gl *gl, GLuint prog, const char *name, GLsizei n,
-                        const GLfloat *v)
+                         const GLfloat *v)
 {
 	GLint loc = gl->GetUniformLocation(prog, name);
 	if (loc >= 0 && n > 0)
@@ -117,9 +117,9 @@ void rs_gles_camera_uniforms(const struct gles *g, GLuint prog, const struct rs_
 	rs_gles_uniform_3fv(gl, prog, "u_up", 1, upv);
 	GLint loc = gl->GetUniformLocation(prog, "u_size");
 	gl->Uniform2f(loc, (GLfloat)g->desc.width, (GLfloat)g->desc.height);
-	rs_gles_uniform_f(gl, prog, "u_tan", (GLfloat)tan(c->fov_y_deg * (3.14159265358979323846 / 360.0)));
+	rs_gles_uniform_f(gl, prog, "u_tan",
+	                  (GLfloat)tan(c->fov_y_deg * (3.14159265358979323846 / 360.0)));
 	loc = gl->GetUniformLocation(prog, "u_shift");
 	if (loc >= 0)
 		gl->Uniform2f(loc, (GLfloat)c->shift[0], (GLfloat)c->shift[1]);
 }
-
