@@ -122,15 +122,14 @@ enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positio
                             uint32_t *out_triangle_order, size_t *out_node_count,
                             struct rs_error *err)
 {
+	RS_ASSERT(out_node_count);
+	RS_ASSERT(triangle_count == 0 || (positions && indices && out_nodes && out_triangle_order));
 	struct rs_bvh_desc d;
 	rs_bvh_desc_resolve(desc, &d);
-	if (out_node_count)
-		*out_node_count = 0;
+	*out_node_count = 0;
 	enum rs_status s = validate(&d, positions, vertex_count, indices, triangle_count, err);
 	if (s != RS_OK)
 		return s;
-	if (!out_node_count || (triangle_count && (!out_nodes || !out_triangle_order)))
-		return rs_error_set(err, RS_ERR_INVALID, "bvh: output arrays missing");
 	size_t bound = rs_bvh_node_bound(&d, triangle_count);
 	if (node_capacity < bound)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: node capacity %zu below bound %zu",

@@ -24,6 +24,7 @@ static void swap_bytes(float *v)
 enum rs_status rs_image_write_pfm(const char *path, const float *data, uint32_t width,
                                   uint32_t height, uint32_t channels, struct rs_error *err)
 {
+	RS_ASSERT(path && data);
 	if (width == 0 || height == 0 || width > RS_IMAGE_MAX_SIDE || height > RS_IMAGE_MAX_SIDE)
 		return rs_error_set(err, RS_ERR_INVALID, "image size %ux%u is out of range", width,
 		                    height);
@@ -52,6 +53,7 @@ enum rs_status rs_image_write_pfm(const char *path, const float *data, uint32_t 
 enum rs_status rs_image_read_pfm(const char *path, float **out_data, uint32_t *out_width,
                                  uint32_t *out_height, uint32_t *out_channels, struct rs_error *err)
 {
+	RS_ASSERT(path && out_data && out_width && out_height && out_channels);
 	*out_data = NULL;
 	FILE *f = fopen(path, "rb");
 	if (!f)

@@ -29,6 +29,7 @@ static enum rs_status check_size(uint32_t width, uint32_t height, struct rs_erro
 enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t width,
                                   uint32_t height, struct rs_error *err)
 {
+	RS_ASSERT(path && rgb);
 	enum rs_status status = check_size(width, height, err);
 	if (status != RS_OK)
 		return status;
@@ -61,6 +62,7 @@ enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t w
 enum rs_status rs_image_read_png(const char *path, uint8_t **out_pixels, uint32_t *out_width,
                                  uint32_t *out_height, struct rs_error *err)
 {
+	RS_ASSERT(path && out_pixels && out_width && out_height);
 	*out_pixels = NULL;
 	png_image image;
 	memset(&image, 0, sizeof image);

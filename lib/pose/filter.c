@@ -61,8 +61,7 @@ static int positive(double v)
 enum rs_status rs_pose_filter_create(const struct rs_pose_filter_desc *desc,
                                      struct rs_pose_filter **out, struct rs_error *err)
 {
-	if (!out)
-		return rs_error_set(err, RS_ERR_INVALID, "pose filter: NULL out");
+	RS_ASSERT(out);
 	*out = NULL;
 	struct rs_pose_filter_desc d;
 	rs_pose_filter_desc_resolve(desc, &d);

@@ -73,8 +73,7 @@ static enum rs_status fit_fail(struct rs_pose *out_T, double *out_rms, struct rs
 enum rs_status rs_pose_fit(const double (*model)[3], const double (*measured)[3], size_t n,
                            struct rs_pose *out_T, double *out_rms, struct rs_error *err)
 {
-	if (!model || !measured || !out_T)
-		return fit_fail(out_T, out_rms, err, RS_ERR_INVALID, "NULL argument");
+	RS_ASSERT(model && measured && out_T);
 	if (n < 3)
 		return fit_fail(out_T, out_rms, err, RS_ERR_INVALID, "need at least 3 points");
 	for (size_t i = 0; i < n; ++i) {

@@ -42,8 +42,7 @@ void rs_pose_triangle_metrics(const double p[3][3], double sides[3], double *out
 
 enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct rs_error *err)
 {
-	if (!layout)
-		return rs_error_set(err, RS_ERR_INVALID, "layout: NULL");
+	RS_ASSERT(layout);
 	for (int i = 0; i < RS_TRACK_MARKERS; ++i)
 		if (!pm_finite3(layout->markers[i]) ||
 		    !(fabs(layout->markers[i][0]) <= RS_POSE_MAX_COORD_M &&
@@ -130,8 +129,7 @@ static enum rs_status read_file(const char *path, char **out_text, struct rs_err
 enum rs_status rs_pose_layout_load(const char *path, struct rs_pose_layout *out_layout,
                                    struct rs_error *err)
 {
-	if (!path || !out_layout)
-		return rs_error_set(err, RS_ERR_INVALID, "layout: NULL argument");
+	RS_ASSERT(path && out_layout);
 	char *text = NULL;
 	enum rs_status st = read_file(path, &text, err);
 	if (st != RS_OK)

@@ -74,8 +74,7 @@ enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
                                      const struct rs_pose_layout *layout,
                                      struct rs_pose_solver **out, struct rs_error *err)
 {
-	if (!out)
-		return rs_error_set(err, RS_ERR_INVALID, "pose solver: NULL out");
+	RS_ASSERT(out);
 	*out = NULL;
 	struct rs_pose_solver_desc d;
 	rs_pose_solver_desc_resolve(desc, &d);

@@ -186,8 +186,9 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 	char *mtl_path, *view = NULL;
 	enum rs_status st;
 
-	if (scene == NULL || obj_path == NULL || obj_path[0] == '\0')
-		return rs_error_set(err, RS_ERR_INVALID, "export: no scene or file name given");
+	RS_ASSERT(scene && obj_path);
+	if (obj_path[0] == '\0')
+		return rs_error_set(err, RS_ERR_INVALID, "export: empty file name");
 	if (rs_scene_triangle_count(scene) == 0)
 		return rs_error_set(err, RS_ERR_INVALID, "export: the scene has no triangles");
 	if (view_path != NULL && (st = rs_load_view_format(scene, &view, err)) != RS_OK)

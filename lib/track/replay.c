@@ -304,9 +304,9 @@ static const struct rs_track_source_ops replay_ops = {
 enum rs_status rs_track_replay_open(const char *path, const struct rs_track_replay_desc *desc,
                                     struct rs_track_source **out_source, struct rs_error *err)
 {
-	RS_ASSERT(out_source);
+	RS_ASSERT(path && out_source);
 	*out_source = NULL;
-	if (!path || !path[0])
+	if (!path[0])
 		return rs_error_set(err, RS_ERR_INVALID, "replay: empty file name");
 	struct replay *r = calloc(1, sizeof *r);
 	if (!r)

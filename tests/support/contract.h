@@ -16,14 +16,14 @@ bool rs_contract_disarm(void);
 const char *rs_contract_last_expr(void);
 
 /* The call must hit an RS_ASSERT: nothing after the failed check runs (it jumps back). */
-#define RS_EXPECT_CONTRACT_VIOLATION(call)                                                \
-	do {                                                                              \
-		rs_contract_arm();                                                        \
-		if (setjmp(rs_contract_jump) == 0) {                                      \
-			call;                                                             \
-		}                                                                         \
-		if (!rs_contract_disarm())                                                \
-			fail_msg("no contract violation reported by: %s", #call);         \
+#define RS_EXPECT_CONTRACT_VIOLATION(call)                                                         \
+	do {                                                                                       \
+		rs_contract_arm();                                                                 \
+		if (setjmp(rs_contract_jump) == 0) {                                               \
+			call;                                                                      \
+		}                                                                                  \
+		if (!rs_contract_disarm())                                                         \
+			fail_msg("no contract violation reported by: %s", #call);                  \
 	} while (0)
 
 #endif
