@@ -52,7 +52,8 @@ static void bvh_pack_and_trace_check_their_outputs(void **state)
 	enum rs_bvh_builder b;
 	RS_EXPECT_CONTRACT_VIOLATION(
 	    rs_bvh_build(NULL, pos, 3, idx, 1, nodes, 4, order, NULL, NULL));
-	RS_EXPECT_CONTRACT_VIOLATION(rs_bvh_build(NULL, pos, 3, idx, 1, NULL, 4, order, &count, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(
+	    rs_bvh_build(NULL, pos, 3, idx, 1, NULL, 4, order, &count, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(rs_bvh_builder_parse("sah", NULL, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(rs_bvh_builder_parse(NULL, &b, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(rs_pack_layout(1, 1, 1, NULL, NULL));

@@ -104,7 +104,8 @@ static enum rs_status load(const struct ply *p, struct rs_scene **out, struct rs
 	struct fx fx;
 	assert_int_equal(rs_scene_create(NULL, out, NULL), RS_OK);
 	fx_init(&fx);
-	enum rs_status st = rs_load_mesh_file(NULL, fx_write_n(&fx, "s.ply", p->b, p->n), *out, err);
+	enum rs_status st =
+	    rs_load_mesh_file(NULL, fx_write_n(&fx, "s.ply", p->b, p->n), *out, err);
 	fx_cleanup(&fx);
 	return st;
 }
@@ -217,14 +218,15 @@ static void undecoded_face_layouts_are_refused(void **state)
 	snprintf(elements, sizeof elements, "element polygon 1\n%s", list);
 	triangle_file(&p, elements, "3 0 1 2\n");
 	expect_refused(&p, RS_ERR_UNSUPPORTED, "'polygon'");
-	snprintf(elements, sizeof elements, "element face 1\n%selement tristrips 1\n%s", list, list);
+	snprintf(elements, sizeof elements, "element face 1\n%selement tristrips 1\n%s", list,
+	         list);
 	triangle_file(&p, elements, "3 0 1 2\n3 0 1 2\n");
 	expect_refused(&p, RS_ERR_UNSUPPORTED, "both");
 	triangle_file(&p, "element tristrips 1\nproperty list uchar float vertex_indices\n",
 	              "3 0 1 2\n");
 	expect_refused(&p, RS_ERR_UNSUPPORTED, "integers");
-	snprintf(elements, sizeof elements, "element face 1\n%sproperty list uchar int vertex_index\n",
-	         list);
+	snprintf(elements, sizeof elements,
+	         "element face 1\n%sproperty list uchar int vertex_index\n", list);
 	triangle_file(&p, elements, "3 0 1 2 3 0 1 2\n");
 	expect_refused(&p, RS_ERR_UNSUPPORTED, "exactly one");
 }

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic_file.h"
+#include "rs_atomic_file.h"
 #include "raystream/rs_image.h"
 
 static int host_is_little_endian(void)
@@ -36,18 +36,18 @@ enum rs_status rs_image_write_pfm(const char *path, const float *data, uint32_t 
 		if (isnan(data[i]))
 			return rs_error_set(err, RS_ERR_BAD_DATA,
 			                    "refusing to write NaN at pixel %zu", i / channels);
-	char tmp[4096];
-	FILE *f;
-	enum rs_status status = rs_atomic_open(path, tmp, sizeof tmp, &f, err);
+	struct rs_atomic_file af;
+	enum rs_status status = rs_atomic_open(&af, path, err);
 	if (status != RS_OK)
 		return status;
+	FILE *f = af.f;
 	int little = host_is_little_endian();
 	fprintf(f, "%s\n%u %u\n%s\n", channels == 3 ? "PF" : "Pf", width, height,
 	        little ? "-1.0" : "1.0");
 	for (uint32_t row = height; row-- > 0;)
 		fwrite(data + (size_t)row * width * channels, sizeof(float),
 		       (size_t)width * channels, f);
-	return rs_atomic_commit(f, tmp, path, 1, err);
+	return rs_atomic_commit(&af, true, err);
 }
 
 enum rs_status rs_image_read_pfm(const char *path, float **out_data, uint32_t *out_width,

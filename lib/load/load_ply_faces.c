@@ -46,10 +46,11 @@ enum rs_status rs_ply_classify_faces(const struct rs_ply_header *h, const char *
 		else if (strcmp(e->name, "tristrips") == 0)
 			strips = e;
 		else if (lists > 0)
-			return rs_error_set(err, RS_ERR_UNSUPPORTED,
-			                    "%s: PLY element '%s' lists vertex indices; only 'face' "
-			                    "and 'tristrips' elements are read",
-			                    path, e->name);
+			return rs_error_set(
+			    err, RS_ERR_UNSUPPORTED,
+			    "%s: PLY element '%s' lists vertex indices; only 'face' "
+			    "and 'tristrips' elements are read",
+			    path, e->name);
 		if ((e == faces || e == strips) && e->count > 0 && lists != 1)
 			return rs_error_set(err, RS_ERR_UNSUPPORTED,
 			                    "%s: PLY element '%s' needs exactly one vertex_indices "
@@ -175,8 +176,8 @@ static enum rs_status strip_index(struct strips *s, double v, const char *path,
 				size_t cap = s->capacity ? 2 * s->capacity : 1024;
 				uint32_t *grown = realloc(s->indices, cap * 3 * sizeof *grown);
 				if (grown == NULL)
-					return rs_error_set(err, RS_ERR_NO_MEMORY, "%s: out of memory",
-					                    path);
+					return rs_error_set(err, RS_ERR_NO_MEMORY,
+					                    "%s: out of memory", path);
 				s->indices = grown;
 				s->capacity = cap;
 			}
@@ -203,8 +204,8 @@ static enum rs_status read_instance(struct body *b, const struct rs_ply_element 
 		if (p->is_list) {
 			if (!(v >= 0.0) || v > (double)(b->end - b->p))
 				return rs_error_set(err, RS_ERR_PARSE,
-				                    "%s: PLY '%s' %zu has a list of %.0f items", path,
-				                    e->name, i, v);
+				                    "%s: PLY '%s' %zu has a list of %.0f items",
+				                    path, e->name, i, v);
 			size_t n = (size_t)v;
 			bool keep = strip && lists_indices(p);
 			if (keep)
@@ -239,7 +240,8 @@ static unsigned vertex_axes(const struct rs_ply_element *e)
 	unsigned bits = 0;
 	for (size_t j = 0; j < e->property_count; j++)
 		for (unsigned a = 0; a < 6; a++)
-			if (!e->properties[j].is_list && strcmp(e->properties[j].name, axes[a]) == 0)
+			if (!e->properties[j].is_list &&
+			    strcmp(e->properties[j].name, axes[a]) == 0)
 				bits |= 1u << a;
 	return bits;
 }
@@ -266,22 +268,23 @@ static enum rs_status decode(const struct rs_load_desc *desc, const struct rs_pl
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "%s: out of memory", path);
 	for (size_t e = 0; e < h->element_count; e++)
 		for (unsigned long long i = 0; i < h->elements[e].count; i++) {
-			enum rs_status st = read_instance(b, &h->elements[e], (size_t)i, s, path, err);
+			enum rs_status st =
+			    read_instance(b, &h->elements[e], (size_t)i, s, path, err);
 			if (st != RS_OK)
 				return st;
 		}
 	for (size_t i = 0; i < s->vertex_count * 3; i++)
 		if (!isfinite(s->positions[i]) || (s->normals && !isfinite(s->normals[i])))
 			return rs_error_set(err, RS_ERR_BAD_DATA,
-			                    "%s: PLY vertex %zu has a NaN or infinite value", path, i / 3);
+			                    "%s: PLY vertex %zu has a NaN or infinite value", path,
+			                    i / 3);
 	if (s->triangle_count == 0)
 		return rs_error_set(err, RS_ERR_BAD_DATA, "%s: no triangles in its strips", path);
 	return RS_OK;
 }
 
-enum rs_status rs_ply_load_tristrips(const struct rs_load_desc *desc,
-                                     const struct rs_ply_header *h, const char *path,
-                                     struct rs_scene *scene, struct rs_error *err)
+enum rs_status rs_ply_load_tristrips(const struct rs_load_desc *desc, const struct rs_ply_header *h,
+                                     const char *path, struct rs_scene *scene, struct rs_error *err)
 {
 	RS_ASSERT(desc && h && path && scene);
 	char *text = NULL;
@@ -289,7 +292,8 @@ enum rs_status rs_ply_load_tristrips(const struct rs_load_desc *desc,
 	enum rs_status st = rs_load_read_text(path, desc->max_file_bytes, &text, &size, err);
 	if (st != RS_OK)
 		return st;
-	struct body b = {(const unsigned char *)text + (h->header_bytes < size ? h->header_bytes : size),
+	struct body b = {(const unsigned char *)text +
+	                     (h->header_bytes < size ? h->header_bytes : size),
 	                 (const unsigned char *)text + size, h->format};
 	struct strips s = {0};
 	st = decode(desc, h, path, &b, &s, err);

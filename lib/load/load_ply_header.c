@@ -104,8 +104,8 @@ static enum rs_status parse_line(char *line, struct rs_ply_header *h, bool *in_e
 		snprintf(p.name, sizeof p.name, "%s", name ? name : "");
 		if (e->property_count == RS_PLY_MAX_PROPERTIES)
 			return rs_error_set(err, RS_ERR_UNSUPPORTED,
-			                    "%s: PLY element '%s' has more than %d properties", path,
-			                    e->name, RS_PLY_MAX_PROPERTIES);
+			                    "%s: PLY element '%s' has more than %d properties",
+			                    path, e->name, RS_PLY_MAX_PROPERTIES);
 		e->properties[e->property_count++] = p;
 	}
 	return RS_OK;
