@@ -18,8 +18,8 @@
 #include <cmocka.h>
 
 #include "contract.h"
-#include "rs_atomic_file.h"
-#include "rs_vec.h"
+#include "private/rs_atomic_file.h"
+#include "private/rs_vec.h"
 #include "raystream/rs_status.h"
 
 static void error_set_returns_status_and_formats(void **state)

@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "contract.h"
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 #include "raystream/rs_pose.h"
 #include "test_pose_fixture.h"
 

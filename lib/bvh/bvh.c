@@ -13,7 +13,6 @@
 #define DEFAULT_LINEAR_LEAF 8u
 #define DEFAULT_BINS 16u
 #define MAX_LEAF 1024u
-#define MAX_BINS 256u
 
 void rs_bvh_desc_resolve(const struct rs_bvh_desc *desc, struct rs_bvh_desc *out)
 {
@@ -90,9 +89,9 @@ static enum rs_status validate(const struct rs_bvh_desc *d, const float *positio
 	if (d->leaf_size > MAX_LEAF && d->builder == RS_BVH_SAH)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: leaf_size %u above %u", d->leaf_size,
 		                    MAX_LEAF);
-	if (d->sah_bins < 2 || d->sah_bins > MAX_BINS)
+	if (d->sah_bins < 2 || d->sah_bins > RS_BVH_MAX_BINS)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: sah_bins %u outside 2..%u",
-		                    d->sah_bins, MAX_BINS);
+		                    d->sah_bins, RS_BVH_MAX_BINS);
 	if (!(d->traversal_cost > 0.0f) || !isfinite(d->traversal_cost))
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: traversal_cost must be positive");
 	if (triangle_count == 0)

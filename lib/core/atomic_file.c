@@ -1,5 +1,5 @@
 /* Write-then-rename: see private/rs_atomic_file.h. */
-#include "rs_atomic_file.h"
+#include "private/rs_atomic_file.h"
 
 #include <errno.h>
 #include <stdlib.h>

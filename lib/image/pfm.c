@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rs_atomic_file.h"
+#include "private/rs_atomic_file.h"
 #include "raystream/rs_image.h"
 
 static int host_is_little_endian(void)

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rs_atomic_file.h"
+#include "private/rs_atomic_file.h"
 #include "raystream/rs_image.h"
 
 void rs_image_quantize(const float *rgb, uint32_t width, uint32_t height, uint8_t *out)

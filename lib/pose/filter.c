@@ -9,7 +9,7 @@
  * converges to the true speed and the lag is speed / (2 pi (min_cutoff + beta * speed)). */
 #include "raystream/rs_pose.h"
 
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
  * quaternion is a proper rotation by construction and needs no such rule. */
 #include "raystream/rs_pose.h"
 
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 
 #include <float.h>
 

@@ -3,7 +3,7 @@
 #include "raystream/rs_pose.h"
 
 #include "pose_internal.h"
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>

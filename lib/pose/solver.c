@@ -4,7 +4,7 @@
 #include "raystream/rs_pose.h"
 
 #include "pose_internal.h"
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 
 #include <stdarg.h>
 #include <stdio.h>

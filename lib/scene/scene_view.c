@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 #include "scene_internal.h"
 
 static int finite_n(const double *v, int n)

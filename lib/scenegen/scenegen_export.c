@@ -15,7 +15,7 @@
 
 #include "raystream/rs_load.h"
 #include "raystream/rs_scenegen.h"
-#include "rs_atomic_file.h"
+#include "private/rs_atomic_file.h"
 
 static void mtl_name(char *out, size_t size, uint32_t id)
 {

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "raystream/rs_scene.h"
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 #include "scenegen_internal.h"
 
 #define SG_MAX_VERTS 24

@@ -8,7 +8,7 @@
 #include "raystream/rs_trace.h"
 
 #include "accel_internal.h"
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 
 /* Conservative widening of the far slab distance against rounding in (b - o) * inv
  * (Ize 2013, "Robust BVH ray traversal": 1 + 2 gamma_3 suffices; a little more is free). */

@@ -6,7 +6,7 @@
 #include <math.h>
 
 #include "raystream/rs_trace.h"
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 
 #define RS_TRACE_PI 3.14159265358979323846
 

@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "raystream/rs_track.h"
-#include "rs_atomic_file.h"
+#include "private/rs_atomic_file.h"
 
 #define MAGIC "RSTRKREC"
 #define HEADER_SIZE 16

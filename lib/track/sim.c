@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "raystream/rs_sim.h"
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 #include "sim_internal.h"
 
 #define PI 3.14159265358979323846

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rs_vec.h"
+#include "private/rs_vec.h"
 #include "sim_internal.h"
 
 #define PI 3.14159265358979323846

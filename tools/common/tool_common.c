@@ -9,7 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "rs_atomic_file.h"
+#include "private/rs_atomic_file.h"
 
 double rs_tool_now_ms(void)
 {
