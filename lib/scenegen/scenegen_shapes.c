@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "raystream/rs_scene.h"
+#include "private/rs_vec.h"
 #include "scenegen_internal.h"
 
 #define SG_MAX_VERTS 24
@@ -20,13 +21,6 @@ struct sg_mesh {
 	size_t verts, tris;
 };
 
-static void cross(const double a[3], const double b[3], double out[3])
-{
-	out[0] = a[1] * b[2] - a[2] * b[1];
-	out[1] = a[2] * b[0] - a[0] * b[2];
-	out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* A convex planar polygon (3 or 4 corners), wound so its normal faces `outward`. */
 static void add_poly(struct sg_mesh *m, const double (*p)[3], size_t n, const double outward[3])
 {
@@ -38,7 +32,7 @@ static void add_poly(struct sg_mesh *m, const double (*p)[3], size_t n, const do
 		e1[k] = p[1][k] - p[0][k];
 		e2[k] = p[2][k] - p[0][k];
 	}
-	cross(e1, e2, nrm);
+	rs_v3_cross(e1, e2, nrm);
 	flip = nrm[0] * outward[0] + nrm[1] * outward[1] + nrm[2] * outward[2] < 0.0;
 	len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
 	for (size_t i = 0; i < n; i++) {
@@ -173,7 +167,7 @@ enum rs_status sg_add_triangle(struct rs_scene *scene, const double a[3], const 
 		e1[k] = b[k] - a[k];
 		e2[k] = c[k] - a[k];
 	}
-	cross(e1, e2, n);
+	rs_v3_cross(e1, e2, n);
 	add_poly(&m, (const double(*)[3])p, 3, n);
 	return flush(scene, &m, material, err);
 }

@@ -11,8 +11,7 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	static const struct rs_trace_desc zero_desc;
 	if (!desc)
 		desc = &zero_desc;
-	if (!scene || !packed)
-		return rs_error_set(err, RS_ERR_INVALID, "trace: scene or packed arrays missing");
+	RS_ASSERT(scene && packed);
 	size_t tris = rs_scene_triangle_count(scene);
 	if (packed->triangle_count != tris)
 		return rs_error_set(err, RS_ERR_INVALID,
