@@ -130,7 +130,8 @@ static void box_room_build(struct fx *fx, struct box_room *b, float reflectance)
 		for (int i = 0; i < GRID; ++i)
 			for (int j = 0; j < GRID; ++j) {
 				uint32_t v00 = (uint32_t)(i * n + j), v10 = v00 + (uint32_t)n;
-				uint32_t v01 = v00 + 1, v11 = v10 + 1, *t = &idx[6 * (i * GRID + j)];
+				uint32_t v01 = v00 + 1, v11 = v10 + 1,
+				         *t = &idx[6 * (i * GRID + j)];
 				uint32_t in[6] = {v00, v10, v11, v00, v11, v01};
 				uint32_t out[6] = {v00, v11, v10, v00, v01, v11};
 				memcpy(t, f % 2 ? out : in, sizeof in);
@@ -208,15 +209,15 @@ static void run_box_room(struct box_room *b, size_t lit_paths, size_t mirror_pat
 			double eye[3], target[3];
 			inside(b, 0.9, eye);
 			surface_target(b, target);
-			struct rs_ray ray = {.origin = {eye[0], eye[1], eye[2]},
-			                     .dir = {target[0] - eye[0], target[1] - eye[1],
-			                             target[2] - eye[2]},
-			                     .tmax = INFINITY,
-			                     .skip_slot = RS_NO_SLOT};
+			struct rs_ray ray = {
+			    .origin = {eye[0], eye[1], eye[2]},
+			    .dir = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]},
+			    .tmax = INFINITY,
+			    .skip_slot = RS_NO_SLOT};
 			struct rs_trace_path p;
-			assert_int_equal(rs_trace_ray_path(fx.scene, &fx.packed, &d, &ray, &p,
-			                                   NULL, NULL),
-			                 RS_OK);
+			assert_int_equal(
+			    rs_trace_ray_path(fx.scene, &fx.packed, &d, &ray, &p, NULL, NULL),
+			    RS_OK);
 			c->rays += p.segments + p.shadow_rays;
 			c->escaped += p.state == RS_RAY_ENVIRONMENT;
 			/* A wall point sees the inner-half light at N.L > 0.05 for these box
@@ -235,8 +236,8 @@ static void subdivided_boxes_at_scales_and_offsets(void **state)
 	struct room_counts c = {0};
 	for (int s = 0; s < 3; ++s)
 		for (int o = 0; o < 3; ++o) {
-			struct box_room b = {.half = {1.0 * scales[s], 0.75 * scales[s],
-			                              1.25 * scales[s]}};
+			struct box_room b = {
+			    .half = {1.0 * scales[s], 0.75 * scales[s], 1.25 * scales[s]}};
 			for (int a = 0; a < 3; ++a)
 				b.offset[a] = offsets[o][a] * scales[s];
 			/* axis-aligned except for the last offset, which is also turned */
@@ -249,11 +250,43 @@ static void subdivided_boxes_at_scales_and_offsets(void **state)
 	assert_true(c.rays >= 1000000);
 }
 
+/* docs/tracer.md R2: a zero descriptor means the watertight test. From inside the closed
+ * box, rays aimed at edges and vertices never miss with it; the paper's Moller-Trumbore
+ * lets some through (which is why it is no longer the default). */
+static void default_triangle_test_is_watertight(void **state)
+{
+	struct box_room b = {.half = {1.0, 0.75, 1.25}};
+	rotation(0.0, 0.0, b.rot);
+	struct fx fx;
+	box_room_build(&fx, &b, 0.0f);
+	fx_pack(&fx, RS_BVH_SAH);
+	const struct rs_trace_desc zero = {0};
+	size_t miss_default = 0, miss_mt = 0;
+	for (int k = 0; k < 50000; ++k) {
+		double eye[3], target[3];
+		inside(&b, 0.9, eye);
+		surface_target(&b, target);
+		struct rs_ray ray = {
+		    .origin = {eye[0], eye[1], eye[2]},
+		    .dir = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]},
+		    .tmax = INFINITY,
+		    .skip_slot = RS_NO_SLOT};
+		struct rs_hit h;
+		miss_default += !rs_trace_closest(&fx.packed, zero.triangle_test, &ray, &h, NULL);
+		miss_mt +=
+		    !rs_trace_closest(&fx.packed, RS_TRIANGLE_MOLLER_TRUMBORE, &ray, &h, NULL);
+	}
+	assert_int_equal(miss_default, 0);
+	assert_true(miss_mt > 0);
+	fx_free(&fx);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(room_edges_are_lit_and_hold_every_path),
 	    cmocka_unit_test(subdivided_boxes_at_scales_and_offsets),
+	    cmocka_unit_test(default_triangle_test_is_watertight),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
