@@ -97,8 +97,8 @@ static void box_moved_far_away_renders_the_same(void **state)
 		printf("moved by %g: PSNR %.1f dB, %.3f%% pixels off by > 1/255, %zu hit/miss\n",
 		       far[f][0], c.psnr_db, 100.0 * c.bad_share, z.mismatched);
 		if (!(c.psnr_db >= 80.0 && c.bad_share <= 0.001 && z.mismatched == 0))
-			fail_msg("moved by %g: PSNR %.1f dB, %.3f%% pixels off, %zu hit/miss", far[f][0],
-			         c.psnr_db, 100.0 * c.bad_share, z.mismatched);
+			fail_msg("moved by %g: PSNR %.1f dB, %.3f%% pixels off, %zu hit/miss",
+			         far[f][0], c.psnr_db, 100.0 * c.bad_share, z.mismatched);
 		size_t off = 0;
 		for (size_t i = 0; i < (size_t)SIZE * SIZE; ++i)
 			if (isfinite(depth[0][i]) && isfinite(depth[1][i]))

@@ -66,7 +66,8 @@ static void small_models_keep_every_vertex(void **state)
 		model(scales[s], v, text, sizeof text);
 		fx_init(&fx);
 		assert_int_equal(rs_scene_create(NULL, &scene, NULL), RS_OK);
-		enum rs_status st = rs_load_mesh_file(NULL, fx_write(&fx, "m.obj", text), scene, &err);
+		enum rs_status st =
+		    rs_load_mesh_file(NULL, fx_write(&fx, "m.obj", text), scene, &err);
 		fx_cleanup(&fx);
 		if (st != RS_OK)
 			fail_msg("%s", err.message);
@@ -74,8 +75,8 @@ static void small_models_keep_every_vertex(void **state)
 		assert_int_equal(rs_scene_vertex_count(scene), MODEL_VERTS - 1);
 		assert_int_equal(rs_scene_triangle_count(scene), 10);
 		/* every corner where the file puts it (assimp's parser: 2 float ulps) */
-		static const unsigned f[10][3] = {{1, 2, 5},   {1, 5, 4}, {2, 3, 6}, {2, 6, 5},
-		                                  {4, 5, 8},   {4, 8, 7}, {5, 6, 9}, {5, 9, 8},
+		static const unsigned f[10][3] = {{1, 2, 5},    {1, 5, 4},  {2, 3, 6}, {2, 6, 5},
+		                                  {4, 5, 8},    {4, 8, 7},  {5, 6, 9}, {5, 9, 8},
 		                                  {10, 11, 12}, {13, 3, 12}};
 		const float *p = rs_scene_positions(scene);
 		const uint32_t *idx = rs_scene_indices(scene);

@@ -35,8 +35,8 @@ static void overlap_scene(struct fx *fx)
 	fx->scene = fx_scene();
 	uint32_t mat[6];
 	for (int k = 0; k < 6; ++k) {
-		struct rs_material m = {.diffuse = {0.15f * (float)k, 0.9f - 0.12f * (float)k,
-		                                    (float)(k % 2)}};
+		struct rs_material m = {
+		    .diffuse = {0.15f * (float)k, 0.9f - 0.12f * (float)k, (float)(k % 2)}};
 		mat[k] = fx_material(fx->scene, m);
 	}
 	const float z = 0.3f;
@@ -50,8 +50,8 @@ static void overlap_scene(struct fx *fx)
 		square(fx->scene, z + 1e-6f, dx - 0.2f, -1.2f, 1.0f, 0, mat[4]);
 	}
 	/* tilted by ~1e-6 rad about the y axis: crosses the layers along a line */
-	const float tilt[12] = {-1.5f, -1.5f, z - 1.5e-6f, 1.5f, -1.5f, z + 1.5e-6f,
-	                        1.5f,  1.5f,  z + 1.5e-6f, -1.5f, 1.5f, z - 1.5e-6f};
+	const float tilt[12] = {-1.5f, -1.5f, z - 1.5e-6f, 1.5f,  -1.5f, z + 1.5e-6f,
+	                        1.5f,  1.5f,  z + 1.5e-6f, -1.5f, 1.5f,  z - 1.5e-6f};
 	const uint32_t t_idx[6] = {0, 1, 2, 0, 2, 3};
 	fx_mesh(fx->scene, tilt, 4, t_idx, 2, NULL, mat[5]);
 	const double eye[3] = {0.4, 0.9, 3.0}, target[3] = {0.0, 0.0, 0.3};
@@ -68,10 +68,10 @@ static void all_builders_give_bit_identical_images(void **state)
 			struct fx fx;
 			overlap_scene(&fx);
 			fx_pack(&fx, builders[b]);
-			struct rs_trace_desc d = {
-			    .passes = 2,
-			    .triangle_test = test ? RS_TRIANGLE_MOLLER_TRUMBORE
-			                          : RS_TRIANGLE_WATERTIGHT};
+			struct rs_trace_desc d = {.passes = 2,
+			                          .triangle_test = test
+			                                               ? RS_TRIANGLE_MOLLER_TRUMBORE
+			                                               : RS_TRIANGLE_WATERTIGHT};
 			assert_int_equal(
 			    rs_trace_render(fx.scene, &fx.packed, &d, rgb[b], depth[b], NULL, NULL),
 			    RS_OK);
@@ -104,8 +104,8 @@ static void equal_t_goes_to_the_lower_triangle_id(void **state)
 			                   .skip_slot = RS_NO_SLOT};
 			struct rs_hit h, hb;
 			for (int test = 0; test < 2; ++test) {
-				enum rs_triangle_test tt = test ? RS_TRIANGLE_MOLLER_TRUMBORE
-				                                : RS_TRIANGLE_WATERTIGHT;
+				enum rs_triangle_test tt =
+				    test ? RS_TRIANGLE_MOLLER_TRUMBORE : RS_TRIANGLE_WATERTIGHT;
 				bool a = rs_trace_closest(&fx.packed, tt, &r, &h, NULL);
 				/* brute force tests slots in order; the rule is order-free */
 				bool c = rs_trace_closest_brute(&fx.packed, tt, &r, &hb);
@@ -123,17 +123,18 @@ static void equal_t_goes_to_the_lower_triangle_id(void **state)
 					one.origin[ax] -= fx.packed.origin[ax];
 				for (uint32_t s = 0; s < fx.packed.triangle_count; ++s) {
 					double v[3][3], t, u, w;
-					const float *tx = rs_pack_texel(&fx.packed.triangles,
-					                                RS_PACK_TRIANGLE_TEXELS, s, 0);
+					const float *tx = rs_pack_texel(
+					    &fx.packed.triangles, RS_PACK_TRIANGLE_TEXELS, s, 0);
 					if ((uint32_t)tx[3] >= h.triangle)
 						continue;
 					for (int k = 0; k < 3; ++k)
 						for (int ax = 0; ax < 3; ++ax)
-							v[k][ax] = rs_pack_texel(
-							    &fx.packed.triangles,
-							    RS_PACK_TRIANGLE_TEXELS, s, (uint32_t)k)[ax];
-					if (rs_intersect_triangle(tt, v[0], v[1], v[2], &one, &t, &u,
-					                          &w))
+							v[k][ax] =
+							    rs_pack_texel(&fx.packed.triangles,
+							                  RS_PACK_TRIANGLE_TEXELS,
+							                  s, (uint32_t)k)[ax];
+					if (rs_intersect_triangle(tt, v[0], v[1], v[2], &one, &t,
+					                          &u, &w))
 						assert_true(t > h.t);
 				}
 			}

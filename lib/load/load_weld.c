@@ -67,7 +67,8 @@ enum rs_status rs_load_weld(const float *pos, const float *nrm, size_t stride, s
 			}
 			size_t s = out_source[u];
 			const float *q = (const float *)((const char *)pos + s * stride);
-			const float *m = nrm ? (const float *)((const char *)nrm + s * stride) : NULL;
+			const float *m =
+			    nrm ? (const float *)((const char *)nrm + s * stride) : NULL;
 			if (same(p, q, 3) && (!n || same(n, m, 3))) {
 				out_remap[v] = u;
 				break;
