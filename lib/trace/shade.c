@@ -28,11 +28,16 @@ void rs_trace_spawn(const struct rs_surface *s, const double dir[3], uint32_t sl
 	out->skip_slot = slot;
 }
 
+static double max2(double a, double b)
+{
+	return a > b ? a : b; /* no NaN here: the packed vertices are finite */
+}
+
 static double maxabs9(const double v0[3], const double v1[3], const double v2[3])
 {
 	double m = 0.0;
 	for (int a = 0; a < 3; ++a)
-		m = fmax(m, fmax(fabs(v0[a]), fmax(fabs(v1[a]), fabs(v2[a]))));
+		m = max2(m, max2(fabs(v0[a]), max2(fabs(v1[a]), fabs(v2[a]))));
 	return m;
 }
 
@@ -57,13 +62,13 @@ static void spawn_point(const double v0[3], const double v1[3], const double v2[
 	double a2 = sqrt(rs_v3_dot(c, c));
 	/* The floor: near the frame's centre a triangle's own coordinates are small, but its
 	 * neighbours' planes are only known to the rounding of theirs (fp32 kernels). */
-	double delta = frame->spawn_scale * fmax(maxabs9(v0, v1, v2), frame->spawn_floor);
+	double delta = frame->spawn_scale * max2(maxabs9(v0, v1, v2), frame->spawn_floor);
 	double edge[3] = {dist3(v2, v1), dist3(v0, v2), dist3(v1, v0)};
 	double b[3] = {1.0 - u - v, u, v}, sum = 0.0;
 	for (int i = 0; i < 3; ++i) {
 		double h = edge[i] > 0.0 ? a2 / edge[i] : 0.0;
 		double floor_i = h > 12.0 * delta ? 4.0 * delta / h : 1.0 / 3.0;
-		b[i] = fmax(b[i], floor_i);
+		b[i] = max2(b[i], floor_i);
 		sum += b[i];
 	}
 	for (int a = 0; a < 3; ++a)
