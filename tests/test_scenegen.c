@@ -33,7 +33,7 @@ static struct rs_scene *build(enum rs_scenegen_kind kind, uint32_t cows)
 /* Bounds of triangles [first, first + count). */
 static void tri_bounds(const struct rs_scene *s, size_t first, size_t count, struct rs_bounds *b)
 {
-	const float *p = rs_scene_positions(s);
+	const double *p = rs_scene_positions_f64(s); /* the generator works in double */
 	const uint32_t *idx = rs_scene_indices(s);
 
 	for (int k = 0; k < 3; k++) {

@@ -15,7 +15,7 @@
 
 /* A small fixed-size mesh under construction. */
 struct sg_mesh {
-	float pos[SG_MAX_VERTS][3];
+	double pos[SG_MAX_VERTS][3]; /* double: packing subtracts the centre before rounding */
 	float nrm[SG_MAX_VERTS][3];
 	uint32_t idx[SG_MAX_TRIS][3];
 	size_t verts, tris;
@@ -39,7 +39,7 @@ static void add_poly(struct sg_mesh *m, const double (*p)[3], size_t n, const do
 		size_t src = flip ? n - 1 - i : i;
 
 		for (int k = 0; k < 3; k++) {
-			m->pos[m->verts + i][k] = (float)p[src][k];
+			m->pos[m->verts + i][k] = p[src][k];
 			m->nrm[m->verts + i][k] = (float)((flip ? -nrm[k] : nrm[k]) / len);
 		}
 	}
@@ -59,7 +59,7 @@ static enum rs_status flush(struct rs_scene *scene, const struct sg_mesh *m, uin
 	enum rs_status st;
 
 	memset(&d, 0, sizeof(d));
-	d.positions = &m->pos[0][0];
+	d.positions_f64 = &m->pos[0][0];
 	d.vertex_count = m->verts;
 	d.normals = &m->nrm[0][0];
 	d.indices = &m->idx[0][0];

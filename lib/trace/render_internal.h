@@ -19,6 +19,7 @@ struct rs_trace_frame {
 	const struct rs_light *lights;
 	double ambient;
 	double spawn_scale;        /* R5's S: offset relative to the hit triangle's magnitude */
+	double spawn_floor;        /* R5's floor on that magnitude: the frame's half-size / 16 */
 	double origin[3];          /* the packed frame's origin (R1): lights are moved by it */
 	bool has_geometry;         /* false: every ray misses (empty scene) */
 	struct rs_environment env; /* centre already in the packed frame */
