@@ -40,7 +40,7 @@ static struct rs_scene *moved(const struct rs_scene *src, const double d[3])
 		                          .indices = rs_scene_indices(src) + 3 * t0,
 		                          .triangle_count = t1 - t0,
 		                          .material = mat[t0]};
-		assert_int_equal(rs_scene_add_mesh(s, &md), RS_OK);
+		assert_int_equal(rs_scene_add_mesh(s, &md, NULL), RS_OK);
 	}
 	free(pos);
 	struct rs_camera c = *rs_scene_camera(src);
@@ -51,15 +51,15 @@ static struct rs_scene *moved(const struct rs_scene *src, const double d[3])
 		c.target[a] += d[a];
 		env.center[a] += d[a];
 	}
-	assert_int_equal(rs_scene_set_camera(s, &c), RS_OK);
-	assert_int_equal(rs_scene_set_environment(s, &env), RS_OK);
+	assert_int_equal(rs_scene_set_camera(s, &c, NULL), RS_OK);
+	assert_int_equal(rs_scene_set_environment(s, &env, NULL), RS_OK);
 	for (size_t i = 0; i < rs_scene_light_count(src); ++i) {
 		struct rs_light l = rs_scene_lights(src)[i];
 		for (int a = 0; a < 3; ++a)
 			l.position[a] += d[a];
-		assert_int_equal(rs_scene_add_light(s, &l), RS_OK);
+		assert_int_equal(rs_scene_add_light(s, &l, NULL), RS_OK);
 	}
-	assert_int_equal(rs_scene_set_ambient(s, rs_scene_ambient(src)), RS_OK);
+	assert_int_equal(rs_scene_set_ambient(s, rs_scene_ambient(src), NULL), RS_OK);
 	return s;
 }
 
