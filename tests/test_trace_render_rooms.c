@@ -72,6 +72,80 @@ static void room_edges_are_lit_and_hold_every_path(void **state)
 	fx_free(&fx);
 }
 
+/* R5 evaluated in fp32, as the GLES kernels will: for every pixel of the reproducer (whose
+ * diagonals look exactly into the room's edges), the spawned origin lies inside all six
+ * walls by at least 8 fp32 ulps of the room's half-size, and off its own wall by at least
+ * half of delta. (The fp32 intersection tests are the GLES backend's to check.) */
+static void spawn_rule_holds_in_fp32(void **state)
+{
+	struct fx fx;
+	room(&fx, 0.8f, 0.9f);
+	const float h = 255.0f / 512.0f, half_size = 1.0f; /* R: half the largest side */
+	const float floor_m = half_size / 16.0f, scale = 0x1p-16f;
+	const float margin = 8.0f * 0x1p-24f; /* 8 ulps of numbers in [0.5, 1) */
+	struct rs_camera cam;
+	rs_camera_resolve(rs_scene_camera(fx.scene), &cam);
+	size_t bad = 0;
+	for (uint32_t y = 0; y < ROOM; ++y)
+		for (uint32_t x = 0; x < ROOM; ++x) {
+			struct rs_ray ray;
+			struct rs_hit hit;
+			rs_trace_camera_ray(&cam, ROOM, ROOM, x + 0.5, y + 0.5, &ray);
+			assert_true(
+			    rs_trace_closest(&fx.packed, RS_TRIANGLE_WATERTIGHT, &ray, &hit, NULL));
+			float v[3][3], e1[3], e2[3], c[3], g[3], len[3], b[3], p[3], o[3];
+			float m = floor_m;
+			for (uint32_t k = 0; k < 3; ++k)
+				for (int a = 0; a < 3; ++a) {
+					v[k][a] =
+					    rs_pack_texel(&fx.packed.triangles,
+					                  RS_PACK_TRIANGLE_TEXELS, hit.slot, k)[a];
+					m = fmaxf(m, fabsf(v[k][a]));
+				}
+			float delta = scale * m;
+			for (int a = 0; a < 3; ++a) {
+				e1[a] = v[1][a] - v[0][a];
+				e2[a] = v[2][a] - v[0][a];
+			}
+			c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+			c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+			c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+			float a2 = sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+			for (int k = 0; k < 3; ++k) {
+				const float *s0 = v[(k + 1) % 3], *s1 = v[(k + 2) % 3];
+				len[k] = sqrtf((s1[0] - s0[0]) * (s1[0] - s0[0]) +
+				               (s1[1] - s0[1]) * (s1[1] - s0[1]) +
+				               (s1[2] - s0[2]) * (s1[2] - s0[2]));
+			}
+			b[0] = 1.0f - (float)hit.u - (float)hit.v;
+			b[1] = (float)hit.u;
+			b[2] = (float)hit.v;
+			float sum = 0.0f;
+			for (int k = 0; k < 3; ++k) {
+				float hk = len[k] > 0.0f ? a2 / len[k] : 0.0f;
+				b[k] = fmaxf(b[k],
+				             hk > 12.0f * delta ? 4.0f * delta / hk : 1.0f / 3.0f);
+				sum += b[k];
+			}
+			for (int a = 0; a < 3; ++a) {
+				g[a] = c[a] / a2;
+				if (g[a] * (float)ray.dir[a] > 0.0f) /* face the incoming ray */
+					g[a] = -g[a];
+				p[a] = v[0][a] + (b[1] / sum) * e1[a] + (b[2] / sum) * e2[a];
+				o[a] = p[a] + delta * g[a]; /* leaving into the room */
+			}
+			const float lim[3] = {h, h, 1.0f};
+			for (int a = 0; a < 3; ++a)
+				bad += !(lim[a] - fabsf(o[a]) >= margin);
+			/* off its own wall: the wall's axis is the one g points along */
+			int w = fabsf(g[0]) > 0.5f ? 0 : fabsf(g[1]) > 0.5f ? 1 : 2;
+			bad += !(lim[w] - fabsf(o[w]) >= 0.5f * delta);
+		}
+	if (bad)
+		fail_msg("%zu fp32 spawn origins too close to a wall", bad);
+	fx_free(&fx);
+}
+
 /* ---- subdivided boxes at several scales, offsets and orientations ------------------ */
 
 static uint64_t rng = 0x9e3779b97f4a7c15ull;
@@ -364,6 +438,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(room_edges_are_lit_and_hold_every_path),
+	    cmocka_unit_test(spawn_rule_holds_in_fp32),
 	    cmocka_unit_test(subdivided_boxes_at_scales_and_offsets),
 	    cmocka_unit_test(prism_room_with_acute_edges),
 	    cmocka_unit_test(default_triangle_test_is_watertight),
