@@ -78,7 +78,7 @@ static void double_positions_are_kept_exactly(void **state)
 	mesh.positions = NULL;
 	mesh.positions_f64 = pos;
 	mesh.position_stride = 4 * sizeof(double);
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
 	const double *p = rs_scene_positions_f64(scene);
 	const float *f = rs_scene_positions(scene);
 	for (int v = 0; v < 8; ++v)
@@ -91,7 +91,7 @@ static void double_positions_are_kept_exactly(void **state)
 	assert_true(b.lo[0] == 1e6 && b.hi[0] == 1e6 + (1.0 + 1e-9));
 	/* float input is widened exactly */
 	mesh = cube_mesh();
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
 	p = rs_scene_positions_f64(scene);
 	for (int i = 0; i < 8 * 3; ++i)
 		assert_true(p[8 * 3 + i] == (double)cube_pos[i]);
@@ -107,16 +107,17 @@ static void double_positions_are_validated(void **state)
 		pos[i] = cube_pos[i];
 	struct rs_mesh_desc mesh = cube_mesh();
 	mesh.positions_f64 = pos; /* and positions: both given */
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_INVALID);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_INVALID);
 	mesh.positions = NULL;
 	mesh.positions_f64 = NULL; /* neither */
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_INVALID);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_INVALID);
 	pos[7] = 1e39; /* vertex 2 would round to an infinite float */
 	mesh.positions_f64 = pos;
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
-	assert_non_null(strstr(rs_scene_last_error(scene), "vertex 2"));
+	struct rs_error err;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, &err), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(err.message, "vertex 2"));
 	pos[7] = NAN;
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_BAD_DATA);
 	assert_int_equal(rs_scene_triangle_count(scene), 0);
 	rs_scene_destroy(&scene);
 }

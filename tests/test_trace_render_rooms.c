@@ -223,7 +223,7 @@ static void box_room_build(struct fx *fx, struct box_room *b, float reflectance)
 		                         .indices = idx,
 		                         .triangle_count = GRID * GRID * 2,
 		                         .material = mat};
-		assert_int_equal(rs_scene_add_mesh(fx->scene, &d), RS_OK);
+		assert_int_equal(rs_scene_add_mesh(fx->scene, &d, NULL), RS_OK);
 	}
 }
 
