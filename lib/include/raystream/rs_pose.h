@@ -88,6 +88,12 @@ struct rs_pose_quality {
 	double
 	    min_height_m; /**< smallest height of the measured marker triangle (0 if < 3 markers) */
 	uint32_t markers_used; /**< markers that passed the validity checks (3 when solved) */
+	/** Stated RMS rotation error of a solved pose (OK/RELABELED; 0 otherwise) for the
+	 *  solver's noise_sigma_m: sigma sqrt(trace J^-1), docs/pose.md. A good pose is within
+	 *  6 times this unless the real noise exceeds noise_sigma_m. */
+	double rotation_rms_rad;
+	/** Stated RMS 3-D position error of the display origin of a solved pose (0 otherwise). */
+	double position_rms_m;
 };
 
 /** Solver options; zero-initialised means defaults (see rs_pose_solver_desc_resolve()). */
