@@ -90,8 +90,7 @@ static void test_every_ordering_every_noise_good_means_right(void **state)
 			if (!is_good(q.status))
 				continue;
 			++good;
-			assert_int_equal(q.status,
-			                 trial % 6 == 0 ? RS_POSE_OK : RS_POSE_RELABELED);
+			assert_int_equal(q.status, trial % 6 == 0 ? RS_POSE_OK : RS_POSE_RELABELED);
 			assert_true(q.rotation_rms_rad > 0.0 && q.position_rms_m > 0.0);
 			assert_true(rs_pose_angle_between(&out, &truth) <=
 			            6.0 * q.rotation_rms_rad);

@@ -46,7 +46,7 @@ void rs_pose_solver_desc_resolve(const struct rs_pose_solver_desc *desc,
 	if (d.hold_timeout_s == 0.0)
 		d.hold_timeout_s = 0.5;
 	if (d.max_prediction_s == 0.0)
-		d.max_prediction_s = 0.03;
+		d.max_prediction_s = RS_POSE_MAX_PREDICTION_S;
 	if (d.velocity_time_constant_s == 0.0)
 		d.velocity_time_constant_s = 0.05;
 	*out = d;
@@ -88,6 +88,10 @@ enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
 	    !valid_param(d.velocity_time_constant_s))
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "pose solver: descriptor fields must be finite and >= 0");
+	if (d.max_prediction_s > RS_POSE_MAX_PREDICTION_S)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "pose solver: max_prediction_s %g s above the %g s cap",
+		                    d.max_prediction_s, RS_POSE_MAX_PREDICTION_S);
 	enum rs_status st = rs_pose_layout_check(layout, err);
 	if (st != RS_OK)
 		return st;
