@@ -37,23 +37,32 @@ int rs_tracker_has_scheme(const char *scheme)
 	return 0;
 }
 
+/* replay:FILE[?realtime=0|1]: everything after the first '?' is options, as in serial:. */
 static enum rs_status open_replay(const char *rest, struct rs_track_source **out,
                                   struct rs_error *err)
 {
-	static const char opt[] = "?realtime=1";
 	char path[PATH_CAP];
-	size_t n = strlen(rest);
+	size_t n = strcspn(rest, "?");
 	struct rs_track_replay_desc d = {0};
-	if (n >= sizeof opt - 1 && !strcmp(rest + n - (sizeof opt - 1), opt)) {
-		n -= sizeof opt - 1;
-		d.realtime = 1;
-	}
 	if (n == 0)
-		return rs_error_set(err, RS_ERR_PARSE, "replay: expected replay:FILE");
+		return rs_error_set(err, RS_ERR_PARSE, "replay: expected replay:FILE[?realtime=1]");
 	if (n >= sizeof path)
 		return rs_error_set(err, RS_ERR_PARSE, "replay: file name too long");
 	memcpy(path, rest, n);
 	path[n] = '\0';
+	for (const char *q = rest + n; *q;) {
+		q++; /* '?' or '&' */
+		size_t len = strcspn(q, "&");
+		if (len == 10 && !strncmp(q, "realtime=0", 10))
+			d.realtime = 0;
+		else if (len == 10 && !strncmp(q, "realtime=1", 10))
+			d.realtime = 1;
+		else
+			return rs_error_set(err, RS_ERR_PARSE,
+			                    "replay: unknown option '%.*s' (realtime=0|1)",
+			                    (int)(len > 40 ? 40 : len), q);
+		q += len;
+	}
 	return rs_track_replay_open(path, &d, out, err);
 }
 
