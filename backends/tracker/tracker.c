@@ -13,6 +13,9 @@
 #ifdef RS_TRACKER_HAVE_USB
 #include "rs_usb.h"
 #endif
+#ifdef RS_TRACKER_HAVE_OPTICAL
+#include "rs_optical.h"
+#endif
 
 #define PATH_CAP 512
 
@@ -32,6 +35,10 @@ int rs_tracker_has_scheme(const char *scheme)
 #endif
 #ifdef RS_TRACKER_HAVE_USB
 	if (!strcmp(scheme, "usb"))
+		return 1;
+#endif
+#ifdef RS_TRACKER_HAVE_OPTICAL
+	if (!strcmp(scheme, "video") || !strcmp(scheme, "cam"))
 		return 1;
 #endif
 	return 0;
@@ -91,7 +98,7 @@ enum rs_status rs_tracker_open(const char *uri, struct rs_track_source **out, st
 		return rs_error_set(
 		    err, RS_ERR_PARSE,
 		    "tracker: '%.60s' is not a source URI (hid:, usb:, serial:, sim:, "
-		    "replay:)",
+		    "replay:, video:, cam:)",
 		    uri);
 	char scheme[17];
 	memcpy(scheme, uri, sl);
@@ -130,6 +137,15 @@ enum rs_status rs_tracker_open(const char *uri, struct rs_track_source **out, st
 		return rs_error_set(err, RS_ERR_UNSUPPORTED, "tracker: usb backend not built");
 #endif
 	}
+	if (!strcmp(scheme, "video") || !strcmp(scheme, "cam")) {
+#ifdef RS_TRACKER_HAVE_OPTICAL
+		return rs_optical_open_uri(scheme, rest, out, err);
+#else
+		return rs_error_set(err, RS_ERR_UNSUPPORTED, "tracker: opencv backend not built");
+#endif
+	}
 	return rs_error_set(err, RS_ERR_PARSE,
-	                    "tracker: unknown scheme '%s' (hid, usb, serial, sim, replay)", scheme);
+	                    "tracker: unknown scheme '%s' (hid, usb, serial, sim, replay, video, "
+	                    "cam)",
+	                    scheme);
 }
