@@ -2,6 +2,7 @@
 // cameras) through rs_optical_tracker into marker samples.
 #include "optical_internal.hpp"
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -92,7 +93,11 @@ bool open_capture(cv::VideoCapture &cap, const std::string &what, bool camera)
 			return cap.open((int)idx, cv::CAP_V4L2);
 		return cap.open(what, cv::CAP_V4L2);
 	}
-	return cap.open(what, cv::CAP_ANY);
+	// A printf pattern is an image sequence; anything else a video file. Naming the
+	// backend keeps OpenCV from trying (and logging about) every other one.
+	if (what.find('%') != std::string::npos)
+		return cap.open(what, cv::CAP_IMAGES);
+	return cap.open(what, cv::CAP_FFMPEG);
 }
 
 rs_status src_read(void *impl, rs_marker_sample *out, int timeout_ms, rs_error *err)
@@ -158,6 +163,9 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 	bool camera = !std::strcmp(scheme, "cam");
 	if (!camera && std::strcmp(scheme, "video"))
 		return rs_error_set(err, RS_ERR_PARSE, "optical: unknown scheme '%.20s'", scheme);
+	// The library is silent (errors come back through rs_error); OpenCV would otherwise
+	// log a warning to stderr at the end of every image sequence.
+	cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
 	Options o;
 	rs_status st = parse(scheme, rest, &o, err);
 	if (st != RS_OK)
