@@ -13,22 +13,7 @@
 
 static inline void make_rig(double baseline, struct rs_optical_rig *rig)
 {
-	memset(rig, 0, sizeof *rig);
-	for (int c = 0; c < 2; ++c) {
-		struct rs_optical_camera *k = &rig->cam[c];
-		k->width = 640;
-		k->height = 480;
-		double K[9] = {800, 0, 319.5, 0, 800, 239.5, 0, 0, 1};
-		memcpy(k->K, K, sizeof K);
-	}
-	/* Camera 1's axes in camera 0's frame (rows of R): z towards (0, 0, 1). */
-	double a = atan2(baseline, 1.0), s = sin(a), c = cos(a);
-	double R[9] = {c, 0, s, 0, 1, 0, -s, 0, c};
-	memcpy(rig->R_cam1_cam0, R, sizeof R);
-	/* t = -R C1, C1 = (baseline, 0, 0) */
-	rig->t_cam1_cam0[0] = -c * baseline;
-	rig->t_cam1_cam0[1] = 0.0;
-	rig->t_cam1_cam0[2] = s * baseline;
+	rs_optical_rig_example(baseline, 640, 480, rig);
 }
 
 /* The display 1 m (+-5 cm) in front of camera 0, its marker plane turned at most ~35

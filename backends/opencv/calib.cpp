@@ -77,6 +77,27 @@ extern "C" enum rs_status rs_optical_rig_check(const struct rs_optical_rig *rig,
 	return RS_OK;
 }
 
+extern "C" void rs_optical_rig_example(double baseline_m, int width, int height,
+                                       struct rs_optical_rig *out)
+{
+	std::memset(out, 0, sizeof *out);
+	for (int c = 0; c < 2; ++c) {
+		rs_optical_camera &k = out->cam[c];
+		k.width = width;
+		k.height = height;
+		double f = 1.25 * width;
+		const double K[9] = {f, 0, 0.5 * (width - 1), 0, f, 0.5 * (height - 1), 0, 0, 1};
+		std::memcpy(k.K, K, sizeof K);
+	}
+	// Camera 1's axes in camera 0's frame are the rows of R; its z axis towards (0, 0, 1).
+	double a = std::atan2(baseline_m, 1.0), s = std::sin(a), c = std::cos(a);
+	const double R[9] = {c, 0, s, 0, 1, 0, -s, 0, c};
+	std::memcpy(out->R_cam1_cam0, R, sizeof R);
+	out->t_cam1_cam0[0] = -c * baseline_m; // t = -R C1, C1 = (baseline, 0, 0)
+	out->t_cam1_cam0[1] = 0.0;
+	out->t_cam1_cam0[2] = s * baseline_m;
+}
+
 static bool read_mat(const cv::FileNode &n, int rows, int cols, double *out)
 {
 	if (n.empty())

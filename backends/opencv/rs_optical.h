@@ -54,6 +54,14 @@ struct rs_optical_image {
 enum rs_status rs_optical_rig_check(const struct rs_optical_rig *rig, struct rs_error *err);
 
 /**
+ * The example rig of the tests, tools and docs: two width x height cameras without
+ * distortion, f = 1.25 * width px (800 px at 640), principal point at the image centre,
+ * camera 1 `baseline_m` to the right of camera 0 and toed in so the optical axes meet 1 m
+ * in front of camera 0.
+ */
+void rs_optical_rig_example(double baseline_m, int width, int height, struct rs_optical_rig *out);
+
+/**
  * Load a rig from an OpenCV FileStorage file (YAML or JSON by extension, see
  * docs/optical.md) and check it. RS_ERR_NOT_FOUND, RS_ERR_PARSE (malformed or a missing
  * key) or RS_ERR_BAD_DATA (rs_optical_rig_check()). *out written only on RS_OK.
@@ -205,6 +213,29 @@ enum rs_status rs_optical_synth_board(const struct rs_optical_rig *rig,
 /** Write an 8-bit grey PNG (temporary file renamed on success). */
 enum rs_status rs_optical_write_png(const char *path, const uint8_t *pixels, int width, int height,
                                     struct rs_error *err);
+
+/** A stream of grey frames: an image sequence, a video file or a V4L2 camera. */
+struct rs_optical_frames;
+
+/**
+ * Open `what`: a printf pattern of an image sequence ("left_%04d.png", numbered from 0), a
+ * video file, or with `camera` nonzero a V4L2 camera index ("0") or path ("/dev/video2").
+ * RS_ERR_IO (RS_ERR_NOT_FOUND for a camera) when it cannot be opened.
+ */
+enum rs_status rs_optical_frames_open(const char *what, int camera, struct rs_optical_frames **out,
+                                      struct rs_error *err);
+
+/**
+ * The next frame, converted to 8-bit grey, into *out (pixels owned by the stream, valid
+ * until the next read or destroy). RS_END after the last frame of a file or sequence;
+ * RS_ERR_IO when even the first frame cannot be read; RS_ERR_DISCONNECTED when a camera
+ * stops.
+ */
+enum rs_status rs_optical_frames_read(struct rs_optical_frames *frames,
+                                      struct rs_optical_image *out, struct rs_error *err);
+
+/** Close; accepts NULL and sets *frames to NULL. */
+void rs_optical_frames_destroy(struct rs_optical_frames **frames);
 
 /**
  * Open a video: source: `LEFT,RIGHT?calib=FILE[&layout=FILE][&rate=HZ]` where LEFT and

@@ -1,10 +1,6 @@
-// video: and cam: tracker sources: two frame streams (image sequences, video files or V4L2
-// cameras) through rs_optical_tracker into marker samples.
+// video: and cam: tracker sources: two frame streams (rs_optical_frames) through
+// rs_optical_tracker into marker samples.
 #include "optical_internal.hpp"
-
-#include <opencv2/core/utils/logger.hpp>
-#include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -18,8 +14,7 @@ namespace
 {
 
 struct OpticalSource {
-	cv::VideoCapture cap[2];
-	cv::Mat frame[2], grey[2];
+	rs_optical_frames *frames[2] = {nullptr, nullptr};
 	rs_optical_tracker *tracker = nullptr;
 	bool live = false; // cam: host clock; video: frame index / rate
 	double rate_hz = 60.0;
@@ -27,6 +22,8 @@ struct OpticalSource {
 	~OpticalSource()
 	{
 		rs_optical_tracker_destroy(&tracker);
+		rs_optical_frames_destroy(&frames[0]);
+		rs_optical_frames_destroy(&frames[1]);
 	}
 };
 
@@ -84,55 +81,19 @@ rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
 	return RS_OK;
 }
 
-bool open_capture(cv::VideoCapture &cap, const std::string &what, bool camera)
-{
-	if (camera) {
-		char *end = nullptr;
-		long idx = std::strtol(what.c_str(), &end, 10);
-		if (!*end && idx >= 0 && idx < 64)
-			return cap.open((int)idx, cv::CAP_V4L2);
-		return cap.open(what, cv::CAP_V4L2);
-	}
-	// A printf pattern is an image sequence; anything else a video file. Naming the
-	// backend keeps OpenCV from trying (and logging about) every other one.
-	if (what.find('%') != std::string::npos)
-		return cap.open(what, cv::CAP_IMAGES);
-	return cap.open(what, cv::CAP_FFMPEG);
-}
-
 rs_status src_read(void *impl, rs_marker_sample *out, int timeout_ms, rs_error *err)
 {
 	OpticalSource *s = static_cast<OpticalSource *>(impl);
 	(void)timeout_ms; // a frame read blocks for at most one frame interval
 	rs_optical_image img[2];
 	for (int v = 0; v < 2; ++v) {
-		bool ok = false;
-		try {
-			ok = s->cap[v].read(s->frame[v]) && !s->frame[v].empty();
-			if (ok) {
-				if (s->frame[v].channels() == 3)
-					cv::cvtColor(s->frame[v], s->grey[v], cv::COLOR_BGR2GRAY);
-				else if (s->frame[v].channels() == 4)
-					cv::cvtColor(s->frame[v], s->grey[v], cv::COLOR_BGRA2GRAY);
-				else
-					s->frame[v].convertTo(s->grey[v], CV_8U);
-			}
-		} catch (const cv::Exception &e) {
-			return rs_error_set(err, RS_ERR_IO,
-			                    "optical: frame %u of stream %d: %.120s", s->sequence,
-			                    v, e.msg.c_str());
+		rs_status st = rs_optical_frames_read(s->frames[v], &img[v], err);
+		if (st != RS_OK) {
+			// Say which stream ended or failed; keep the status.
+			std::string m = err ? err->message : "";
+			return rs_error_set(err, st, "%s (stream %d, frame %u)", m.c_str(), v,
+			                    s->sequence);
 		}
-		if (!ok) {
-			if (s->sequence == 0)
-				return rs_error_set(
-				    err, RS_ERR_IO,
-				    "optical: cannot read the first frame of stream %d", v);
-			if (s->live)
-				return rs_error_set(err, RS_ERR_DISCONNECTED,
-				                    "cam: camera %d stopped", v);
-			return rs_error_set(err, RS_END, "video: end of stream %d", v);
-		}
-		img[v] = {s->grey[v].data, s->grey[v].cols, s->grey[v].rows, s->grey[v].step[0]};
 	}
 	double t = s->live ? rs_track_now_s() : s->sequence / s->rate_hz;
 	rs_status st =
@@ -163,9 +124,6 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 	bool camera = !std::strcmp(scheme, "cam");
 	if (!camera && std::strcmp(scheme, "video"))
 		return rs_error_set(err, RS_ERR_PARSE, "optical: unknown scheme '%.20s'", scheme);
-	// The library is silent (errors come back through rs_error); OpenCV would otherwise
-	// log a warning to stderr at the end of every image sequence.
-	cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
 	Options o;
 	rs_status st = parse(scheme, rest, &o, err);
 	if (st != RS_OK)
@@ -186,18 +144,11 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 		return st;
 	}
 	const std::string *names[2] = {&o.a, &o.b};
-	for (int v = 0; v < 2; ++v) {
-		bool ok = false;
-		try {
-			ok = open_capture(s->cap[v], *names[v], camera);
-		} catch (const cv::Exception &) {
-			ok = false;
-		}
-		if (!ok) {
+	for (int v = 0; v < 2; ++v)
+		if ((st = rs_optical_frames_open(names[v]->c_str(), camera, &s->frames[v], err)) !=
+		    RS_OK) {
 			delete s;
-			return rs_error_set(err, camera ? RS_ERR_NOT_FOUND : RS_ERR_IO,
-			                    "%s: cannot open '%.200s'", scheme, names[v]->c_str());
+			return st;
 		}
-	}
 	return rs_track_source_create(&k_ops, s, out, err);
 }
