@@ -42,6 +42,8 @@ static void usage(FILE *f)
 	       "  URI: hid:VID:PID[:SERIAL]  usb:VID:PID  serial:/dev/PATH[?baud=N]\n"
 	       "       sim:[seed=N&noise=0.5mm&rate=120&script=walk,turn&realtime=1&...]\n"
 	       "       replay:FILE[?realtime=1]\n"
+	       "       video:LEFT,RIGHT?calib=RIG[&rate=60]  (image sequences or videos)\n"
+	       "       cam:0,1?calib=RIG   (two V4L2 cameras; see docs/optical.md)\n"
 	       "  -n, --count N       stop after N samples\n"
 	       "  -d, --duration S    stop after S seconds\n"
 	       "  -r, --record FILE   record every sample (replay with replay:FILE)\n"
