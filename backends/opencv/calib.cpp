@@ -134,7 +134,7 @@ extern "C" enum rs_status rs_optical_rig_load(const char *path, struct rs_optica
 			                    "rig: '%s' is not an OpenCV YAML/JSON file", path);
 		for (int c = 0; c < 2 && !missing; ++c) {
 			std::string s = std::to_string(c);
-			double size[2];
+			double size[2] = {0, 0};
 			if (!read_mat(fs["image_size" + s], 1, 2, size) ||
 			    !(size[0] >= 1 && size[0] <= 16384 && size[1] >= 1 && size[1] <= 16384))
 				missing = c ? "image_size1" : "image_size0";

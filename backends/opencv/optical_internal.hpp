@@ -42,6 +42,12 @@ inline cv::Mat wrap(const rs_optical_image &img)
 // RS_ERR_INVALID unless pixels, sizes (1..16384) and stride are sane.
 rs_status check_image(const rs_optical_image *img, rs_error *err);
 
+// Linearised RMS rotation error (rad) and 3-D RMS error of the display origin of the pose
+// fitted to markers P[i] (camera frame, layout id order) with covariances S[i]
+// (docs/optical.md, "Error law"). Infinite when the markers are degenerate.
+void pose_error_law(const rs_pose_layout &layout, const cv::Vec3d P[3], const cv::Matx33d S[3],
+                    double *out_rot_rms, double *out_pos_rms);
+
 } // namespace rs_optical
 
 #endif

@@ -128,14 +128,18 @@ struct rs_optical_tracker_desc {
 
 /** What one frame pair gave. */
 struct rs_optical_quality {
-	uint32_t blobs[2];      /**< blobs that passed the gates per view */
-	uint32_t matches;       /**< blob pairs on each other's epipolar line */
-	uint32_t markers;       /**< markers in the sample (3, or 0 when none could be found) */
-	double reprojection_px; /**< RMS reprojection error of the three markers */
-	double side_error_m;    /**< worst side-length mismatch of the chosen triple */
-	double sigma_m;         /**< predicted per-axis RMS 3-D error of a marker (from
-	                             centroid_sigma_px through the triangulation): the
-	                             noise_sigma_m to give rs_pose_solver */
+	uint32_t blobs[2];       /**< blobs that passed the gates per view */
+	uint32_t matches;        /**< blob pairs on each other's epipolar line */
+	uint32_t markers;        /**< markers in the sample (3, or 0 when none could be found) */
+	double reprojection_px;  /**< RMS reprojection error of the three markers */
+	double side_error_m;     /**< worst side-length mismatch of the chosen triple */
+	double sigma_m;          /**< predicted per-axis RMS 3-D error of a marker (from
+	                              centroid_sigma_px through the triangulation): the
+	                              noise_sigma_m to give rs_pose_solver */
+	double rotation_rms_rad; /**< predicted RMS rotation error of the pose solved from these
+	                              markers: each marker's triangulation covariance propagated
+	                              through the rigid fit (docs/optical.md) */
+	double position_rms_m;   /**< the same for the 3-D position of the display origin */
 };
 
 struct rs_optical_tracker;
@@ -153,7 +157,8 @@ void rs_optical_tracker_destroy(struct rs_optical_tracker **tracker);
  * three markers cannot be found (occluded, merged, one view missing, ambiguous) the
  * sample has marker_count 0 and quality->markers 0: the pose solver then holds. Both
  * images must have the rig's sizes (RS_ERR_BAD_DATA otherwise); `img1` NULL (a frame from
- * one camera only) gives an empty sample. Allocates only scratch reused across calls.
+ * one camera only) gives an empty sample. Buffers are reused across calls (OpenCV's
+ * undistortPoints allocates small temporaries).
  * @param out_quality may be NULL
  */
 enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *tracker,

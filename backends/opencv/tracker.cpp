@@ -154,7 +154,7 @@ static int best_order(const double ls[3], const cv::Vec3d p[3], double *cost, do
 	double s[3];
 	sides_of(p, s);
 	int best = 0;
-	*cost = INFINITY;
+	*cost = *worst = INFINITY;
 	for (int q = 0; q < 6; ++q) {
 		double c = 0, w = 0;
 		for (int k = 0; k < 3; ++k) {
@@ -190,14 +190,14 @@ static cv::Matx33d info_matrix(const rs_optical_tracker &t, const cv::Vec3d &X)
 	return JtJ;
 }
 
-// Per-axis RMS 3-D error of a triangulated point for isotropic centroid noise sigma_px:
-// sigma sqrt(trace((J^T J)^-1) / 3).
-static double point_sigma(const rs_optical_tracker &t, const cv::Vec3d &X)
+// Covariance of a triangulated point for isotropic centroid noise sigma_px:
+// sigma^2 (J^T J)^-1; infinite when the views do not constrain it.
+static cv::Matx33d point_cov(const rs_optical_tracker &t, const cv::Vec3d &X)
 {
 	cv::Matx33d inv;
 	if (!cv::invert(info_matrix(t, X), inv, cv::DECOMP_CHOLESKY))
-		return INFINITY;
-	return t.d.centroid_sigma_px * std::sqrt(cv::trace(inv) / 3.0);
+		return cv::Matx33d::eye() * INFINITY;
+	return inv * (t.d.centroid_sigma_px * t.d.centroid_sigma_px);
 }
 
 static void reproject(const cv::Matx34d &P, const cv::Vec3d &X, cv::Point2d *out)
@@ -311,6 +311,8 @@ static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sam
 		return RS_OK;
 	}
 	double sq = 0, sig = 0;
+	cv::Vec3d pts[3];
+	cv::Matx33d cov[3];
 	out->marker_count = 3;
 	for (int k = 0; k < 3; ++k) {
 		const Pair &p = P[best[k]];
@@ -322,9 +324,10 @@ static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sam
 		double e2 = (ra.x - a.x) * (ra.x - a.x) + (ra.y - a.y) * (ra.y - a.y) +
 		            (rb.x - b.x) * (rb.x - b.x) + (rb.y - b.y) * (rb.y - b.y);
 		sq += e2 / 2.0;
-		double s = point_sigma(*t, X);
-		sig += s * s;
 		int id = k_perms[order][k];
+		pts[id] = X;
+		cov[id] = point_cov(*t, X);
+		sig += cv::trace(cov[id]) / 3.0;
 		rs_marker &m = out->markers[id];
 		m.id = (uint32_t)id;
 		m.flags = RS_MARKER_VALID;
@@ -338,6 +341,7 @@ static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sam
 	q.reprojection_px = std::sqrt(sq / 3.0);
 	q.side_error_m = best_worst;
 	q.sigma_m = std::sqrt(sig / 3.0);
+	pose_error_law(t->d.layout, pts, cov, &q.rotation_rms_rad, &q.position_rms_m);
 	return RS_OK;
 }
 
