@@ -46,7 +46,8 @@ static struct rs_scene *room(double scale, const double off[3], float reflectanc
 		for (int i = 0; i < GRID; ++i)
 			for (int j = 0; j < GRID; ++j) {
 				uint32_t v00 = (uint32_t)(i * n + j), v10 = v00 + (uint32_t)n;
-				uint32_t v01 = v00 + 1, v11 = v10 + 1, *t = &idx[6 * (i * GRID + j)];
+				uint32_t v01 = v00 + 1, v11 = v10 + 1,
+				         *t = &idx[6 * (i * GRID + j)];
 				uint32_t in[6] = {v00, v10, v11, v00, v11, v01};
 				uint32_t out[6] = {v00, v11, v10, v00, v01, v11};
 				memcpy(t, f % 2 ? out : in, sizeof in);
@@ -102,8 +103,8 @@ static void room_case(double scale, const double off[3])
 		/* Pixels whose rays hit a room edge exactly (a projected edge through pixel
 		 * centres) may see either wall in fp32 and in double: both are right. */
 		if (dark || escaped || diff.bad_share > 0.02)
-			fail_msg("scale %g offset %g: %zu dark, %zu escaped, %.3f%% off the CPU", scale,
-			         off[0], dark, escaped, 100.0 * diff.bad_share);
+			fail_msg("scale %g offset %g: %zu dark, %zu escaped, %.3f%% off the CPU",
+			         scale, off[0], dark, escaped, 100.0 * diff.bad_share);
 		rs_renderer_destroy(&r);
 		rs_scene_destroy(&scene);
 	}
@@ -139,9 +140,10 @@ static struct rs_scene *coincident(void)
 	for (int rep = 0; rep < 3; ++rep) {
 		float x0 = 0.37f * (float)rep - 1.4f, z[3] = {0.3f, nextafterf(0.3f, 1.0f), 0.3f};
 		for (int k = 0; k < 3; ++k) {
-			const float pos[12] = {x0, -1.0f, z[k],        x0 + 2.0f, -1.0f, z[k],
-			                       x0 + 2.0f, 1.0f, z[k], x0,        1.0f,  z[k]};
-			fx_mesh(scene, pos, 4, (rep + k) % 2 ? d1 : d0, 2, NULL, mat[(rep + k) % 4]);
+			const float pos[12] = {x0,        -1.0f, z[k], x0 + 2.0f, -1.0f, z[k],
+			                       x0 + 2.0f, 1.0f,  z[k], x0,        1.0f,  z[k]};
+			fx_mesh(scene, pos, 4, (rep + k) % 2 ? d1 : d0, 2, NULL,
+			        mat[(rep + k) % 4]);
 		}
 	}
 	const double eye[3] = {0.4, 0.9, 3.0}, target[3] = {0.0, 0.0, 0.3};
