@@ -8,6 +8,7 @@ packages=(
   libcglm-dev libassimp-dev libcmocka-dev libpng-dev libcjson-dev
   libhidapi-dev libusb-1.0-0-dev
   clang-14 libclang-rt-14-dev clang-format-14
+  libturbojpeg0-dev
 )
 
 missing=()
