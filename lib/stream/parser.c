@@ -49,9 +49,8 @@ static void rescan(struct rs_stream_parser *p)
 }
 
 /* A header fault: its magic bytes go, the rest is searched for the next message. */
-static enum rs_status header_fault(struct rs_stream_parser *p, uint64_t *counter,
-                                   enum rs_status st, struct rs_error *err, const char *what,
-                                   uint32_t value)
+static enum rs_status header_fault(struct rs_stream_parser *p, uint64_t *counter, enum rs_status st,
+                                   struct rs_error *err, const char *what, uint32_t value)
 {
 	++*counter;
 	drop_front(p, 2);
@@ -59,9 +58,8 @@ static enum rs_status header_fault(struct rs_stream_parser *p, uint64_t *counter
 	return rs_error_set(err, st, "stream: %s %u", what, value);
 }
 
-enum rs_status rs_stream_parser_feed(struct rs_stream_parser *p, const uint8_t **data,
-                                     size_t *len, struct rs_stream_msg *out_msg,
-                                     struct rs_error *err)
+enum rs_status rs_stream_parser_feed(struct rs_stream_parser *p, const uint8_t **data, size_t *len,
+                                     struct rs_stream_msg *out_msg, struct rs_error *err)
 {
 	RS_ASSERT(p && data && len && out_msg && (*data || *len == 0));
 	for (;;) {
@@ -98,8 +96,8 @@ enum rs_status rs_stream_parser_feed(struct rs_stream_parser *p, const uint8_t *
 		/* The message is consumed whatever its body holds; a frame's data stays in the
 		 * buffer until the next call. */
 		p->len = 0;
-		enum rs_status st =
-		    rs_stream_decode_body(type, p->buf + RS_STREAM_HEADER_SIZE, length, out_msg, err);
+		enum rs_status st = rs_stream_decode_body(type, p->buf + RS_STREAM_HEADER_SIZE,
+		                                          length, out_msg, err);
 		if (st == RS_ERR_PARSE)
 			++p->faults.bad_length;
 		else if (st != RS_OK)

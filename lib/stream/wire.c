@@ -56,20 +56,24 @@ static enum rs_status validate(const struct rs_stream_msg *m, struct rs_error *e
 	switch (m->type) {
 	case RS_STREAM_HELLO: {
 		const struct rs_stream_hello *h = &m->u.hello;
-		size_t tl = strnlen(h->token, sizeof h->token), sl = strnlen(h->scene, sizeof h->scene);
+		size_t tl = strnlen(h->token, sizeof h->token),
+		       sl = strnlen(h->scene, sizeof h->scene);
 		if (!side_ok(h->width, h->height) || h->quality > 100)
-			return rs_error_set(err, RS_ERR_BAD_DATA, "HELLO: size %ux%u or quality %u out of range",
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "HELLO: size %ux%u or quality %u out of range",
 			                    h->width, h->height, h->quality);
-		if (tl > RS_STREAM_MAX_TOKEN || sl > RS_STREAM_MAX_SCENE || !printable(h->token, tl) ||
-		    !printable(h->scene, sl))
-			return rs_error_set(err, RS_ERR_BAD_DATA, "HELLO: token or scene not printable ASCII");
+		if (tl > RS_STREAM_MAX_TOKEN || sl > RS_STREAM_MAX_SCENE ||
+		    !printable(h->token, tl) || !printable(h->scene, sl))
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "HELLO: token or scene not printable ASCII");
 		return RS_OK;
 	}
 	case RS_STREAM_WELCOME: {
 		const struct rs_stream_welcome *w = &m->u.welcome;
 		if (!side_ok(w->width, w->height) || w->quality > 100 ||
 		    (w->encoding != RS_STREAM_ENC_JPEG && w->encoding != RS_STREAM_ENC_RGBA8))
-			return rs_error_set(err, RS_ERR_BAD_DATA, "WELCOME: size, quality or encoding out of range");
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "WELCOME: size, quality or encoding out of range");
 		return RS_OK;
 	}
 	case RS_STREAM_POSE: {
@@ -79,23 +83,29 @@ static enum rs_status validate(const struct rs_stream_msg *m, struct rs_error *e
 		for (int i = 0; i < 5; ++i)
 			for (int k = 0; k < n[i]; ++k)
 				if (!isfinite(v[i][k]) || fabs(v[i][k]) > 1e12)
-					return rs_error_set(err, RS_ERR_BAD_DATA, "POSE %u: non-finite or huge value", p->pose_id);
+					return rs_error_set(err, RS_ERR_BAD_DATA,
+					                    "POSE %u: non-finite or huge value",
+					                    p->pose_id);
 		if (!(p->fov_y_deg > 0.0 && p->fov_y_deg < 180.0))
-			return rs_error_set(err, RS_ERR_BAD_DATA, "POSE %u: fov %g outside (0, 180)", p->pose_id,
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "POSE %u: fov %g outside (0, 180)", p->pose_id,
 			                    p->fov_y_deg);
 		return RS_OK;
 	}
 	case RS_STREAM_FRAME: {
 		const struct rs_stream_frame *f = &m->u.frame;
 		if (!side_ok(f->width, f->height) || f->size == 0)
-			return rs_error_set(err, RS_ERR_BAD_DATA, "FRAME %u: size %ux%u or empty image",
-			                    f->frame_id, f->width, f->height);
-		if (f->encoding == RS_STREAM_ENC_RGBA8 && f->size != (uint32_t)f->width * f->height * 4u)
-			return rs_error_set(err, RS_ERR_BAD_DATA, "FRAME %u: raw image of %u bytes for %ux%u",
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "FRAME %u: size %ux%u or empty image", f->frame_id,
+			                    f->width, f->height);
+		if (f->encoding == RS_STREAM_ENC_RGBA8 &&
+		    f->size != (uint32_t)f->width * f->height * 4u)
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "FRAME %u: raw image of %u bytes for %ux%u",
 			                    f->frame_id, f->size, f->width, f->height);
 		if (f->encoding != RS_STREAM_ENC_JPEG && f->encoding != RS_STREAM_ENC_RGBA8)
-			return rs_error_set(err, RS_ERR_BAD_DATA, "FRAME %u: unknown encoding %u", f->frame_id,
-			                    f->encoding);
+			return rs_error_set(err, RS_ERR_BAD_DATA, "FRAME %u: unknown encoding %u",
+			                    f->frame_id, f->encoding);
 		return RS_OK;
 	}
 	case RS_STREAM_STATS: {
@@ -103,7 +113,8 @@ static enum rs_status validate(const struct rs_stream_msg *m, struct rs_error *e
 		const float v[4] = {s->fps, s->latency_median_ms, s->latency_p99_ms, s->link_mbps};
 		for (int i = 0; i < 4; ++i)
 			if (!isfinite(v[i]) || v[i] < 0.0f)
-				return rs_error_set(err, RS_ERR_BAD_DATA, "STATS: negative or non-finite figure");
+				return rs_error_set(err, RS_ERR_BAD_DATA,
+				                    "STATS: negative or non-finite figure");
 		return RS_OK;
 	}
 	case RS_STREAM_BYE: {
@@ -113,7 +124,8 @@ static enum rs_status validate(const struct rs_stream_msg *m, struct rs_error *e
 		return RS_OK;
 	}
 	}
-	return rs_error_set(err, RS_ERR_BAD_DATA, "%s: unknown message type %d", name, (int)m->type);
+	return rs_error_set(err, RS_ERR_BAD_DATA, "%s: unknown message type %d", name,
+	                    (int)m->type);
 }
 
 static uint32_t body_size(const struct rs_stream_msg *m)
@@ -289,7 +301,8 @@ enum rs_status rs_stream_decode_body(uint32_t type, const uint8_t *b, uint32_t l
 		memcpy(m.u.hello.scene, b + HELLO_FIXED + b[5], b[6]);
 		/* an embedded NUL would shorten the string: not printable, refused */
 		if (strlen(m.u.hello.token) != b[5] || strlen(m.u.hello.scene) != b[6])
-			return rs_error_set(err, RS_ERR_BAD_DATA, "HELLO: NUL inside token or scene");
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "HELLO: NUL inside token or scene");
 		break;
 	}
 	case RS_STREAM_WELCOME:

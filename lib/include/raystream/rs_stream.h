@@ -49,20 +49,20 @@ enum rs_stream_encoding {
 /** Bye reasons. */
 enum rs_stream_bye_reason {
 	RS_STREAM_BYE_NORMAL = 0,
-	RS_STREAM_BYE_PROTOCOL = 1,  /**< malformed, oversized or unexpected message */
-	RS_STREAM_BYE_TOKEN = 2,     /**< wrong or missing token */
-	RS_STREAM_BYE_SCENE = 3,     /**< scene or size the server cannot serve */
-	RS_STREAM_BYE_TIMEOUT = 4,   /**< no complete message in time (slow drip) */
-	RS_STREAM_BYE_SHUTDOWN = 5,  /**< the server is stopping */
-	RS_STREAM_BYE_OVERLOAD = 6,  /**< too many viewers */
+	RS_STREAM_BYE_PROTOCOL = 1, /**< malformed, oversized or unexpected message */
+	RS_STREAM_BYE_TOKEN = 2,    /**< wrong or missing token */
+	RS_STREAM_BYE_SCENE = 3,    /**< scene or size the server cannot serve */
+	RS_STREAM_BYE_TIMEOUT = 4,  /**< no complete message in time (slow drip) */
+	RS_STREAM_BYE_SHUTDOWN = 5, /**< the server is stopping */
+	RS_STREAM_BYE_OVERLOAD = 6, /**< too many viewers */
 };
 
 /** Pose flags. */
 #define RS_STREAM_POSE_STALE 1u /**< the viewer's camera is not from a fresh pose */
 
 struct rs_stream_hello {
-	uint16_t width, height; /**< requested image size, 1..RS_STREAM_MAX_SIDE */
-	uint8_t quality;        /**< JPEG quality 1..100; 0: the server's */
+	uint16_t width, height;              /**< requested image size, 1..RS_STREAM_MAX_SIDE */
+	uint8_t quality;                     /**< JPEG quality 1..100; 0: the server's */
 	char token[RS_STREAM_MAX_TOKEN + 1]; /**< printable ASCII, NUL-terminated, may be "" */
 	char scene[RS_STREAM_MAX_SCENE + 1]; /**< printable ASCII; "": the server's scene */
 };
@@ -178,6 +178,38 @@ size_t rs_stream_encoded_size(const struct rs_stream_msg *msg);
  */
 enum rs_status rs_stream_encode(const struct rs_stream_msg *msg, uint8_t *out, size_t cap,
                                 size_t *out_size, struct rs_error *err);
+
+/* ---- Link emulation ------------------------------------------------------------------ */
+
+/** A token bucket: what a bandwidth-limited link lets through (the latency part is a
+ * per-message ready time kept by the sender). Zero-initialised means unlimited. */
+struct rs_stream_link_desc {
+	double rate_bits_per_s; /**< 0: unlimited */
+	double latency_s;       /**< one-way delay added to every message (sender side) */
+	size_t burst_bytes;     /**< bucket size; 0: 2 ms of rate, at least 1500 bytes */
+};
+
+/** Token bucket state; caller-owned, treat the fields as private. */
+struct rs_stream_link {
+	struct rs_stream_link_desc desc;
+	double tokens, last_s;
+	int started;
+};
+
+/** Start a link (full bucket at the first call). RS_ERR_INVALID for negative or
+ * non-finite rate or latency. */
+enum rs_status rs_stream_link_init(struct rs_stream_link *link,
+                                   const struct rs_stream_link_desc *desc, struct rs_error *err);
+
+/** Bytes (<= want) the link lets through at `now_s` (monotonic seconds); the caller
+ * sends at most that many and reports what it really sent with rs_stream_link_spend(). */
+size_t rs_stream_link_allow(struct rs_stream_link *link, double now_s, size_t want);
+
+/** Take `sent` bytes' worth of tokens. */
+void rs_stream_link_spend(struct rs_stream_link *link, size_t sent);
+
+/** Seconds from `now_s` until at least min(want, burst) bytes are allowed (0: now). */
+double rs_stream_link_wait_s(struct rs_stream_link *link, double now_s, size_t want);
 
 /** Constant name of a message type ("HELLO"); "UNKNOWN" otherwise. */
 const char *rs_stream_type_name(uint32_t type);
