@@ -53,7 +53,8 @@ static struct rs_stream_msg sample(enum rs_stream_type t)
 		                                     .size = 16};
 		break;
 	case RS_STREAM_STATS:
-		m.u.stats = (struct rs_stream_stats){100, 3, 123456789ull, 29.5f, 12.25f, 30.5f, 24.0f};
+		m.u.stats =
+		    (struct rs_stream_stats){100, 3, 123456789ull, 29.5f, 12.25f, 30.5f, 24.0f};
 		break;
 	case RS_STREAM_BYE:
 		m.u.bye.reason = RS_STREAM_BYE_TIMEOUT;
@@ -151,11 +152,12 @@ static void test_faults_are_counted_and_parser_resyncs(void **state)
 	check_fault(version, sizeof version, RS_ERR_UNSUPPORTED,
 	            offsetof(struct rs_stream_faults, bad_version), 6);
 	const uint8_t type[] = {'R', 'S', 1, 99, 0, 0, 0, 0};
-	check_fault(type, sizeof type, RS_ERR_PARSE, offsetof(struct rs_stream_faults, unknown_type),
-	            6);
+	check_fault(type, sizeof type, RS_ERR_PARSE,
+	            offsetof(struct rs_stream_faults, unknown_type), 6);
 	/* a pose claiming 4 GiB: never buffered, never waited for */
 	const uint8_t huge[] = {'R', 'S', 1, RS_STREAM_POSE, 0xff, 0xff, 0xff, 0xff};
-	check_fault(huge, sizeof huge, RS_ERR_LIMIT, offsetof(struct rs_stream_faults, oversized), 6);
+	check_fault(huge, sizeof huge, RS_ERR_LIMIT, offsetof(struct rs_stream_faults, oversized),
+	            6);
 	/* a frame larger than this parser's 512-byte buffer */
 	const uint8_t big[] = {'R', 'S', 1, RS_STREAM_FRAME, 0x00, 0x10, 0, 0};
 	check_fault(big, sizeof big, RS_ERR_LIMIT, offsetof(struct rs_stream_faults, oversized), 6);
@@ -164,9 +166,10 @@ static void test_faults_are_counted_and_parser_resyncs(void **state)
 	check_fault(shortpose, sizeof shortpose, RS_ERR_PARSE,
 	            offsetof(struct rs_stream_faults, bad_length), 0);
 	/* a hello whose token length points past its end */
-	const uint8_t hello[8 + 8] = {'R', 'S', 1, RS_STREAM_HELLO, 8, 0, 0, 0, 64, 0, 64, 0, 0, 5, 0, 0};
-	check_fault(hello, sizeof hello, RS_ERR_PARSE, offsetof(struct rs_stream_faults, bad_length),
-	            0);
+	const uint8_t hello[8 + 8] = {'R', 'S', 1, RS_STREAM_HELLO, 8, 0, 0, 0, 64, 0, 64, 0, 0,
+	                              5,   0,   0};
+	check_fault(hello, sizeof hello, RS_ERR_PARSE,
+	            offsetof(struct rs_stream_faults, bad_length), 0);
 }
 
 static void test_bad_values_refused(void **state)
@@ -212,8 +215,10 @@ static void test_encoder_refuses_what_parser_refuses(void **state)
 	assert_int_equal(rs_stream_encode(&m, wire, 10, &n, NULL), RS_ERR_LIMIT);
 	m.type = (enum rs_stream_type)0;
 	assert_int_equal(rs_stream_encode(&m, wire, sizeof wire, &n, NULL), RS_ERR_BAD_DATA);
-	assert_true(rs_stream_parser_bound(1000) >= RS_STREAM_HEADER_SIZE + RS_STREAM_FRAME_FIXED + 1000);
-	assert_true(rs_stream_parser_bound(0) >= RS_STREAM_HEADER_SIZE + RS_STREAM_MAX_CLIENT_PAYLOAD);
+	assert_true(rs_stream_parser_bound(1000) >=
+	            RS_STREAM_HEADER_SIZE + RS_STREAM_FRAME_FIXED + 1000);
+	assert_true(rs_stream_parser_bound(0) >=
+	            RS_STREAM_HEADER_SIZE + RS_STREAM_MAX_CLIENT_PAYLOAD);
 	assert_string_equal(rs_stream_type_name(RS_STREAM_FRAME), "FRAME");
 	assert_string_equal(rs_stream_type_name(77), "UNKNOWN");
 }

@@ -31,7 +31,8 @@ static struct rs_pose pose_axis_angle(double ax, double ay, double az, double de
 static void assert_v3(const double a[3], double x, double y, double z, double tol)
 {
 	if (!(fabs(a[0] - x) <= tol && fabs(a[1] - y) <= tol && fabs(a[2] - z) <= tol))
-		print_error("got (%.17g, %.17g, %.17g) want (%g, %g, %g)\n", a[0], a[1], a[2], x, y, z);
+		print_error("got (%.17g, %.17g, %.17g) want (%g, %g, %g)\n", a[0], a[1], a[2], x, y,
+		            z);
 	assert_true(fabs(a[0] - x) <= tol);
 	assert_true(fabs(a[1] - y) <= tol);
 	assert_true(fabs(a[2] - z) <= tol);
@@ -82,8 +83,9 @@ static void check_corners(const struct rs_view_calibration *c, const struct rs_p
 		rs_trace_camera_ray(&cam, w, h, px[k], py[k], &ray);
 		double corner[3], oc[3];
 		for (int i = 0; i < 3; ++i)
-			corner[i] = g.screen_center[i] + s * (sx[k] * c->screen_width_m * g.right[i] +
-			                                      sy[k] * c->screen_height_m * g.up[i]);
+			corner[i] =
+			    g.screen_center[i] + s * (sx[k] * c->screen_width_m * g.right[i] +
+			                              sy[k] * c->screen_height_m * g.up[i]);
 		for (int i = 0; i < 3; ++i)
 			oc[i] = corner[i] - ray.origin[i];
 		double t = oc[0] * ray.dir[0] + oc[1] * ray.dir[1] + oc[2] * ray.dir[2];
@@ -119,7 +121,8 @@ static void test_off_axis_frustum_hits_screen_corners(void **state)
 	struct rs_pose p = pose_axis_angle(1, 2, -0.5, 70, 0.4, 1.2, -0.3);
 	check_corners(&c2, &p, 128, 64);
 	/* the eye fixed in the room: tilting the display changes the frustum */
-	struct rs_view_calibration in3 = {.eye_frame = RS_VIEW_EYE_IN_TRACKER, .eye = {0.1, 0.2, 0.5}};
+	struct rs_view_calibration in3 = {.eye_frame = RS_VIEW_EYE_IN_TRACKER,
+	                                  .eye = {0.1, 0.2, 0.5}};
 	struct rs_view_calibration c3 = resolved(&in3);
 	check_corners(&c3, &p, 64, 64);
 }
@@ -192,7 +195,8 @@ static void test_bad_inputs(void **state)
 	/* a 2:1 image on the square screen would stretch pixels */
 	assert_int_equal(rs_view_camera_from_pose(&c, &id, 128, 64, &cam, NULL, NULL),
 	                 RS_ERR_INVALID);
-	assert_int_equal(rs_view_camera_from_pose(&c, &id, 0, 64, &cam, NULL, NULL), RS_ERR_INVALID);
+	assert_int_equal(rs_view_camera_from_pose(&c, &id, 0, 64, &cam, NULL, NULL),
+	                 RS_ERR_INVALID);
 	struct rs_view_calibration bad = {.screen_width_m = -1};
 	assert_int_equal(rs_view_calibration_resolve(&bad, &out, NULL), RS_ERR_INVALID);
 	bad = (struct rs_view_calibration){.fov_y_deg = 180};
@@ -269,7 +273,8 @@ static void test_recentre_puts_camera_home(void **state)
 		struct rs_pose q = p;
 		q.position[0] += 0.1;
 		struct rs_camera cam2;
-		assert_int_equal(rs_view_camera_from_pose(&c, &q, 64, 64, &cam2, NULL, NULL), RS_OK);
+		assert_int_equal(rs_view_camera_from_pose(&c, &q, 64, 64, &cam2, NULL, NULL),
+		                 RS_OK);
 		double dx = cam2.eye[0] - cam.eye[0], dy = cam2.eye[1] - cam.eye[1],
 		       dz = cam2.eye[2] - cam.eye[2];
 		assert_true(fabs(sqrt(dx * dx + dy * dy + dz * dz) - 0.3) < 1e-9);

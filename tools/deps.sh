@@ -8,7 +8,7 @@ packages=(
   libcglm-dev libassimp-dev libcmocka-dev libpng-dev libcjson-dev
   libhidapi-dev libusb-1.0-0-dev
   clang-14 libclang-rt-14-dev clang-format-14
-  libturbojpeg0-dev
+  libturbojpeg0-dev libx11-dev libegl-dev libgles-dev xvfb x11-apps
 )
 
 missing=()

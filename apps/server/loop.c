@@ -39,7 +39,8 @@ static void accept_all(struct server *s, int lfd, double now)
 		if (!v || active >= s->o.max_viewers) {
 			struct rs_stream_msg m = {.type = RS_STREAM_BYE};
 			m.u.bye.reason = RS_STREAM_BYE_OVERLOAD;
-			snprintf(m.u.bye.text, sizeof m.u.bye.text, "too many viewers (%u)", active);
+			snprintf(m.u.bye.text, sizeof m.u.bye.text, "too many viewers (%u)",
+			         active);
 			uint8_t b[64];
 			size_t n = 0;
 			if (rs_stream_encode(&m, b, sizeof b, &n, NULL) == RS_OK)
@@ -61,9 +62,13 @@ static void accept_all(struct server *s, int lfd, double now)
 		pthread_mutex_lock(&s->lock);
 		struct outframe pend = v->pending, infl = v->inflight;
 		pend.full = infl.full = 0;
-		*v = (struct viewer){.active = 1, .fd = fd, .id = ++s->next_viewer_id,
-		                     .connected_s = now, .last_stats_s = now,
-		                     .pending = pend, .inflight = infl};
+		*v = (struct viewer){.active = 1,
+		                     .fd = fd,
+		                     .id = ++s->next_viewer_id,
+		                     .connected_s = now,
+		                     .last_stats_s = now,
+		                     .pending = pend,
+		                     .inflight = infl};
 		snprintf(v->peer, sizeof v->peer, "%s", peer);
 		rs_stream_parser_init(&v->parser, v->inbuf, sizeof v->inbuf);
 		struct rs_stream_link_desc ld = {.rate_bits_per_s = s->o.link_mbps * 1e6,
@@ -157,7 +162,8 @@ static void housekeeping(struct server *s, struct viewer *v, double now)
 		return;
 	}
 	if (v->msg_start_s > 0 && now - v->msg_start_s > s->o.read_timeout_s) {
-		snprintf(why, sizeof why, "timeout: message incomplete after %.1f s (%zu bytes, slow drip)",
+		snprintf(why, sizeof why,
+		         "timeout: message incomplete after %.1f s (%zu bytes, slow drip)",
 		         s->o.read_timeout_s, v->parser.len);
 		server_viewer_close(s, v, RS_STREAM_BYE_TIMEOUT, why);
 		return;
@@ -197,8 +203,8 @@ int server_run(struct server *s, int lfd)
 			if (want_out < 0)
 				continue;
 			map[n] = i;
-			pfd[n++] = (struct pollfd){.fd = v->fd,
-			                           .events = (short)(POLLIN | (want_out ? POLLOUT : 0))};
+			pfd[n++] = (struct pollfd){
+			    .fd = v->fd, .events = (short)(POLLIN | (want_out ? POLLOUT : 0))};
 		}
 		int timeout_ms = (int)(wait_s * 1000.0) + 1;
 		if (poll(pfd, n, timeout_ms) < 0 && errno != EINTR) {

@@ -43,17 +43,19 @@ void server_log(const struct server *s, const char *fmt, ...)
 
 static void usage(FILE *to)
 {
-	fputs("usage: raystream-server [--scene box|cowN|FILE] [--size WxH] [--backend cpu|egl|osmesa]\n"
-	      "         [--passes N] [--lights N] [--shadows rays|map] [--threads N]\n"
-	      "         [--render-threads N] [--quality 1..100] [--encoding jpeg|jpeg444|raw]\n"
-	      "         [--bind ADDR] [--port N] [--port-file FILE.json] [--token TEXT]\n"
-	      "         [--max-viewers N] [--link-mbps R] [--link-latency-ms L]\n"
-	      "         [--read-timeout-ms T] [--stale-ms T] [--duration S] [--stats FILE.json]\n"
-	      "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
-	      "Defaults: scene box, 256x256, cpu, 2 passes, 1 light, quality 85 (4:2:0), bind\n"
-	      "127.0.0.1, port 7878, 16 viewers, no link limit, read timeout 2000 ms, stale 200 ms.\n"
-	      "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n",
-	      to);
+	fputs(
+	    "usage: raystream-server [--scene box|cowN|FILE] [--size WxH] [--backend "
+	    "cpu|egl|osmesa]\n"
+	    "         [--passes N] [--lights N] [--shadows rays|map] [--threads N]\n"
+	    "         [--render-threads N] [--quality 1..100] [--encoding jpeg|jpeg444|raw]\n"
+	    "         [--bind ADDR] [--port N] [--port-file FILE.json] [--token TEXT]\n"
+	    "         [--max-viewers N] [--link-mbps R] [--link-latency-ms L]\n"
+	    "         [--read-timeout-ms T] [--stale-ms T] [--duration S] [--stats FILE.json]\n"
+	    "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
+	    "Defaults: scene box, 256x256, cpu, 2 passes, 1 light, quality 85 (4:2:0), bind\n"
+	    "127.0.0.1, port 7878, 16 viewers, no link limit, read timeout 2000 ms, stale 200 ms.\n"
+	    "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n",
+	    to);
 }
 
 static int fail_usage(const char *fmt, const char *arg)
@@ -73,10 +75,18 @@ static int parse_double(const char *v, double lo, double hi, double *out)
 
 static int parse_args(int argc, char **argv, struct server_options *o)
 {
-	*o = (struct server_options){.scene = "box", .backend = "cpu", .bind = "127.0.0.1",
-	                             .port = 7878, .width = 256, .height = 256, .passes = 2,
-	                             .render_threads = 1, .max_viewers = 16, .quality = 85,
-	                             .read_timeout_s = 2.0, .stale_s = 0.2};
+	*o = (struct server_options){.scene = "box",
+	                             .backend = "cpu",
+	                             .bind = "127.0.0.1",
+	                             .port = 7878,
+	                             .width = 256,
+	                             .height = 256,
+	                             .passes = 2,
+	                             .render_threads = 1,
+	                             .max_viewers = 16,
+	                             .quality = 85,
+	                             .read_timeout_s = 2.0,
+	                             .stale_s = 0.2};
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i];
 		if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -138,7 +148,8 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 			else if (!strcmp(v, "raw"))
 				o->raw = 1;
 			else
-				return fail_usage("--encoding wants jpeg, jpeg444 or raw, not '%s'", v);
+				return fail_usage("--encoding wants jpeg, jpeg444 or raw, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--shadows")) {
 			if (!strcmp(v, "rays"))
 				o->shadows = RS_SHADOW_RAYS;
@@ -154,7 +165,8 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 				return fail_usage("--link-latency-ms wants 0..10000, not '%s'", v);
 		} else if (!strcmp(a, "--read-timeout-ms")) {
 			if (!parse_double(v, 10, 600000, &d))
-				return fail_usage("--read-timeout-ms wants 10..600000, not '%s'", v);
+				return fail_usage("--read-timeout-ms wants 10..600000, not '%s'",
+				                  v);
 			o->read_timeout_s = d * 1e-3;
 		} else if (!strcmp(a, "--stale-ms")) {
 			if (!parse_double(v, 0, 600000, &d))
@@ -187,9 +199,11 @@ static void write_stats(const struct server *s, double secs)
 	cJSON_AddNumberToObject(doc, "height", s->o.height);
 	cJSON_AddNumberToObject(doc, "seconds", secs);
 	cJSON_AddNumberToObject(doc, "frames_rendered", (double)s->frames_rendered);
-	cJSON_AddNumberToObject(doc, "render_fps", secs > 0 ? (double)s->frames_rendered / secs : 0);
+	cJSON_AddNumberToObject(doc, "render_fps",
+	                        secs > 0 ? (double)s->frames_rendered / secs : 0);
 	cJSON_AddNumberToObject(doc, "render_ms_mean",
-	                        s->frames_rendered ? s->render_ms_sum / (double)s->frames_rendered : 0);
+	                        s->frames_rendered ? s->render_ms_sum / (double)s->frames_rendered
+	                                           : 0);
 	cJSON_AddNumberToObject(doc, "disconnects", (double)s->disconnects);
 	struct rs_error err = {0};
 	if (rs_tool_write_json(s->o.stats, doc, &err) != RS_OK)

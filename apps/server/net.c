@@ -34,7 +34,8 @@ static void queue_bye(struct viewer *v, uint32_t reason, const char *text)
 static void drop_viewer(struct server *s, struct viewer *v, const char *why)
 {
 	pthread_mutex_lock(&s->lock);
-	server_log(s, "viewer %u (%s) disconnected: %s [frames sent %llu, dropped %llu, poses %llu]",
+	server_log(s,
+	           "viewer %u (%s) disconnected: %s [frames sent %llu, dropped %llu, poses %llu]",
 	           v->id, v->peer, why, (unsigned long long)v->frames_sent,
 	           (unsigned long long)v->frames_dropped, (unsigned long long)v->poses);
 	close(v->fd);
@@ -77,12 +78,12 @@ static void on_hello(struct server *s, struct viewer *v, const struct rs_stream_
 	v->quality = h->quality ? h->quality : s->o.quality;
 	v->hello_done = 1;
 	struct rs_stream_msg m = {.type = RS_STREAM_WELCOME};
-	m.u.welcome = (struct rs_stream_welcome){
-	    .viewer_id = v->id,
-	    .width = (uint16_t)s->o.width,
-	    .height = (uint16_t)s->o.height,
-	    .quality = (uint8_t)v->quality,
-	    .encoding = s->o.raw ? RS_STREAM_ENC_RGBA8 : RS_STREAM_ENC_JPEG};
+	m.u.welcome = (struct rs_stream_welcome){.viewer_id = v->id,
+	                                         .width = (uint16_t)s->o.width,
+	                                         .height = (uint16_t)s->o.height,
+	                                         .quality = (uint8_t)v->quality,
+	                                         .encoding = s->o.raw ? RS_STREAM_ENC_RGBA8
+	                                                              : RS_STREAM_ENC_JPEG};
 	server_viewer_queue(v, &m);
 	server_log(s, "viewer %u (%s) joined at quality %d", v->id, v->peer, v->quality);
 }
@@ -100,7 +101,8 @@ static int on_message(struct server *s, struct viewer *v, const struct rs_stream
 	switch (m->type) {
 	case RS_STREAM_HELLO:
 		if (v->hello_done) {
-			server_viewer_close(s, v, RS_STREAM_BYE_PROTOCOL, "protocol error: second HELLO");
+			server_viewer_close(s, v, RS_STREAM_BYE_PROTOCOL,
+			                    "protocol error: second HELLO");
 			return -1;
 		}
 		on_hello(s, v, &m->u.hello);
@@ -119,7 +121,8 @@ static int on_message(struct server *s, struct viewer *v, const struct rs_stream
 		v->reported = m->u.stats;
 		return 0;
 	case RS_STREAM_BYE:
-		snprintf(why, sizeof why, "viewer said bye (%u: %s)", m->u.bye.reason, m->u.bye.text);
+		snprintf(why, sizeof why, "viewer said bye (%u: %s)", m->u.bye.reason,
+		         m->u.bye.text);
 		drop_viewer(s, v, why);
 		return -1;
 	default:
@@ -139,7 +142,8 @@ void server_viewer_read(struct server *s, struct viewer *v, double now)
 		if (n == 0) {
 			char why[96];
 			if (v->parser.len)
-				snprintf(why, sizeof why, "connection closed mid-message (%zu bytes pending)",
+				snprintf(why, sizeof why,
+				         "connection closed mid-message (%zu bytes pending)",
 				         v->parser.len);
 			else
 				snprintf(why, sizeof why, "connection closed without BYE");

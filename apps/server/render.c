@@ -49,8 +49,8 @@ static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int q
                       uint32_t *render_us, struct rs_error *err)
 {
 	struct server *s = w->s;
-	struct rs_camera cam = {.fov_y_deg = pose->fov_y_deg, .width = s->o.width,
-	                        .height = s->o.height};
+	struct rs_camera cam = {
+	    .fov_y_deg = pose->fov_y_deg, .width = s->o.width, .height = s->o.height};
 	memcpy(cam.eye, pose->eye, sizeof cam.eye);
 	memcpy(cam.target, pose->target, sizeof cam.target);
 	memcpy(cam.up, pose->up, sizeof cam.up);
@@ -117,13 +117,14 @@ static void *render_main(void *arg)
 			continue;
 		}
 		if (!v->active || v->id != id)
-			continue; /* it left while we rendered */
+			continue;      /* it left while we rendered */
 		if (v->pending.full) { /* cannot happen while busy guards it; never overwrite */
 			++v->frames_dropped;
 			++v->next_frame_id;
 		}
 		uint32_t fid = v->next_frame_id++;
-		for (int b = 0; b < 4; ++b) /* the frame id is given at hand-over: ids stay in order */
+		for (int b = 0; b < 4;
+		     ++b) /* the frame id is given at hand-over: ids stay in order */
 			w->msg[RS_STREAM_HEADER_SIZE + b] = (uint8_t)(fid >> (8 * b));
 		memcpy(v->pending.data, w->msg, len);
 		double now = server_now_s();

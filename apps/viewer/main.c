@@ -19,16 +19,17 @@
 
 static void usage(FILE *to)
 {
-	fputs("usage: raystream-viewer [--tracker URI] [--server HOST:PORT] [--scene box|cowN|FILE]\n"
-	      "         [--size WxH] [--view window|camera] [--eye X,Y,Z] [--screen WxH_METRES]\n"
-	      "         [--fov DEG] [--scale UNITS_PER_M] [--layout FILE.json] [--local]\n"
-	      "         [--backend cpu|egl|osmesa] [--passes N] [--threads N] [--quality N]\n"
-	      "         [--token TEXT] [--headless] [--out DIR] [--every N] [--frames N]\n"
-	      "         [--duration S] [--stats FILE.json] [--verify-local] [--pose-id-base N]\n"
-	      "Defaults: tracker sim:realtime=1, scene box, 256x256, head-coupled window view with\n"
-	      "the eye 0.35 m in front of a 58 mm square screen; remote when --server is given.\n"
-	      "The first good pose is recentred onto the scene's camera; key r recentres again.\n",
-	      to);
+	fputs(
+	    "usage: raystream-viewer [--tracker URI] [--server HOST:PORT] [--scene box|cowN|FILE]\n"
+	    "         [--size WxH] [--view window|camera] [--eye X,Y,Z] [--screen WxH_METRES]\n"
+	    "         [--fov DEG] [--scale UNITS_PER_M] [--layout FILE.json] [--local]\n"
+	    "         [--backend cpu|egl|osmesa] [--passes N] [--threads N] [--quality N]\n"
+	    "         [--token TEXT] [--headless] [--out DIR] [--every N] [--frames N]\n"
+	    "         [--duration S] [--stats FILE.json] [--verify-local] [--pose-id-base N]\n"
+	    "Defaults: tracker sim:realtime=1, scene box, 256x256, head-coupled window view with\n"
+	    "the eye 0.35 m in front of a 58 mm square screen; remote when --server is given.\n"
+	    "The first good pose is recentred onto the scene's camera; key r recentres again.\n",
+	    to);
 }
 
 static int fail_usage(const char *fmt, const char *arg)
@@ -56,8 +57,13 @@ static int parse_numbers(const char *v, char sep, int n, double *out)
 
 static int parse_args(int argc, char **argv, struct viewer_options *o)
 {
-	*o = (struct viewer_options){.tracker = "sim:realtime=1", .scene = "box", .backend = "cpu",
-	                             .width = 256, .height = 256, .passes = 2, .every = 1};
+	*o = (struct viewer_options){.tracker = "sim:realtime=1",
+	                             .scene = "box",
+	                             .backend = "cpu",
+	                             .width = 256,
+	                             .height = 256,
+	                             .passes = 2,
+	                             .every = 1};
 	int local = 0;
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i];
@@ -127,7 +133,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 			o->cal.fov_y_deg = d[0];
 		} else if (!strcmp(a, "--scale")) {
 			if (!parse_numbers(v, ',', 1, d) || !(d[0] > 0))
-				return fail_usage("--scale wants scene units per metre > 0, not '%s'", v);
+				return fail_usage(
+				    "--scale wants scene units per metre > 0, not '%s'", v);
 			o->cal.scene_units_per_m = d[0];
 		} else if (!strcmp(a, "--duration")) {
 			if (!parse_numbers(v, ',', 1, d) || !(d[0] > 0))
@@ -163,7 +170,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	if (o->out_dir) {
 		struct stat st;
 		if (stat(o->out_dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-			fprintf(stderr, "raystream-viewer: --out '%s' is not a directory\n", o->out_dir);
+			fprintf(stderr, "raystream-viewer: --out '%s' is not a directory\n",
+			        o->out_dir);
 			return 2;
 		}
 	}

@@ -75,8 +75,7 @@ void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t
 		else
 			v->gaps += frame_id - v->last_frame_id - 1u;
 	}
-	if (pose_id > v->pose_id || pose_id <= v->o.pose_id_base ||
-	    pose_id < v->last_pose_id_shown)
+	if (pose_id > v->pose_id || pose_id <= v->o.pose_id_base || pose_id < v->last_pose_id_shown)
 		++v->unknown_poses; /* never sent, or older than one already shown */
 	v->last_frame_id = frame_id;
 	v->last_pose_id_shown = pose_id;
@@ -115,7 +114,8 @@ void viewer_status_line(struct viewer *v, double now, int force)
 	/* the last second's latencies (the array is sorted only at the end) */
 	double lat = v->latency_n ? v->latency_ms[v->latency_n - 1] : 0.0;
 	char line[256];
-	snprintf(line, sizeof line, "%s | %.1f fps | latency %.1f ms | link %.2f Mbit/s | frame %u pose %u | %s",
+	snprintf(line, sizeof line,
+	         "%s | %.1f fps | latency %.1f ms | link %.2f Mbit/s | frame %u pose %u | %s",
 	         v->remote ? "remote" : "local", fps, lat, mbps, v->last_frame_id,
 	         v->last_pose_id_shown, rs_view_state_name(v->view_state));
 	printf("raystream-viewer: %s\n", line);

@@ -91,7 +91,8 @@ int viewer_connect(struct viewer *v)
 				const uint8_t *dd = d;
 				size_t ll = left;
 				struct rs_stream_msg x;
-				while (rs_stream_parser_feed(&l->parser, &dd, &ll, &x, NULL) == RS_OK) {
+				while (rs_stream_parser_feed(&l->parser, &dd, &ll, &x, NULL) ==
+				       RS_OK) {
 				}
 			}
 			return 0;
@@ -137,15 +138,16 @@ static int handle(struct viewer *v, const struct rs_stream_msg *m)
 	case RS_STREAM_FRAME: {
 		const struct rs_stream_frame *f = &m->u.frame;
 		if (f->width != v->o.width || f->height != v->o.height) {
-			fprintf(stderr, "raystream-viewer: frame %u is %ux%u, not %ux%u\n", f->frame_id,
-			        f->width, f->height, v->o.width, v->o.height);
+			fprintf(stderr, "raystream-viewer: frame %u is %ux%u, not %ux%u\n",
+			        f->frame_id, f->width, f->height, v->o.width, v->o.height);
 			return -1;
 		}
 		if (f->encoding == RS_STREAM_ENC_RGBA8)
 			memcpy(v->rgba, f->data, f->size);
 		else if (rs_jpeg_decode(v->jpeg, f->data, f->size, f->width, f->height, v->rgba,
 		                        &err) != RS_OK) {
-			fprintf(stderr, "raystream-viewer: frame %u: %s\n", f->frame_id, err.message);
+			fprintf(stderr, "raystream-viewer: frame %u: %s\n", f->frame_id,
+			        err.message);
 			return 0; /* a bad frame is skipped, never shown half-decoded */
 		}
 		if (v->remote)

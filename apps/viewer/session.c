@@ -61,8 +61,11 @@ static int setup(struct viewer *v)
 		return fail("", &err);
 	if (!o->start_remote || o->verify_local || !o->server) {
 		uint32_t lights = rs_scene_light_count(v->scene) ? 1u : 0u;
-		struct rs_render_desc d = {.width = o->width, .height = o->height,
-		                           .passes = o->passes, .lights = lights, .threads = o->threads};
+		struct rs_render_desc d = {.width = o->width,
+		                           .height = o->height,
+		                           .passes = o->passes,
+		                           .lights = lights,
+		                           .threads = o->threads};
 		if (rs_renderer_open(o->backend, &d, &v->local, &err) != RS_OK ||
 		    rs_renderer_set_scene(v->local, v->scene, &err) != RS_OK)
 			return fail("", &err);
@@ -109,7 +112,8 @@ static int track(struct viewer *v, int *recentred)
 		if (st == RS_END)
 			return got ? 1 : 2;
 		if (st == RS_ERR_DISCONNECTED) {
-			rs_track_source_reopen(v->tracker); /* retried every round until it is back */
+			rs_track_source_reopen(
+			    v->tracker); /* retried every round until it is back */
 			break;
 		}
 		if (st != RS_OK) {
@@ -139,7 +143,8 @@ static void new_camera(struct viewer *v)
 	v->ring[slot] = v->camera;
 	v->ring_id[slot] = v->pose_id;
 	if (v->link.fd >= 0)
-		viewer_send_pose(v, &v->camera, v->view_state == RS_VIEW_FRESH ? 0u : RS_STREAM_POSE_STALE);
+		viewer_send_pose(v, &v->camera,
+		                 v->view_state == RS_VIEW_FRESH ? 0u : RS_STREAM_POSE_STALE);
 	if (!v->remote && v->local) {
 		uint64_t t = (uint64_t)(viewer_now_s() * 1e6);
 		struct rs_frame f = {.rgba8 = v->rgba};

@@ -47,10 +47,10 @@ struct viewer {
 	struct rs_jpeg *jpeg;
 	struct viewer_link link;
 	struct rs_window *window; /* NULL when headless */
-	int remote; /* showing remote frames (else local) */
-	uint8_t *rgba, *check;   /* the frame shown; a local render to compare with */
-	uint32_t pose_id;        /* last pose id sent or rendered */
-	struct rs_camera camera; /* current camera */
+	int remote;               /* showing remote frames (else local) */
+	uint8_t *rgba, *check;    /* the frame shown; a local render to compare with */
+	uint32_t pose_id;         /* last pose id sent or rendered */
+	struct rs_camera camera;  /* current camera */
 	enum rs_view_state view_state;
 	struct rs_camera ring[VIEWER_POSE_RING];
 	uint32_t ring_id[VIEWER_POSE_RING];

@@ -9,8 +9,8 @@
 int viewer_window_open(struct viewer *v)
 {
 	struct rs_error err = {0};
-	struct rs_window_desc d = {.width = v->o.width, .height = v->o.height,
-	                           .title = "raystream-viewer"};
+	struct rs_window_desc d = {
+	    .width = v->o.width, .height = v->o.height, .title = "raystream-viewer"};
 	if (rs_window_create(&d, &v->window, &err) != RS_OK) {
 		fprintf(stderr, "raystream-viewer: %s (use --headless without a display)\n",
 		        err.message);

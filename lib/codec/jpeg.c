@@ -67,8 +67,9 @@ enum rs_status rs_jpeg_encode(struct rs_jpeg *jpeg, const uint8_t *rgba, uint32_
 	/* TJFLAG_NOREALLOC writes at most the bound, so a smaller buffer must be refused
 	 * here rather than trusted to be enough for this image. */
 	if (cap < rs_jpeg_bound(width, height) || cap > ULONG_MAX)
-		return rs_error_set(err, RS_ERR_LIMIT, "jpeg: output buffer of %zu bytes < bound %zu",
-		                    cap, rs_jpeg_bound(width, height));
+		return rs_error_set(err, RS_ERR_LIMIT,
+		                    "jpeg: output buffer of %zu bytes < bound %zu", cap,
+		                    rs_jpeg_bound(width, height));
 	unsigned char *dst = out;
 	unsigned long n = (unsigned long)cap;
 	if (tjCompress2(jpeg->enc, rgba, (int)width, 0, (int)height, TJPF_RGBA, &dst, &n,

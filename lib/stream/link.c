@@ -13,7 +13,8 @@ enum rs_status rs_stream_link_init(struct rs_stream_link *link,
 		d = *desc;
 	if (!isfinite(d.rate_bits_per_s) || d.rate_bits_per_s < 0.0 || !isfinite(d.latency_s) ||
 	    d.latency_s < 0.0)
-		return rs_error_set(err, RS_ERR_INVALID, "link: rate and latency must be finite, >= 0");
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "link: rate and latency must be finite, >= 0");
 	if (d.burst_bytes == 0) {
 		double two_ms = d.rate_bits_per_s / 8.0 * 0.002;
 		d.burst_bytes = two_ms > 1500.0 ? (size_t)two_ms : 1500u;

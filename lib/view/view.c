@@ -33,15 +33,15 @@ static int nonneg_finite(double v)
 }
 
 enum rs_status rs_view_calibration_resolve(const struct rs_view_calibration *cal,
-                                           struct rs_view_calibration *out,
-                                           struct rs_error *err)
+                                           struct rs_view_calibration *out, struct rs_error *err)
 {
 	RS_ASSERT(out);
 	struct rs_view_calibration c = {0};
 	if (cal)
 		c = *cal;
 	if ((unsigned)c.mode > RS_VIEW_CAMERA || (unsigned)c.eye_frame > RS_VIEW_EYE_IN_TRACKER)
-		return rs_error_set(err, RS_ERR_INVALID, "view calibration: unknown mode or eye frame");
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "view calibration: unknown mode or eye frame");
 	if (!nonneg_finite(c.screen_width_m) || !nonneg_finite(c.screen_height_m) ||
 	    !nonneg_finite(c.scene_units_per_m) || !nonneg_finite(c.min_eye_distance_m) ||
 	    !nonneg_finite(c.fov_y_deg) || !nonneg_finite(c.max_fov_deg))
@@ -71,7 +71,8 @@ enum rs_status rs_view_calibration_resolve(const struct rs_view_calibration *cal
 	if (c.max_fov_deg == 0.0)
 		c.max_fov_deg = RS_VIEW_DEFAULT_MAX_FOV_DEG;
 	if (c.fov_y_deg >= 180.0 || c.max_fov_deg >= 180.0)
-		return rs_error_set(err, RS_ERR_INVALID, "view calibration: fov must be below 180 deg");
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "view calibration: fov must be below 180 deg");
 	*out = c;
 	return RS_OK;
 }
@@ -90,7 +91,8 @@ static enum rs_status screen_from_pose(const struct rs_view_calibration *cal,
 	const double *q = T_tracker_display->orientation;
 	if (!pm_finite3(T_tracker_display->position) || !isfinite(q[0]) || !isfinite(q[1]) ||
 	    !isfinite(q[2]) || !isfinite(q[3]) || pm_qdot(q, q) < 1e-12)
-		return rs_error_set(err, RS_ERR_BAD_DATA, "display pose is not finite or not a rotation");
+		return rs_error_set(err, RS_ERR_BAD_DATA,
+		                    "display pose is not finite or not a rotation");
 	rs_pose_compose(T_tracker_display, &cal->T_display_screen, &out->T_tracker_screen);
 	static const double basis[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 	for (int i = 0; i < 3; ++i)
@@ -113,8 +115,7 @@ static void to_scene_point(const struct rs_view_calibration *cal, const double p
 enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
                                         const struct rs_pose *T_tracker_display, uint32_t width,
                                         uint32_t height, struct rs_camera *out_camera,
-                                        struct rs_view_geometry *out_geometry,
-                                        struct rs_error *err)
+                                        struct rs_view_geometry *out_geometry, struct rs_error *err)
 {
 	RS_ASSERT(cal && T_tracker_display && out_camera);
 	if (width == 0 || height == 0)
@@ -129,7 +130,9 @@ enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
 	g.eye_distance_m = pm_dot3(to_eye, s.axes[2]);
 	for (int i = 0; i < 3; ++i)
 		pm_qrotate(cal->T_scene_tracker.orientation, s.axes[i],
-		           i == 0 ? g.right : i == 1 ? g.up : g.normal);
+		           i == 0   ? g.right
+		           : i == 1 ? g.up
+		                    : g.normal);
 	to_scene_point(cal, s.eye, g.eye);
 	to_scene_point(cal, s.T_tracker_screen.position, g.screen_center);
 
@@ -143,15 +146,17 @@ enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
 			return rs_error_set(err, RS_ERR_DEGENERATE,
 			                    "view: the eye is behind the screen (%.4g m)", d);
 		if (d < cal->min_eye_distance_m)
-			return rs_error_set(err, RS_ERR_DEGENERATE,
-			                    "view: the screen is edge-on to the eye (%.4g m < %.4g m)",
-			                    d, cal->min_eye_distance_m);
+			return rs_error_set(
+			    err, RS_ERR_DEGENERATE,
+			    "view: the screen is edge-on to the eye (%.4g m < %.4g m)", d,
+			    cal->min_eye_distance_m);
 		double aspect_img = (double)width / (double)height;
 		double aspect_scr = cal->screen_width_m / cal->screen_height_m;
 		if (fabs(aspect_img / aspect_scr - 1.0) > RS_VIEW_ASPECT_TOLERANCE)
-			return rs_error_set(err, RS_ERR_INVALID,
-			                    "view: image aspect %.4g differs from the screen's %.4g",
-			                    aspect_img, aspect_scr);
+			return rs_error_set(
+			    err, RS_ERR_INVALID,
+			    "view: image aspect %.4g differs from the screen's %.4g", aspect_img,
+			    aspect_scr);
 		double half_h = 0.5 * cal->screen_height_m;
 		double fov = 2.0 * atan(half_h / d) * (180.0 / VIEW_PI);
 		if (fov > cal->max_fov_deg)
@@ -166,7 +171,8 @@ enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
 		cam.shift[0] = pm_dot3(c_from_eye, s.axes[0]) / half_h;
 		cam.shift[1] = pm_dot3(c_from_eye, s.axes[1]) / half_h;
 		if (fabs(cam.shift[0]) > 1e6 || fabs(cam.shift[1]) > 1e6)
-			return rs_error_set(err, RS_ERR_DEGENERATE, "view: the screen is too far off axis");
+			return rs_error_set(err, RS_ERR_DEGENERATE,
+			                    "view: the screen is too far off axis");
 		memcpy(cam.eye, g.eye, sizeof cam.eye);
 		cam.fov_y_deg = fov;
 	}
@@ -181,8 +187,7 @@ enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
 }
 
 /* Unit quaternion of the rotation whose columns are a, b, c (Shepperd's method). */
-static void quat_from_columns(const double a[3], const double b[3], const double c[3],
-                              double q[4])
+static void quat_from_columns(const double a[3], const double b[3], const double c[3], double q[4])
 {
 	double m00 = a[0], m11 = b[1], m22 = c[2], tr = m00 + m11 + m22;
 	if (tr > 0.0) {

@@ -74,7 +74,8 @@ enum rs_status rs_view_update(struct rs_view *view, const struct rs_pose *T_trac
 		st = rs_view_camera_from_pose(&view->cal, T_tracker_display, view->width,
 		                              view->height, &cam, NULL, &view->err);
 		if (st == RS_OK || st == RS_ERR_DEGENERATE) {
-			/* a refused camera still comes from a real pose: recentring on it is fine */
+			/* a refused camera still comes from a real pose: recentring on it is fine
+			 */
 			view->last_pose = *T_tracker_display;
 			view->has_pose = 1;
 		}

@@ -65,8 +65,8 @@ struct rs_view_calibration {
 	double eye[3];
 	/** The tracker room in the scene; an all-zero orientation means identity. */
 	struct rs_pose T_scene_tracker;
-	double scene_units_per_m; /**< 0 -> 1 */
-	double fov_y_deg;         /**< RS_VIEW_CAMERA's vertical fov; 0 -> 45 */
+	double scene_units_per_m;  /**< 0 -> 1 */
+	double fov_y_deg;          /**< RS_VIEW_CAMERA's vertical fov; 0 -> 45 */
 	double min_eye_distance_m; /**< 0 -> RS_VIEW_DEFAULT_MIN_EYE_DISTANCE_M */
 	double max_fov_deg;        /**< 0 -> RS_VIEW_DEFAULT_MAX_FOV_DEG (< 180) */
 };
@@ -77,15 +77,14 @@ struct rs_view_calibration {
  * a zero or non-finite quaternion that is not all zero, fovs outside (0, 180).
  */
 enum rs_status rs_view_calibration_resolve(const struct rs_view_calibration *cal,
-                                           struct rs_view_calibration *out,
-                                           struct rs_error *err);
+                                           struct rs_view_calibration *out, struct rs_error *err);
 
 /** Where the eye and the screen are in the scene (what a camera was made from). */
 struct rs_view_geometry {
-	double eye[3];           /**< scene units */
-	double screen_center[3]; /**< scene units */
+	double eye[3];                     /**< scene units */
+	double screen_center[3];           /**< scene units */
 	double right[3], up[3], normal[3]; /**< screen axes in the scene, unit; normal: out */
-	double eye_distance_m;   /**< eye to screen plane along the normal (> 0: in front) */
+	double eye_distance_m; /**< eye to screen plane along the normal (> 0: in front) */
 };
 
 /**
