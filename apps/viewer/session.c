@@ -106,14 +106,14 @@ static int track(struct viewer *v, int *recentred)
 	struct rs_pose_quality q = {0};
 	int got = 0;
 	for (int k = 0; k < 64; ++k) {
-		enum rs_status st = rs_track_source_read(v->tracker, &s, 0);
+		enum rs_status st = rs_track_source_read(v->tracker, &s, 0, NULL);
 		if (st == RS_TIMEOUT)
 			break;
 		if (st == RS_END)
 			return got ? 1 : 2;
 		if (st == RS_ERR_DISCONNECTED) {
-			rs_track_source_reopen(
-			    v->tracker); /* retried every round until it is back */
+			/* retried every round until the device is back; the view goes stale */
+			rs_track_source_reopen(v->tracker, NULL);
 			break;
 		}
 		if (st != RS_OK) {
