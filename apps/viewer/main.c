@@ -107,6 +107,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 			o->stats = v;
 		else if (!strcmp(a, "--layout"))
 			o->layout = v;
+		else if (!strcmp(a, "--last"))
+			o->last = v;
 		else if (!strcmp(a, "--size")) {
 			if (!rs_tool_parse_size(v, &o->width, &o->height) ||
 			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
@@ -140,6 +142,10 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 			if (!parse_numbers(v, ',', 1, d) || !(d[0] > 0))
 				return fail_usage("--duration wants seconds > 0, not '%s'", v);
 			o->duration_s = d[0];
+		} else if (!strcmp(a, "--linger")) {
+			if (!parse_numbers(v, ',', 1, d) || !(d[0] >= 0 && d[0] <= 3600))
+				return fail_usage("--linger wants seconds 0..3600, not '%s'", v);
+			o->linger_s = d[0];
 		} else if (!strcmp(a, "--passes")) {
 			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))
 				return fail_usage("--passes wants 1..64, not '%s'", v);

@@ -45,23 +45,31 @@ static void verify(struct viewer *v, uint32_t pose_id)
 	free(b);
 }
 
+int viewer_write_last(struct viewer *v, const char *path)
+{
+	uint32_t n = v->o.width * v->o.height;
+	float *rgb = malloc((size_t)n * 3 * sizeof *rgb);
+	struct rs_error err = {0};
+	if (!rgb)
+		return -1;
+	rgba_to_float(v->rgba, n, rgb);
+	/* rs_image_write_png goes through a temporary file and a rename */
+	enum rs_status st = rs_image_write_png(path, rgb, v->o.width, v->o.height, &err);
+	free(rgb);
+	if (st != RS_OK) {
+		fprintf(stderr, "raystream-viewer: %s\n", err.message);
+		return -1;
+	}
+	return 0;
+}
+
 static void write_frame(struct viewer *v)
 {
 	char path[4096];
 	snprintf(path, sizeof path, "%s/frame_%06llu.png", v->o.out_dir,
 	         (unsigned long long)v->frames_written);
-	uint32_t n = v->o.width * v->o.height;
-	float *rgb = malloc((size_t)n * 3 * sizeof *rgb);
-	struct rs_error err = {0};
-	if (!rgb)
-		return;
-	rgba_to_float(v->rgba, n, rgb);
-	/* rs_image_write_png goes through a temporary file and a rename */
-	if (rs_image_write_png(path, rgb, v->o.width, v->o.height, &err) != RS_OK)
-		fprintf(stderr, "raystream-viewer: %s\n", err.message);
-	else
+	if (viewer_write_last(v, path) == 0)
 		++v->frames_written;
-	free(rgb);
 }
 
 void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t pose_time_us)

@@ -200,6 +200,13 @@ static int loop(struct viewer *v)
 		viewer_status_line(v, viewer_now_s(), 0);
 	}
 	viewer_status_line(v, viewer_now_s(), 1);
+	if (code == 0 && v->o.last && v->have_frame && viewer_write_last(v, v->o.last) != 0)
+		code = 1;
+	/* keep showing the last frame (redrawn on expose) until the time is up or q */
+	double until = viewer_now_s() + v->o.linger_s;
+	while (code == 0 && v->window && !stop_signal && viewer_now_s() < until &&
+	       viewer_window_poll(v) != VIEWER_KEY_QUIT)
+		poll(NULL, 0, 10);
 	return code;
 }
 

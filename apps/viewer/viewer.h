@@ -14,10 +14,10 @@
 struct rs_window;
 
 struct viewer_options {
-	const char *tracker, *server, *scene, *backend, *token, *out_dir, *stats, *layout;
+	const char *tracker, *server, *scene, *backend, *token, *out_dir, *stats, *layout, *last;
 	uint32_t width, height, passes, threads, every, frames, pose_id_base;
 	int quality, headless, verify_local, start_remote;
-	double duration_s, scale;
+	double duration_s, linger_s;
 	struct rs_view_calibration cal;
 };
 
@@ -78,6 +78,8 @@ void viewer_disconnect(struct viewer *v, const char *why);
 void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t pose_time_us);
 int viewer_write_stats(struct viewer *v);
 void viewer_status_line(struct viewer *v, double now, int force);
+/* Write the frame shown last to `path` (temp + rename); 0 on success. */
+int viewer_write_last(struct viewer *v, const char *path);
 
 /* The window (window.c, through backends/window when built). */
 enum viewer_key { VIEWER_KEY_NONE, VIEWER_KEY_QUIT, VIEWER_KEY_SWITCH, VIEWER_KEY_RECENTRE };
