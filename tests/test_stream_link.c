@@ -24,7 +24,7 @@ static void test_rate_is_kept(void **state)
 		rs_stream_link_spend(&l, n);
 		sent += (double)n;
 	}
-	double want = 25e6 / 8.0 * 2.0, burst = 25e6 / 8.0 * 0.002;
+	double want = 25e6 / 8.0 * 2.0, burst = 25e6 / 8.0 * 0.01;
 	assert_true(sent <= want + burst + 1.0);
 	assert_true(sent >= want + burst - 2000.0);
 }

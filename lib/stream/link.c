@@ -16,8 +16,10 @@ enum rs_status rs_stream_link_init(struct rs_stream_link *link,
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "link: rate and latency must be finite, >= 0");
 	if (d.burst_bytes == 0) {
-		double two_ms = d.rate_bits_per_s / 8.0 * 0.002;
-		d.burst_bytes = two_ms > 1500.0 ? (size_t)two_ms : 1500u;
+		/* 10 ms of rate: a sender woken late by a busy machine does not lose tokens it
+		 * was owed, so the long-run rate holds; short bursts stay small */
+		double ten_ms = d.rate_bits_per_s / 8.0 * 0.01;
+		d.burst_bytes = ten_ms > 1500.0 ? (size_t)ten_ms : 1500u;
 	}
 	*link = (struct rs_stream_link){.desc = d};
 	return RS_OK;

@@ -186,7 +186,7 @@ enum rs_status rs_stream_encode(const struct rs_stream_msg *msg, uint8_t *out, s
 struct rs_stream_link_desc {
 	double rate_bits_per_s; /**< 0: unlimited */
 	double latency_s;       /**< one-way delay added to every message (sender side) */
-	size_t burst_bytes;     /**< bucket size; 0: 2 ms of rate, at least 1500 bytes */
+	size_t burst_bytes;     /**< bucket size; 0: 10 ms of rate, at least 1500 bytes */
 };
 
 /** Token bucket state; caller-owned, treat the fields as private. */
