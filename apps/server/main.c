@@ -73,6 +73,20 @@ static int parse_double(const char *v, double lo, double hi, double *out)
 	return 1;
 }
 
+/* Whether `a` is one of the options that take a value (for the right usage message). */
+static int known_option(const char *a)
+{
+	static const char *const names =
+	    " --backend --bind --duration --encoding --lights --link-latency-ms --link-mbps "
+	    "--max-viewers --passes --port --port-file --quality --read-timeout-ms "
+	    "--render-threads --scene --shadows --size --stale-ms --stats --threads --token ";
+	size_t n = strlen(a);
+	for (const char *p = strstr(names, a); p; p = strstr(p + 1, a))
+		if (p[-1] == ' ' && p[n] == ' ')
+			return 1;
+	return 0;
+}
+
 static int parse_args(int argc, char **argv, struct server_options *o)
 {
 	*o = (struct server_options){.scene = "box",
@@ -97,7 +111,8 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 		if (strncmp(a, "--", 2) != 0)
 			return fail_usage("unexpected argument '%s'", a);
 		if (!v)
-			return fail_usage("option %s needs a value", a);
+			return fail_usage(
+			    known_option(a) ? "option %s needs a value" : "unknown option '%s'", a);
 		++i;
 		uint32_t u = 0;
 		double d = 0;

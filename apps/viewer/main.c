@@ -55,6 +55,20 @@ static int parse_numbers(const char *v, char sep, int n, double *out)
 	return 1;
 }
 
+/* Whether `a` is one of the options that take a value (for the right usage message). */
+static int known_option(const char *a)
+{
+	static const char *const names =
+	    " --backend --duration --every --eye --fov --frames --last --layout --linger --out "
+	    "--passes --pose-id-base --quality --scale --scene --screen --server --size --stats "
+	    "--threads --token --tracker --view ";
+	size_t n = strlen(a);
+	for (const char *p = strstr(names, a); p; p = strstr(p + 1, a))
+		if (p[-1] == ' ' && p[n] == ' ')
+			return 1;
+	return 0;
+}
+
 static int parse_args(int argc, char **argv, struct viewer_options *o)
 {
 	*o = (struct viewer_options){.tracker = "sim:realtime=1",
@@ -87,7 +101,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 			return fail_usage("unexpected argument '%s'", a);
 		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
 		if (!v)
-			return fail_usage("option %s needs a value", a);
+			return fail_usage(
+			    known_option(a) ? "option %s needs a value" : "unknown option '%s'", a);
 		++i;
 		uint32_t u = 0;
 		double d[3];
