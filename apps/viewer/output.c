@@ -119,13 +119,22 @@ void viewer_status_line(struct viewer *v, double now, int force)
 	double dt = now - v->last_line_s;
 	double fps = dt > 0 ? (double)(v->frames - v->frames_at_line) / dt : 0;
 	double mbps = dt > 0 ? (double)(v->link.bytes_in - v->bytes_at_line) * 8.0 / dt / 1e6 : 0;
-	/* the last second's latencies (the array is sorted only at the end) */
-	double lat = v->latency_n ? v->latency_ms[v->latency_n - 1] : 0.0;
+	/* the median of the last second's latencies (the array is sorted only at the end) */
+	double lat = 0.0, recent[256];
+	uint64_t k = 0;
+	for (uint64_t i = v->latency_at_line; i < v->latency_n && k < 256; ++i)
+		recent[k++] = v->latency_ms[i];
+	if (k) {
+		qsort(recent, k, sizeof *recent, cmp_double);
+		lat = recent[k / 2];
+	}
+	v->latency_at_line = v->latency_n;
 	char line[256];
-	snprintf(line, sizeof line,
-	         "%s | %.1f fps | latency %.1f ms | link %.2f Mbit/s | frame %u pose %u | %s",
-	         v->remote ? "remote" : "local", fps, lat, mbps, v->last_frame_id,
-	         v->last_pose_id_shown, rs_view_state_name(v->view_state));
+	snprintf(
+	    line, sizeof line,
+	    "%s | %.1f fps | latency %.1f ms median | link %.2f Mbit/s | frame %u pose %u | %s",
+	    v->remote ? "remote" : "local", fps, lat, mbps, v->last_frame_id, v->last_pose_id_shown,
+	    rs_view_state_name(v->view_state));
 	printf("raystream-viewer: %s\n", line);
 	fflush(stdout);
 	if (v->window)

@@ -59,7 +59,7 @@ static int setup(struct viewer *v)
 		return fail("out of memory", NULL);
 	if (rs_jpeg_create(&v->jpeg, &err) != RS_OK)
 		return fail("", &err);
-	if (!o->start_remote || o->verify_local || !o->server) {
+	{ /* always: --local, key switching and --verify-local all render here */
 		uint32_t lights = rs_scene_light_count(v->scene) ? 1u : 0u;
 		struct rs_render_desc d = {.width = o->width,
 		                           .height = o->height,

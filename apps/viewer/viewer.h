@@ -63,7 +63,7 @@ struct viewer {
 	double psnr_min, psnr_sum;
 	uint64_t psnr_n;
 	double started_s, last_line_s;
-	uint64_t frames_at_line, bytes_at_line;
+	uint64_t frames_at_line, bytes_at_line, latency_at_line;
 };
 
 /* Remote link (remote.c). */
