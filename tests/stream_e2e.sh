@@ -53,7 +53,8 @@ kill "$server_pid"; wait "$server_pid"; rc=$?
 grep -q "viewer said bye" s1.log && ok "viewer's BYE logged" || bad "no bye in: $(cat s1.log)"
 
 # ---- 2. bad clients while 8 good viewers keep receiving -----------------------------
-start_server s2.log --size 96x96 --encoding raw --read-timeout-ms 1000 --stale-ms 100 --max-viewers 32
+start_server s2.log --size 96x96 --encoding raw --read-timeout-ms 1000 --stale-ms 100 --max-viewers 32 \
+  --render-threads 2
 for k in 1 2 3 4 5 6 7 8; do
   timeout 60 "$viewer" --server 127.0.0.1:"$port" --size 96x96 --headless --threads 1 \
     --duration 7 --stats g$k.json --pose-id-base $((k * 1000000)) > g$k.out 2> g$k.err &
@@ -115,7 +116,17 @@ check "every disconnect logged with a reason ($n >= 18)" "$n >= 18"
 kill "$server_pid"; wait "$server_pid"
 grep -q "ERROR: AddressSanitizer\|runtime error" s2.log s1.log && bad "sanitizer report" || ok "no sanitizer reports"
 
-# ---- 3. bad command lines: one line, non-zero exit ----------------------------------
+# ---- 3. link emulation: 2 Mbit/s and 50 ms hold a raw 96x96 stream (36 KB a frame) ----
+start_server s3.log --size 96x96 --encoding raw --link-mbps 2 --link-latency-ms 50
+timeout 60 "$viewer" --server 127.0.0.1:"$port" --size 96x96 --headless --threads 1 \
+  --duration 3 --stats l.json > l.out 2> l.err
+mbps=$(jget l.json link_mbps)
+check "link rate held to 2 Mbit/s (viewer measured $mbps)" "$mbps <= 2.1 && $mbps >= 1.0"
+check "frames limited by the link ($(jget l.json fps) fps <= 7)" "$(jget l.json fps) <= 7"
+check "latency includes the 50 ms delay ($(jget l.json latency_median_ms) ms)" "$(jget l.json latency_median_ms) >= 50"
+kill "$server_pid"; wait "$server_pid"
+
+# ---- 4. bad command lines: one line, non-zero exit ----------------------------------
 bin=$server
 fails_cleanly "server bad size" 2 "--size wants WxH" --size 0x5
 fails_cleanly "server unknown option" 2 "unknown option '--bogus'" --bogus
