@@ -42,6 +42,8 @@ fi
 # a black screen would also "differ"; make sure the frame itself is not blank
 "$compare" shot.xwd last.png 100 100 > blank.txt
 [ $? -eq 1 ] && ok "the frame is not the empty background" || bad "frame looks like the background: $(cat blank.txt)"
+# the status line is drawn in the strip under the image (64..82), never over it
+"$compare" shot.xwd --lit 0 64 64 18 > strip.txt && ok "status line drawn under the image: $(cat strip.txt)" || bad "no status line text: $(cat strip.txt)"
 kill -TERM "$vpid"
 wait "$vpid"
 rc=$?

@@ -3,6 +3,8 @@
  * (TrueColor, 24 or 32 bits per pixel: what Xvfb gives). Prints the largest channel
  * difference and the share of differing pixels; exit 0 when every channel is within 1,
  * 1 when they differ, 2 when a file cannot be read.
+ * xwd_compare XWD --lit X Y W H: exit 0 when some pixel of that rectangle has a channel
+ * above 128 (text was drawn there), else 1.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -28,8 +30,9 @@ static int shift_of(uint32_t mask)
 
 int main(int argc, char **argv)
 {
-	if (argc != 5) {
-		fprintf(stderr, "usage: xwd_compare XWD PNG X Y\n");
+	int lit = argc == 7 && !strcmp(argv[2], "--lit");
+	if (argc != 5 && !lit) {
+		fprintf(stderr, "usage: xwd_compare XWD PNG X Y | xwd_compare XWD --lit X Y W H\n");
 		return 2;
 	}
 	FILE *f = fopen(argv[1], "rb");
@@ -59,6 +62,19 @@ int main(int argc, char **argv)
 	uint8_t *png = NULL;
 	uint32_t pw = 0, ph = 0;
 	struct rs_error err = {0};
+	if (lit) {
+		uint32_t x0 = (uint32_t)atoi(argv[3]), y0 = (uint32_t)atoi(argv[4]);
+		uint32_t rw = (uint32_t)atoi(argv[5]), rh = (uint32_t)atoi(argv[6]), count = 0;
+		for (uint32_t y = y0; y < y0 + rh && y < height; ++y)
+			for (uint32_t x = x0; x < x0 + rw && x < width; ++x)
+				for (uint32_t b = 0; b < 3;
+				     ++b) /* 8-bit channels of 24/32-bit TrueColor */
+					count += buf[data + (size_t)y * bpl +
+					             (size_t)x * (bpp / 8) + b] > 128;
+		printf("xwd_compare: %u bright channels in %ux%u at %u,%u\n", count, rw, rh, x0,
+		       y0);
+		return count > 0 ? 0 : 1;
+	}
 	if (rs_image_read_png(argv[2], &png, &pw, &ph, &err) != RS_OK) {
 		fprintf(stderr, "xwd_compare: %s\n", err.message);
 		return 2;

@@ -4,14 +4,21 @@
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
 #include <X11/keysym.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "raystream/rs_window.h"
 
+/* Height of the strip under the image that shows the status line (X core font). */
+#define STATUS_STRIP 18
+
 struct rs_window {
 	Display *dpy;
-	Window win;
+	Window top, win; /* top: image + status strip; win: the GL child showing the image */
+	GC gc;
+	XFontStruct *font;
+	char status[256];
 	Atom wm_delete;
 	EGLDisplay egl;
 	EGLSurface surface;
@@ -152,25 +159,35 @@ enum rs_status rs_window_create(const struct rs_window_desc *desc, struct rs_win
 		                              : (getenv("DISPLAY") ? getenv("DISPLAY") : ""));
 	}
 	int scr = DefaultScreen(w->dpy);
-	w->win = XCreateSimpleWindow(w->dpy, RootWindow(w->dpy, scr), d.x, d.y, d.width, d.height,
-	                             0, BlackPixel(w->dpy, scr), BlackPixel(w->dpy, scr));
+	unsigned long black = BlackPixel(w->dpy, scr), white = WhitePixel(w->dpy, scr);
+	w->top = XCreateSimpleWindow(w->dpy, RootWindow(w->dpy, scr), d.x, d.y, d.width,
+	                             d.height + STATUS_STRIP, 0, black, black);
+	w->win = XCreateSimpleWindow(w->dpy, w->top, 0, 0, d.width, d.height, 0, black, black);
 	/* a fixed size: one texel per pixel */
 	XSizeHints hints = {.flags = PMinSize | PMaxSize | PPosition,
 	                    .x = d.x,
 	                    .y = d.y,
 	                    .min_width = (int)d.width,
 	                    .max_width = (int)d.width,
-	                    .min_height = (int)d.height,
-	                    .max_height = (int)d.height};
-	XSetWMNormalHints(w->dpy, w->win, &hints);
-	XStoreName(w->dpy, w->win, d.title ? d.title : "raystream");
+	                    .min_height = (int)d.height + STATUS_STRIP,
+	                    .max_height = (int)d.height + STATUS_STRIP};
+	XSetWMNormalHints(w->dpy, w->top, &hints);
+	XStoreName(w->dpy, w->top, d.title ? d.title : "raystream");
 	w->wm_delete = XInternAtom(w->dpy, "WM_DELETE_WINDOW", False);
-	XSetWMProtocols(w->dpy, w->win, &w->wm_delete, 1);
+	XSetWMProtocols(w->dpy, w->top, &w->wm_delete, 1);
+	XSelectInput(w->dpy, w->top, KeyPressMask | ExposureMask | StructureNotifyMask);
 	XSelectInput(w->dpy, w->win, KeyPressMask | ExposureMask | StructureNotifyMask);
+	/* the status line: the X core "fixed" font (every X server has it); none, no text */
+	w->font = XLoadQueryFont(w->dpy, "fixed");
+	w->gc = XCreateGC(w->dpy, w->top, 0, NULL);
+	XSetForeground(w->dpy, w->gc, white);
+	if (w->font)
+		XSetFont(w->dpy, w->gc, w->font->fid);
 	XMapWindow(w->dpy, w->win);
+	XMapWindow(w->dpy, w->top);
 	for (XEvent e;;) { /* drawing before the map would be lost */
 		XNextEvent(w->dpy, &e);
-		if (e.type == MapNotify)
+		if (e.type == MapNotify && e.xmap.window == w->top)
 			break;
 	}
 	enum rs_status st = make_egl(w, err);
@@ -207,8 +224,12 @@ void rs_window_destroy(struct rs_window **window)
 		eglTerminate(w->egl);
 	}
 	if (w->dpy) {
-		if (w->win)
-			XDestroyWindow(w->dpy, w->win);
+		if (w->font)
+			XFreeFont(w->dpy, w->font);
+		if (w->gc)
+			XFreeGC(w->dpy, w->gc);
+		if (w->top)
+			XDestroyWindow(w->dpy, w->top); /* and its child */
 		XCloseDisplay(w->dpy);
 	}
 	free(w);
@@ -242,11 +263,21 @@ enum rs_status rs_window_present(struct rs_window *w, const uint8_t *rgba, uint3
 	return draw(w, err);
 }
 
+static void draw_status(struct rs_window *w)
+{
+	XClearArea(w->dpy, w->top, 0, (int)w->height, w->width, STATUS_STRIP, False);
+	if (w->font && w->status[0])
+		XDrawString(w->dpy, w->top, w->gc, 4, (int)w->height + STATUS_STRIP - 5, w->status,
+		            (int)strlen(w->status));
+	XFlush(w->dpy);
+}
+
 void rs_window_set_title(struct rs_window *w, const char *title)
 {
 	RS_ASSERT(w && title);
-	XStoreName(w->dpy, w->win, title);
-	XFlush(w->dpy);
+	XStoreName(w->dpy, w->top, title);
+	snprintf(w->status, sizeof w->status, "%s", title);
+	draw_status(w);
 }
 
 enum rs_window_event rs_window_poll(struct rs_window *w)
@@ -256,8 +287,10 @@ enum rs_window_event rs_window_poll(struct rs_window *w)
 	while (ev == RS_WINDOW_NONE && XPending(w->dpy) > 0) {
 		XEvent e;
 		XNextEvent(w->dpy, &e);
-		if (e.type == Expose && w->have_frame)
+		if (e.type == Expose && e.xexpose.window == w->win && w->have_frame)
 			draw(w, NULL);
+		else if (e.type == Expose && e.xexpose.window == w->top)
+			draw_status(w);
 		else if (e.type == ClientMessage && (Atom)e.xclient.data.l[0] == w->wm_delete)
 			ev = RS_WINDOW_QUIT;
 		else if (e.type == KeyPress) {

@@ -2,7 +2,8 @@
  * @file rs_window.h
  * A window that shows frames (module rs_window, backends/window): X11 + an EGL window
  * surface + a GLES 3 textured quad, pixel for pixel (nearest sampling, one texel per
- * pixel, row 0 at the top). Keys are turned into events. Only shows images: rendering
+ * pixel, row 0 at the top, at the window's top-left) and a one-line status strip under it.
+ * Keys are turned into events. Only shows images: rendering
  * happens elsewhere (rs_render.h). One thread; not thread-safe.
  */
 #ifndef RS_WINDOW_H
@@ -52,7 +53,8 @@ void rs_window_destroy(struct rs_window **window);
 enum rs_status rs_window_present(struct rs_window *window, const uint8_t *rgba, uint32_t width,
                                  uint32_t height, struct rs_error *err);
 
-/** Set the title (the viewer's status line). */
+/** Set the title and the status line drawn in a strip under the image (the viewer's
+ * fps / latency / link line). The image area itself is never drawn over. */
 void rs_window_set_title(struct rs_window *window, const char *title);
 
 /** Handle pending X events without blocking; the first key event found, else NONE. */
