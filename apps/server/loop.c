@@ -29,11 +29,13 @@ static void accept_all(struct server *s, int lfd, double now)
 			return;
 		struct viewer *v = NULL;
 		uint32_t active = 0;
+		pthread_mutex_lock(&s->lock); /* `busy` belongs to the render threads */
 		for (uint32_t i = 0; i < SERVER_MAX_VIEWERS; ++i) {
 			active += s->viewers[i].active != 0;
 			if (!v && !s->viewers[i].active && !s->viewers[i].busy)
 				v = &s->viewers[i];
 		}
+		pthread_mutex_unlock(&s->lock);
 		char peer[64];
 		app_peer_name(fd, peer, sizeof peer);
 		if (!v || active >= s->o.max_viewers) {

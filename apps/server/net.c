@@ -75,8 +75,10 @@ static void on_hello(struct server *s, struct viewer *v, const struct rs_stream_
 		server_viewer_close(s, v, RS_STREAM_BYE_SCENE, why);
 		return;
 	}
+	pthread_mutex_lock(&s->lock); /* render threads read both */
 	v->quality = h->quality ? h->quality : s->o.quality;
 	v->hello_done = 1;
+	pthread_mutex_unlock(&s->lock);
 	struct rs_stream_msg m = {.type = RS_STREAM_WELCOME};
 	m.u.welcome = (struct rs_stream_welcome){.viewer_id = v->id,
 	                                         .width = (uint16_t)s->o.width,
