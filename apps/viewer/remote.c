@@ -11,9 +11,6 @@
 #include "app_net.h"
 #include "viewer.h"
 
-/* Frames above this many image bytes are refused (a raw 2048x2048 frame fits). */
-#define VIEWER_MAX_IMAGE (16u << 20)
-
 static int send_all_blocking(int fd, const uint8_t *b, size_t n, double deadline_s)
 {
 	while (n > 0) {
@@ -44,7 +41,10 @@ int viewer_connect(struct viewer *v)
 		fprintf(stderr, "raystream-viewer: %s\n", err.message);
 		return -1;
 	}
-	size_t cap = rs_stream_parser_bound(VIEWER_MAX_IMAGE);
+	/* the largest frame of this size: raw RGBA8 or the worst-case JPEG */
+	size_t raw = (size_t)v->o.width * v->o.height * 4u,
+	       jpg = rs_jpeg_bound(v->o.width, v->o.height);
+	size_t cap = rs_stream_parser_bound(raw > jpg ? raw : jpg);
 	l->inbuf = malloc(cap);
 	if (!l->inbuf) {
 		fprintf(stderr, "raystream-viewer: out of memory\n");

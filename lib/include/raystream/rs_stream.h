@@ -29,8 +29,6 @@ extern "C" {
 #define RS_STREAM_FRAME_FIXED 32u
 /** Largest message payload a viewer-to-server message can have (a hello). */
 #define RS_STREAM_MAX_CLIENT_PAYLOAD (8u + RS_STREAM_MAX_TOKEN + RS_STREAM_MAX_SCENE)
-/** Default cap of a frame's image bytes (a raw 1024x1024 RGBA8 frame is 4 MiB). */
-#define RS_STREAM_DEFAULT_MAX_IMAGE (4u << 20)
 
 enum rs_stream_type {
 	RS_STREAM_HELLO = 1,   /**< viewer -> server: size, quality, token, scene */
