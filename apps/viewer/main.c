@@ -59,7 +59,8 @@ static int parse_numbers(const char *v, char sep, int n, double *out)
 static int known_option(const char *a)
 {
 	static const char *const names =
-	    " --backend --duration --every --eye --fov --frames --last --layout --linger --out "
+	    " --backend --duration --every --eye --eye-frame --fov --frames --last --layout "
+	    "--linger --out "
 	    "--passes --pose-id-base --quality --scale --scene --screen --server --size --stats "
 	    "--threads --token --tracker --view ";
 	size_t n = strlen(a);
@@ -139,6 +140,14 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 			if (!parse_numbers(v, ',', 3, d))
 				return fail_usage("--eye wants X,Y,Z in metres, not '%s'", v);
 			memcpy(o->cal.eye, d, sizeof d);
+		} else if (!strcmp(a, "--eye-frame")) {
+			if (!strcmp(v, "screen"))
+				o->cal.eye_frame = RS_VIEW_EYE_IN_SCREEN;
+			else if (!strcmp(v, "tracker"))
+				o->cal.eye_frame = RS_VIEW_EYE_IN_TRACKER;
+			else
+				return fail_usage("--eye-frame wants screen or tracker, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--screen")) {
 			if (!parse_numbers(v, 'x', 2, d) || !(d[0] > 0) || !(d[1] > 0))
 				return fail_usage("--screen wants WxH in metres, not '%s'", v);
