@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "raystream/rs_codec.h"
+#include "contract.h"
 
 #define W 96
 #define H 64
@@ -99,11 +100,28 @@ static void test_bad_input_refused(void **state)
 	rs_jpeg_destroy(&j);
 }
 
+/* NULL handles and buffers are contract violations, not statuses. */
+static void test_contracts(void **state)
+{
+	(void)state;
+	struct rs_jpeg *j = NULL;
+	size_t n = 0;
+	RS_EXPECT_CONTRACT_VIOLATION(rs_jpeg_create(NULL, NULL));
+	assert_int_equal(rs_jpeg_create(&j, NULL), RS_OK);
+	RS_EXPECT_CONTRACT_VIOLATION(
+	    rs_jpeg_encode(NULL, img, W, H, 80, RS_JPEG_420, jpg, sizeof jpg, &n, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(
+	    rs_jpeg_encode(j, NULL, W, H, 80, RS_JPEG_420, jpg, sizeof jpg, &n, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_jpeg_decode(j, jpg, 10, W, H, NULL, NULL));
+	rs_jpeg_destroy(&j);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(test_round_trip_quality),
 	    cmocka_unit_test(test_bad_input_refused),
+	    cmocka_unit_test(test_contracts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "raystream/rs_stream.h"
+#include "contract.h"
 
 static uint8_t pbuf[4096];
 static uint8_t wire[8192];
@@ -260,6 +261,24 @@ static void test_truncated_then_completed(void **state)
 	}
 }
 
+/* NULL handles and buffers are contract violations, not statuses. */
+static void test_contracts(void **state)
+{
+	(void)state;
+	struct rs_stream_parser p;
+	struct rs_stream_msg m = sample(RS_STREAM_BYE);
+	const uint8_t *d = wire;
+	size_t len = 0, n = 0;
+	RS_EXPECT_CONTRACT_VIOLATION(rs_stream_parser_init(&p, NULL, 100));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_stream_parser_init(&p, pbuf, 4)); /* < a header */
+	rs_stream_parser_init(&p, pbuf, sizeof pbuf);
+	RS_EXPECT_CONTRACT_VIOLATION(rs_stream_parser_feed(NULL, &d, &len, &m, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_stream_parser_feed(&p, &d, &len, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_stream_encode(NULL, wire, sizeof wire, &n, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_stream_encode(&m, wire, sizeof wire, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_stream_link_init(NULL, NULL, NULL));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -269,6 +288,7 @@ int main(void)
 	    cmocka_unit_test(test_encoder_refuses_what_parser_refuses),
 	    cmocka_unit_test(test_documented_example),
 	    cmocka_unit_test(test_truncated_then_completed),
+	    cmocka_unit_test(test_contracts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

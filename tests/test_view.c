@@ -13,6 +13,7 @@
 
 #include "raystream/rs_trace.h"
 #include "raystream/rs_view.h"
+#include "contract.h"
 
 #define PI 3.14159265358979323846
 
@@ -219,32 +220,31 @@ static void test_lost_then_regained(void **state)
 	enum rs_view_state st;
 	struct rs_pose p1 = pose_axis_angle(0, 1, 0, 20, 0.1, 0, 0);
 	/* nothing good yet: the home camera, flagged */
-	assert_int_equal(rs_view_update(v, &p1, RS_POSE_NONE, &cam, &st), RS_OK);
+	rs_view_update(v, &p1, RS_POSE_NONE, &cam, &st);
 	assert_int_equal(st, RS_VIEW_HOME);
 	assert_memory_equal(cam.eye, home.eye, sizeof home.eye);
-	assert_int_equal(rs_view_update(v, &p1, RS_POSE_OK, &cam, &st), RS_OK);
+	rs_view_update(v, &p1, RS_POSE_OK, &cam, &st);
 	assert_int_equal(st, RS_VIEW_FRESH);
 	struct rs_camera good = cam;
 	/* lost: the last good camera, flagged stale, with a reason */
 	struct rs_pose p2 = pose_axis_angle(0, 1, 0, 40, 0.5, 0, 0);
-	assert_int_equal(rs_view_update(v, &p2, RS_POSE_NONE, &cam, &st), RS_OK);
+	rs_view_update(v, &p2, RS_POSE_NONE, &cam, &st);
 	assert_int_equal(st, RS_VIEW_STALE);
 	assert_memory_equal(&cam, &good, sizeof cam);
 	assert_true(strlen(rs_view_last_error(v)) > 0);
 	/* a refused pose (turned away) is stale too */
 	struct rs_pose away = pose_axis_angle(0, 1, 0, 180, 0, 0, 0);
-	assert_int_equal(rs_view_update(v, &away, RS_POSE_OK, &cam, &st), RS_OK);
+	rs_view_update(v, &away, RS_POSE_OK, &cam, &st);
 	assert_int_equal(st, RS_VIEW_STALE);
 	assert_memory_equal(&cam, &good, sizeof cam);
 	/* held by the solver: usable but flagged */
-	assert_int_equal(rs_view_update(v, &p2, RS_POSE_HELD, &cam, &st), RS_OK);
+	rs_view_update(v, &p2, RS_POSE_HELD, &cam, &st);
 	assert_int_equal(st, RS_VIEW_PREDICTED);
 	/* regained: fresh, from the new pose */
-	assert_int_equal(rs_view_update(v, &p2, RS_POSE_OK, &cam, &st), RS_OK);
+	rs_view_update(v, &p2, RS_POSE_OK, &cam, &st);
 	assert_int_equal(st, RS_VIEW_FRESH);
 	assert_true(fabs(cam.target[0] - good.target[0]) > 0.1); /* turned 20 deg more */
 	assert_string_equal(rs_view_last_error(v), "");
-	assert_int_equal(rs_view_update(v, NULL, RS_POSE_OK, &cam, &st), RS_ERR_INVALID);
 	rs_view_destroy(&v);
 	assert_null(v);
 	rs_view_destroy(NULL);
@@ -287,10 +287,31 @@ static void test_recentre_puts_camera_home(void **state)
 	assert_int_equal(rs_view_recentre_last(v, NULL), RS_END);
 	struct rs_camera cam;
 	enum rs_view_state st;
-	assert_int_equal(rs_view_update(v, &p, RS_POSE_OK, &cam, &st), RS_OK);
+	rs_view_update(v, &p, RS_POSE_OK, &cam, &st);
 	assert_int_equal(rs_view_recentre_last(v, NULL), RS_OK);
-	assert_int_equal(rs_view_update(v, &p, RS_POSE_OK, &cam, &st), RS_OK);
+	rs_view_update(v, &p, RS_POSE_OK, &cam, &st);
 	assert_v3(cam.eye, 1, 2, 8, 1e-9);
+	rs_view_destroy(&v);
+}
+
+/* NULL handles and out-pointers are contract violations, not statuses. */
+static void test_contracts(void **state)
+{
+	(void)state;
+	struct rs_view_calibration c = resolved(NULL);
+	struct rs_pose id = pose_axis_angle(0, 0, 1, 0, 0, 0, 0);
+	struct rs_camera cam, home = {.eye = {0, 0, 5}, .up = {0, 1, 0}};
+	enum rs_view_state st;
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_camera_from_pose(NULL, &id, 8, 8, &cam, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_camera_from_pose(&c, &id, 8, 8, NULL, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_calibration_resolve(NULL, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_recentre(&c, NULL, &home, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_create(NULL, &home, 8, 8, NULL, NULL));
+	struct rs_view *v = NULL;
+	assert_int_equal(rs_view_create(NULL, &home, 8, 8, &v, NULL), RS_OK);
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_update(v, NULL, RS_POSE_OK, &cam, &st));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_update(NULL, &id, RS_POSE_OK, &cam, &st));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_view_recentre_last(NULL, NULL));
 	rs_view_destroy(&v);
 }
 
@@ -304,6 +325,7 @@ int main(void)
 	    cmocka_unit_test(test_bad_inputs),
 	    cmocka_unit_test(test_lost_then_regained),
 	    cmocka_unit_test(test_recentre_puts_camera_home),
+	    cmocka_unit_test(test_contracts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

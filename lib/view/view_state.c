@@ -59,12 +59,11 @@ void rs_view_destroy(struct rs_view **view)
 	*view = NULL;
 }
 
-enum rs_status rs_view_update(struct rs_view *view, const struct rs_pose *T_tracker_display,
-                              enum rs_pose_status pose_status, struct rs_camera *out_camera,
-                              enum rs_view_state *out_state)
+void rs_view_update(struct rs_view *view, const struct rs_pose *T_tracker_display,
+                    enum rs_pose_status pose_status, struct rs_camera *out_camera,
+                    enum rs_view_state *out_state)
 {
-	if (!view || !T_tracker_display || !out_camera || !out_state)
-		return RS_ERR_INVALID;
+	RS_ASSERT(view && T_tracker_display && out_camera && out_state);
 	rs_error_clear(&view->err);
 	enum rs_status st = RS_ERR_BAD_DATA;
 	struct rs_camera cam;
@@ -87,11 +86,10 @@ enum rs_status rs_view_update(struct rs_view *view, const struct rs_pose *T_trac
 		*out_state = pose_status == RS_POSE_OK || pose_status == RS_POSE_RELABELED
 		                 ? RS_VIEW_FRESH
 		                 : RS_VIEW_PREDICTED;
-		return RS_OK;
+		return;
 	}
 	*out_camera = view->has_good ? view->last_good : view->home;
 	*out_state = view->has_good ? RS_VIEW_STALE : RS_VIEW_HOME;
-	return RS_OK;
 }
 
 enum rs_status rs_view_recentre_last(struct rs_view *view, struct rs_error *err)

@@ -144,12 +144,12 @@ void rs_view_destroy(struct rs_view **view);
  * The camera for a solved pose and its status (from rs_pose_solver_update()). RS_POSE_NONE
  * and poses rs_view_camera_from_pose() refuses give the last good camera flagged
  * RS_VIEW_STALE (or the home camera, RS_VIEW_HOME); the reason is in
- * rs_view_last_error(). Always writes *out_camera and *out_state.
- * @return RS_OK; RS_ERR_INVALID for NULL arguments only.
+ * rs_view_last_error(). Always writes *out_camera and *out_state; cannot fail (NULL
+ * arguments are contract violations).
  */
-enum rs_status rs_view_update(struct rs_view *view, const struct rs_pose *T_tracker_display,
-                              enum rs_pose_status pose_status, struct rs_camera *out_camera,
-                              enum rs_view_state *out_state);
+void rs_view_update(struct rs_view *view, const struct rs_pose *T_tracker_display,
+                    enum rs_pose_status pose_status, struct rs_camera *out_camera,
+                    enum rs_view_state *out_state);
 
 /** Recentre on the last pose given to rs_view_update() (rs_view_recentre() with the home
  * camera). RS_END when no pose was given yet. */
