@@ -4,7 +4,14 @@ set -euo pipefail
 tool=$1
 work=$2
 mkdir -p "$work"
-fail() { echo "track_cli: $*" >&2; exit 1; }
+# On failure, show what the tool said: a flaky check under load must be diagnosable.
+fail() {
+  echo "track_cli: $*" >&2
+  for f in "$work"/*.err "$work"/err.txt; do
+    [ -s "$f" ] && { echo "--- $f" >&2; tail -n 5 "$f" >&2; }
+  done
+  exit 1
+}
 
 # 1. A simulated run prints one pose line per sample and the final counters.
 out=$("$tool" -n 200 --stats 0 'sim:seed=1&noise=0.5mm')

@@ -20,8 +20,7 @@ void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t *out_
 enum rs_status rs_pack_layout(size_t node_count, size_t triangle_count, size_t material_count,
                               struct rs_packed *out, struct rs_error *err)
 {
-	if (!out)
-		return rs_error_set(err, RS_ERR_INVALID, "pack: no output");
+	RS_ASSERT(out);
 	memset(out, 0, sizeof *out);
 	if (node_count >= RS_PACK_MAX_ITEMS || triangle_count >= RS_PACK_MAX_ITEMS ||
 	    material_count >= RS_PACK_MAX_ITEMS)
@@ -50,8 +49,7 @@ static size_t texture_floats(const struct rs_texture *t)
 
 enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err)
 {
-	if (!packed)
-		return rs_error_set(err, RS_ERR_INVALID, "pack: no packed struct");
+	RS_ASSERT(packed);
 	struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
 	                             &packed->materials};
 	for (int i = 0; i < 4; i++) {
@@ -196,8 +194,7 @@ enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_n
                              size_t node_count, const uint32_t *triangle_order,
                              struct rs_packed *packed, struct rs_error *err)
 {
-	if (!scene || !packed)
-		return rs_error_set(err, RS_ERR_INVALID, "pack: scene or packed struct missing");
+	RS_ASSERT(scene && packed);
 	enum rs_status s = check_packed(scene, nodes, node_count, triangle_order, packed, err);
 	if (s != RS_OK)
 		return s;
