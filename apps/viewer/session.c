@@ -8,7 +8,7 @@
 
 #include "app_net.h"
 #include "raystream/rs_renderers.h"
-#include "rs_tracker.h"
+#include "raystream/rs_tracker.h"
 #include "tool_common.h"
 #include "viewer.h"
 

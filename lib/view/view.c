@@ -2,7 +2,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "pose_math.h"
+#include "private/rs_vec.h"
 #include "raystream/rs_view.h"
 
 #define VIEW_PI 3.14159265358979323846
@@ -21,9 +21,9 @@ static int resolve_quat(double q[4])
 	}
 	if (!isfinite(q[0]) || !isfinite(q[1]) || !isfinite(q[2]) || !isfinite(q[3]))
 		return 0;
-	if (!pm_qnormalize(q, q))
+	if (!rs_q_normalize(q, q))
 		return 0;
-	pm_qcanonical(q);
+	rs_q_canonical(q);
 	return 1;
 }
 
@@ -48,8 +48,8 @@ enum rs_status rs_view_calibration_resolve(const struct rs_view_calibration *cal
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "view calibration: sizes, scale, distances and fovs must be "
 		                    "finite and >= 0");
-	if (!pm_finite3(c.eye) || !pm_finite3(c.T_display_screen.position) ||
-	    !pm_finite3(c.T_scene_tracker.position))
+	if (!rs_v3_finite(c.eye) || !rs_v3_finite(c.T_display_screen.position) ||
+	    !rs_v3_finite(c.T_scene_tracker.position))
 		return rs_error_set(err, RS_ERR_INVALID, "view calibration: non-finite position");
 	if (!resolve_quat(c.T_display_screen.orientation) ||
 	    !resolve_quat(c.T_scene_tracker.orientation))
@@ -89,14 +89,14 @@ static enum rs_status screen_from_pose(const struct rs_view_calibration *cal,
                                        struct screen_in_tracker *out, struct rs_error *err)
 {
 	const double *q = T_tracker_display->orientation;
-	if (!pm_finite3(T_tracker_display->position) || !isfinite(q[0]) || !isfinite(q[1]) ||
-	    !isfinite(q[2]) || !isfinite(q[3]) || pm_qdot(q, q) < 1e-12)
+	if (!rs_v3_finite(T_tracker_display->position) || !isfinite(q[0]) || !isfinite(q[1]) ||
+	    !isfinite(q[2]) || !isfinite(q[3]) || rs_q_dot(q, q) < 1e-12)
 		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "display pose is not finite or not a rotation");
 	rs_pose_compose(T_tracker_display, &cal->T_display_screen, &out->T_tracker_screen);
 	static const double basis[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 	for (int i = 0; i < 3; ++i)
-		pm_qrotate(out->T_tracker_screen.orientation, basis[i], out->axes[i]);
+		rs_q_rotate(out->T_tracker_screen.orientation, basis[i], out->axes[i]);
 	if (cal->eye_frame == RS_VIEW_EYE_IN_SCREEN)
 		rs_pose_transform_point(&out->T_tracker_screen, cal->eye, out->eye);
 	else
@@ -107,7 +107,7 @@ static enum rs_status screen_from_pose(const struct rs_view_calibration *cal,
 static void to_scene_point(const struct rs_view_calibration *cal, const double p[3], double out[3])
 {
 	double r[3];
-	pm_qrotate(cal->T_scene_tracker.orientation, p, r);
+	rs_q_rotate(cal->T_scene_tracker.orientation, p, r);
 	for (int i = 0; i < 3; ++i)
 		out[i] = cal->scene_units_per_m * r[i] + cal->T_scene_tracker.position[i];
 }
@@ -126,13 +126,13 @@ enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
 		return st;
 	struct rs_view_geometry g;
 	double to_eye[3];
-	pm_sub3(s.eye, s.T_tracker_screen.position, to_eye);
-	g.eye_distance_m = pm_dot3(to_eye, s.axes[2]);
+	rs_v3_sub(s.eye, s.T_tracker_screen.position, to_eye);
+	g.eye_distance_m = rs_v3_dot(to_eye, s.axes[2]);
 	for (int i = 0; i < 3; ++i)
-		pm_qrotate(cal->T_scene_tracker.orientation, s.axes[i],
-		           i == 0   ? g.right
-		           : i == 1 ? g.up
-		                    : g.normal);
+		rs_q_rotate(cal->T_scene_tracker.orientation, s.axes[i],
+		            i == 0   ? g.right
+		            : i == 1 ? g.up
+		                     : g.normal);
 	to_scene_point(cal, s.eye, g.eye);
 	to_scene_point(cal, s.T_tracker_screen.position, g.screen_center);
 
@@ -167,9 +167,9 @@ enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
 		/* The window centre seen from the eye, in units of the half height: what
 		 * rs_camera.shift means (camera_rays.c). */
 		double c_from_eye[3];
-		pm_sub3(s.T_tracker_screen.position, s.eye, c_from_eye);
-		cam.shift[0] = pm_dot3(c_from_eye, s.axes[0]) / half_h;
-		cam.shift[1] = pm_dot3(c_from_eye, s.axes[1]) / half_h;
+		rs_v3_sub(s.T_tracker_screen.position, s.eye, c_from_eye);
+		cam.shift[0] = rs_v3_dot(c_from_eye, s.axes[0]) / half_h;
+		cam.shift[1] = rs_v3_dot(c_from_eye, s.axes[1]) / half_h;
 		if (fabs(cam.shift[0]) > 1e6 || fabs(cam.shift[1]) > 1e6)
 			return rs_error_set(err, RS_ERR_DEGENERATE,
 			                    "view: the screen is too far off axis");
@@ -215,8 +215,8 @@ static void quat_from_columns(const double a[3], const double b[3], const double
 		q[1] = (c[1] + b[2]) / s;
 		q[2] = 0.25 * s;
 	}
-	pm_qnormalize(q, q);
-	pm_qcanonical(q);
+	rs_q_normalize(q, q);
+	rs_q_canonical(q);
 }
 
 enum rs_status rs_view_recentre(struct rs_view_calibration *cal,
@@ -229,29 +229,29 @@ enum rs_status rs_view_recentre(struct rs_view_calibration *cal,
 	if (st != RS_OK)
 		return st;
 	double f[3], r[3], u[3], back[3];
-	pm_sub3(home->target, home->eye, f);
-	double fn = pm_norm3(f);
-	pm_cross3(f, home->up, r);
-	double rn = pm_norm3(r);
-	if (!(fn > 0.0) || !(rn > 1e-12 * fn * pm_norm3(home->up)) || !isfinite(rn))
+	rs_v3_sub(home->target, home->eye, f);
+	double fn = rs_v3_norm(f);
+	rs_v3_cross(f, home->up, r);
+	double rn = rs_v3_norm(r);
+	if (!(fn > 0.0) || !(rn > 1e-12 * fn * rs_v3_norm(home->up)) || !isfinite(rn))
 		return rs_error_set(err, RS_ERR_DEGENERATE,
 		                    "view: home camera's direction and up are parallel or zero");
 	for (int i = 0; i < 3; ++i) {
 		r[i] /= rn;
 		back[i] = -f[i] / fn;
 	}
-	pm_cross3(back, r, u);
+	rs_v3_cross(back, r, u);
 	/* R_scene_tracker * R_tracker_screen = R_home, the home camera's (right, up, back). */
 	double q_home[4], q_ts_inv[4], q_st[4];
 	quat_from_columns(r, u, back, q_home);
-	pm_qconj(s.T_tracker_screen.orientation, q_ts_inv);
-	pm_qmul(q_home, q_ts_inv, q_st);
-	pm_qnormalize(q_st, q_st);
-	pm_qcanonical(q_st);
+	rs_q_conj(s.T_tracker_screen.orientation, q_ts_inv);
+	rs_q_mul(q_home, q_ts_inv, q_st);
+	rs_q_normalize(q_st, q_st);
+	rs_q_canonical(q_st);
 	/* The point that becomes the home eye: the eye (window) or the screen centre (camera). */
 	const double *o = cal->mode == RS_VIEW_CAMERA ? s.T_tracker_screen.position : s.eye;
 	double ro[3];
-	pm_qrotate(q_st, o, ro);
+	rs_q_rotate(q_st, o, ro);
 	for (int i = 0; i < 3; ++i)
 		cal->T_scene_tracker.position[i] = home->eye[i] - cal->scene_units_per_m * ro[i];
 	memcpy(cal->T_scene_tracker.orientation, q_st, sizeof q_st);
