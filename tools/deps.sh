@@ -12,6 +12,7 @@ packages=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev libopencv-imgcodecs-dev
   libopencv-videoio-dev
   clang-14 libclang-rt-14-dev clang-format-14
+  libturbojpeg0-dev libx11-dev libegl-dev libgles-dev xvfb x11-apps
 )
 
 missing=()
