@@ -13,6 +13,8 @@ packages=(
   libopencv-videoio-dev
   clang-14 libclang-rt-14-dev clang-format-14
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libosmesa6-dev
+  libturbojpeg0-dev libx11-dev xvfb x11-apps
+  gnuplot-nox
 )
 
 missing=()
