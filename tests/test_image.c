@@ -142,6 +142,21 @@ static void compare_reports_psnr_max_and_bad_share(void **state)
 	assert_true(isinf(d.psnr_db) && d.bad_share == 0.0);
 }
 
+static void compare_reports_mean_abs_error(void **state)
+{
+	(void)state;
+	/* Two channels of three pixels: |d| = 0, 0.3, 0.1, 0, 0.2, 0 -> mean 0.1; the infinite
+	 * pair (equal) is left out of the mean like it is of the mse. */
+	float ref[8] = {0.5f, 0.5f, 0.2f, 0.2f, 0.4f, 0.7f, INFINITY, 1.0f};
+	float test[8] = {0.5f, 0.8f, 0.1f, 0.2f, 0.6f, 0.7f, INFINITY, 1.0f};
+	struct rs_image_diff d;
+	rs_image_compare(test, ref, 4, 1, 2, 1.0, 0.25, &d);
+	assert_true(fabs(d.mean_abs_error - 0.6 / 7.0) < 1e-6);
+	assert_true(fabs(d.bad_share - 0.25) < 1e-12);
+	rs_image_compare(ref, ref, 4, 1, 2, 1.0, 0.0, &d);
+	assert_true(d.mean_abs_error == 0.0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -152,6 +167,7 @@ int main(void)
 	    cmocka_unit_test(fifo_target_is_refused_and_kept),
 	    cmocka_unit_test(reading_garbage_is_a_parse_error),
 	    cmocka_unit_test(compare_reports_psnr_max_and_bad_share),
+	    cmocka_unit_test(compare_reports_mean_abs_error),
 	};
 	return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }

@@ -8,7 +8,7 @@ void rs_image_compare(const float *test, const float *reference, uint32_t width,
                       struct rs_image_diff *out)
 {
 	size_t pixels = (size_t)width * height;
-	double sum_sq = 0.0, max_err = 0.0;
+	double sum_sq = 0.0, sum_abs = 0.0, max_err = 0.0;
 	size_t bad = 0, mismatched = 0, samples = 0;
 	for (size_t p = 0; p < pixels; ++p) {
 		int is_bad = 0, is_mismatched = 0;
@@ -26,6 +26,7 @@ void rs_image_compare(const float *test, const float *reference, uint32_t width,
 			if (d > bad_threshold)
 				is_bad = 1;
 			sum_sq += isinf(d) ? peak * peak : d * d;
+			sum_abs += isinf(d) ? peak : d;
 			samples++;
 		}
 		mismatched += (size_t)is_mismatched;
@@ -37,4 +38,5 @@ void rs_image_compare(const float *test, const float *reference, uint32_t width,
 	out->max_abs_error = max_err;
 	out->bad_share = pixels ? (double)bad / (double)pixels : 0.0;
 	out->mismatched = mismatched;
+	out->mean_abs_error = samples ? sum_abs / (double)samples : 0.0;
 }

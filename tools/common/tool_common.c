@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -16,6 +17,20 @@ double rs_tool_now_ms(void)
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
 	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+double rs_tool_cpu_ms(void)
+{
+	struct rusage u;
+	getrusage(RUSAGE_SELF, &u);
+	return (double)(u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 +
+	       (double)(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
+}
+
+int rs_tool_cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return x < y ? -1 : x > y;
 }
 
 int rs_tool_parse_u32(const char *text, uint32_t min, uint32_t max, uint32_t *out)
@@ -85,19 +100,34 @@ enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struc
 	return rs_load_scene(NULL, name, out, err);
 }
 
-enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_error *err)
+enum rs_status rs_tool_write_text(const char *path, const char *text, struct rs_error *err)
 {
-	char *text = cJSON_Print(doc);
-	if (!text)
-		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory formatting %s", path);
 	struct rs_atomic_file af;
 	enum rs_status status = rs_atomic_open(&af, path, err);
 	if (status == RS_OK) {
 		/* A failed write sets the stream's error flag, which the commit checks. */
 		fputs(text, af.f);
-		fputc('\n', af.f);
 		status = rs_atomic_commit(&af, true, err);
 	}
+	return status;
+}
+
+enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_error *err)
+{
+	char *text = cJSON_Print(doc);
+	if (!text)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory formatting %s", path);
+	size_t n = strlen(text);
+	char *line = malloc(n + 2);
+	if (line) {
+		memcpy(line, text, n);
+		line[n] = '\n';
+		line[n + 1] = '\0';
+	}
 	cJSON_free(text);
+	if (!line)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory formatting %s", path);
+	enum rs_status status = rs_tool_write_text(path, line, err);
+	free(line);
 	return status;
 }

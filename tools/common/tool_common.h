@@ -18,6 +18,12 @@
 /* Monotonic wall clock in milliseconds. */
 double rs_tool_now_ms(void);
 
+/* Process CPU time (user + system, all threads) in milliseconds. */
+double rs_tool_cpu_ms(void);
+
+/* qsort comparator for doubles, ascending. */
+int rs_tool_cmp_double(const void *a, const void *b);
+
 /* Strict number parsing: the whole string, in [min, max]. */
 int rs_tool_parse_u32(const char *text, uint32_t min, uint32_t max, uint32_t *out);
 /* "WxH" with both sides in [1, RS_IMAGE_MAX_SIDE]. */
@@ -31,6 +37,9 @@ int rs_tool_find_cow(char *out, size_t size);
 
 /* A scene by name (box, cowN) or a mesh file path (OBJ/PLY with optional .json view). */
 enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struct rs_error *err);
+
+/* Write text through a temporary file and rename (never a partial file). */
+enum rs_status rs_tool_write_text(const char *path, const char *text, struct rs_error *err);
 
 /* Write a JSON document through a temporary file and rename (never a partial file). */
 enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_error *err);

@@ -4,7 +4,6 @@
  * median time of each kernel, and the process CPU time per frame (llvmpipe's threads
  * included): on a shared machine that is far steadier than wall time. */
 #include <stdio.h>
-#include <sys/resource.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,20 +18,6 @@ static int usage(void)
 	                "[--passes N] [--lights N] [--frames N] [--chain fused|separate] "
 	                "[--primary trace|raster] [--shadows rays|map:RES:FILTER] SCENE...\n");
 	return 2;
-}
-
-static double cpu_ms(void)
-{
-	struct rusage u;
-	getrusage(RUSAGE_SELF, &u);
-	return (double)(u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 +
-	       (double)(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
 }
 
 static int bench(const char *name, const char *backend, struct rs_render_desc desc, uint32_t frames)
@@ -68,16 +53,16 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	double ms[MAX_FRAMES], cpu[MAX_FRAMES], kms[RS_RENDER_MAX_KERNELS][MAX_FRAMES];
 	s = rs_renderer_stats(r);
 	for (uint32_t f = 0; f < frames; ++f) {
-		double c0 = cpu_ms();
+		double c0 = rs_tool_cpu_ms();
 		if (rs_renderer_render(r, NULL, &frame, &err) != RS_OK)
 			goto done;
-		cpu[f] = cpu_ms() - c0;
+		cpu[f] = rs_tool_cpu_ms() - c0;
 		ms[f] = s->render_ms + s->readback_ms;
 		for (uint32_t k = 0; k < s->kernel_count; ++k)
 			kms[k][f] = s->kernels[k].ms;
 	}
-	qsort(ms, frames, sizeof ms[0], cmp_double);
-	qsort(cpu, frames, sizeof cpu[0], cmp_double);
+	qsort(ms, frames, sizeof ms[0], rs_tool_cmp_double);
+	qsort(cpu, frames, sizeof cpu[0], rs_tool_cmp_double);
 	double med = ms[frames / 2];
 	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s: cpu %.1f ms (%.1f-%.1f), wall "
 	       "%.1f ms (%.1f-%.1f) = %.2f fps, %.2f Mrays/s (%llu rays), hit numbers %.1f;",
@@ -88,7 +73,7 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	       cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
 	       (double)rays / (med * 1000.0), (unsigned long long)rays, hits);
 	for (uint32_t k = 0; k < s->kernel_count; ++k) {
-		qsort(kms[k], frames, sizeof kms[k][0], cmp_double);
+		qsort(kms[k], frames, sizeof kms[k][0], rs_tool_cmp_double);
 		printf(" %s %.1f", s->kernels[k].name, kms[k][frames / 2]);
 	}
 	printf("\n  renderer: %s\n", s->renderer);

@@ -74,6 +74,7 @@ struct rs_image_diff {
 	double max_abs_error; /**< largest per-channel difference */
 	double bad_share;     /**< share of pixels with any channel off by more than threshold */
 	size_t mismatched; /**< pixels where exactly one image is infinite (depth: hit vs miss) */
+	double mean_abs_error; /**< mean per-channel difference (NaN counts as peak, as in mse) */
 };
 
 /**

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Usage: report_cli.sh REPORT_BINARY WORK_DIR. raystream-report --quick on the CPU and, when
+# this build has it, EGL (llvmpipe in CI): the CSV has every number, the reference setting
+# rendered again has exactly zero error, the Markdown names a pick, the plot is a PNG.
+source "$(dirname "$0")/cli_harness.sh"
+
+fails_cleanly "no output dir" 2 "--out DIR is required" --quick && ok "no output dir"
+fails_cleanly "unknown option" 2 "unknown option '--frobnicate'" --frobnicate 1 --out . &&
+  ok "unknown option"
+fails_cleanly "bad passes" 2 "--max-passes" --max-passes 9 --out . && ok "bad passes"
+fails_cleanly "bad backend" 2 "unknown backend 'vulkan'" --backend vulkan --out . &&
+  ok "bad backend"
+fails_cleanly "unwritable dir" 1 "nodir: not a writable folder" --quick --backend cpu --no-plot \
+  --out nodir && ok "unwritable dir"
+if ls nodir* ./*.tmp-* >/dev/null 2>&1; then bad "unwritable dir left a file"; fi
+
+# check_run NAME DIR: the files of one good run.
+check_run() {
+  local name=$1 dir=$2
+  local csv=$dir/report.csv
+  [ -s "$csv" ] || { bad "$name: no CSV"; return; }
+  local rows
+  rows=$(($(wc -l <"$csv") - 1))
+  [ "$rows" -ge 5 ] || { bad "$name: only $rows settings"; return; }
+  # 18 fields, numbers 10..17 finite (PSNR may be inf for an exact setting), none empty
+  local broken
+  broken=$(awk -F, 'NR > 1 {
+      if (NF != 18) { print "line " NR ": " NF " fields"; next }
+      for (i = 1; i <= NF; i++) if ($i == "") print "line " NR ": field " i " empty"
+      for (i = 10; i <= 17; i++)
+        if ($i !~ /^-?[0-9.]+(e[-+]?[0-9]+)?$/ && !(i == 14 && $i == "inf"))
+          print "line " NR ": field " i " = " $i
+    }' "$csv")
+  [ -z "$broken" ] || { bad "$name: $broken"; return; }
+  ok "$name: $rows settings, every number present"
+  # row 1: the reference setting rendered again by its own renderer
+  local self
+  self=$(awk -F, 'NR == 2 { print $1 "|" $14 "|" $15 "|" $16 "|" $17 }' "$csv")
+  if [ "$self" = "cpu reference (self)|inf|0|0|0" ]; then ok "$name: reference against itself is exact"
+  else bad "$name: reference against itself: $self"; fi
+  # the reference setting is exact, so the zero budget has a pick, and the front exists
+  if grep -q '^| 0.0 % | none' "$dir/report.md"; then bad "$name: no pick for a zero budget"
+  elif ! grep -q '| yes |' "$dir/report.md"; then bad "$name: no Pareto front in the table"
+  else ok "$name: Markdown names a pick and the front"; fi
+  if [ "$(head -c 8 "$dir/report.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] &&
+    [ "$(stat -c %s "$dir/report.png")" -gt 2000 ]; then ok "$name: plot is a PNG"
+  else bad "$name: report.png missing or not a PNG"; fi
+  if ls "$dir"/*.tmp-* >/dev/null 2>&1; then bad "$name: temporary left behind"; fi
+}
+
+mkdir -p cpu egl
+if "$bin" --quick --backend cpu --out cpu >cpu.out 2>cpu.err; then check_run cpu cpu
+else bad "cpu run: $(tail -c 400 cpu.err)"; fi
+if "$bin" --quick --backend egl --out egl >egl.out 2>egl.err; then
+  check_run egl egl
+  grep -q "raster 2p map" egl/report.csv && grep -q ",map,128,3," egl/report.csv &&
+    ok "egl: raster and shadow-map settings measured" || bad "egl: settings missing"
+elif grep -q "unknown backend 'egl'" egl.err; then
+  echo "skip: this build has no EGL backend"
+else
+  bad "egl run: $(tail -c 400 egl.err)"
+fi
+finish
