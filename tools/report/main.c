@@ -35,8 +35,7 @@ static int usage(void)
 	return 2;
 }
 
-static void add(struct report *rep, const char *backend, struct rs_render_desc d,
-                const char *label)
+static void add(struct report *rep, const char *backend, struct rs_render_desc d, const char *label)
 {
 	if (rep->count == REPORT_MAX_ROWS)
 		return;
@@ -76,7 +75,8 @@ static void settings(struct report *rep, const struct options *o)
 	}
 	if (gl) {
 		/* shadow map side, box filter; the quick run keeps the plumbing, not the sizes */
-		static const uint32_t maps[][2] = {{256, 1}, {256, 3}, {512, 3}, {1024, 3}, {1024, 5}};
+		static const uint32_t maps[][2] = {
+		    {256, 1}, {256, 3}, {512, 3}, {1024, 3}, {1024, 5}};
 		static const uint32_t quick_maps[][2] = {{64, 1}, {128, 3}};
 		bool quick = o->size < 128;
 		size_t n = quick ? 2 : 5;
@@ -96,7 +96,8 @@ static void settings(struct report *rep, const struct options *o)
 			d.shadows = RS_SHADOW_MAP;
 			d.shadow_map_size = quick ? 128 : 512;
 			d.shadow_filter = 3;
-			snprintf(label, sizeof label, "%s raster %up map %u/3", b, p, d.shadow_map_size);
+			snprintf(label, sizeof label, "%s raster %up map %u/3", b, p,
+			         d.shadow_map_size);
 			add(rep, b, d, label);
 		}
 	}
@@ -111,9 +112,8 @@ static void settings(struct report *rep, const struct options *o)
 }
 
 /* Render `frames` timed frames after a warm-up one; the last frame's colour in `rgb`. */
-static enum rs_status measure(const struct rs_scene *scene, struct report_row *row,
-                              uint32_t frames, float *rgb, char *renderer, size_t cap,
-                              struct rs_error *err)
+static enum rs_status measure(const struct rs_scene *scene, struct report_row *row, uint32_t frames,
+                              float *rgb, char *renderer, size_t cap, struct rs_error *err)
 {
 	struct rs_renderer *r = NULL;
 	struct rs_frame frame = {.rgb = rgb};
@@ -132,7 +132,8 @@ static enum rs_status measure(const struct rs_scene *scene, struct report_row *r
 	if (st == RS_OK) {
 		qsort(ms, frames, sizeof ms[0], rs_tool_cmp_double);
 		qsort(cpu, frames, sizeof cpu[0], rs_tool_cmp_double);
-		row->ms_med = frames % 2 ? ms[frames / 2] : 0.5 * (ms[frames / 2 - 1] + ms[frames / 2]);
+		row->ms_med =
+		    frames % 2 ? ms[frames / 2] : 0.5 * (ms[frames / 2 - 1] + ms[frames / 2]);
 		row->ms_min = ms[0];
 		row->ms_max = ms[frames - 1];
 		row->cpu_med = cpu[frames / 2];
@@ -145,8 +146,8 @@ static enum rs_status measure(const struct rs_scene *scene, struct report_row *r
 
 static int parse(int argc, char **argv, struct options *o)
 {
-	*o = (struct options){.scene = "cow1", .size = 512, .frames = 5, .lights = 1,
-	                      .max_passes = 5, .plot = true};
+	*o = (struct options){
+	    .scene = "cow1", .size = 512, .frames = 5, .lights = 1, .max_passes = 5, .plot = true};
 	o->backend = rs_renderer_has_backend("egl") ? "egl" : "cpu";
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -190,7 +191,8 @@ static int parse(int argc, char **argv, struct options *o)
 		if (sdst)
 			*sdst = v;
 		else if (!rs_tool_parse_u32(v, dst == &o->size ? 8 : 1, max, dst)) {
-			fprintf(stderr, "raystream-report: bad value for %s: '%s' (1..%u)\n", a, v, max);
+			fprintf(stderr, "raystream-report: bad value for %s: '%s' (1..%u)\n", a, v,
+			        max);
 			return 2;
 		}
 	}
@@ -238,8 +240,11 @@ int main(int argc, char **argv)
 	if (code)
 		return code;
 	static struct report rep;
-	rep = (struct report){.scene = o.scene, .size = o.size, .frames = o.frames,
-	                      .lights = o.lights, .max_passes = o.max_passes};
+	rep = (struct report){.scene = o.scene,
+	                      .size = o.size,
+	                      .frames = o.frames,
+	                      .lights = o.lights,
+	                      .max_passes = o.max_passes};
 	/* A long run must not end in an unwritable folder. */
 	struct stat st;
 	if (stat(o.out, &st) != 0 || !S_ISDIR(st.st_mode) || access(o.out, W_OK) != 0) {
@@ -254,7 +259,8 @@ int main(int argc, char **argv)
 	float *ref = malloc(n * sizeof(float)), *img = malloc(n * sizeof(float));
 	code = 1;
 	if (!ref || !img) {
-		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory for %ux%u images", o.size, o.size);
+		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory for %ux%u images", o.size,
+		             o.size);
 		goto done;
 	}
 	if (rs_tool_load_scene(o.scene, &scene, &err) != RS_OK)
@@ -272,8 +278,8 @@ int main(int argc, char **argv)
 	for (uint32_t i = 0; i < rep.count; ++i) {
 		struct report_row *row = &rep.rows[i];
 		bool own = i == 1 || (i > 0 && strcmp(row->backend, rep.rows[i - 1].backend) != 0);
-		if (measure(scene, row, o.frames, img, own ? rep.renderer : NULL, sizeof rep.renderer,
-		            &err) != RS_OK) {
+		if (measure(scene, row, o.frames, img, own ? rep.renderer : NULL,
+		            sizeof rep.renderer, &err) != RS_OK) {
 			rs_error_prefix(&err, err.status, "%s", row->label);
 			goto done;
 		}

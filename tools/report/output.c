@@ -47,17 +47,19 @@ static void put(struct text *t, const char *fmt, ...)
 
 static const char *bvh_name(enum rs_bvh_builder b)
 {
-	return b == RS_BVH_SAH ? "sah" : b == RS_BVH_PAPER ? "paper" : b == RS_BVH_LINEAR ? "linear"
-	                                                                                   : "none";
+	return b == RS_BVH_SAH      ? "sah"
+	       : b == RS_BVH_PAPER  ? "paper"
+	       : b == RS_BVH_LINEAR ? "linear"
+	                            : "none";
 }
 
-static enum rs_status save(const char *dir, const char *name, struct text *t,
-                           struct rs_error *err)
+static enum rs_status save(const char *dir, const char *name, struct text *t, struct rs_error *err)
 {
 	char path[4096];
 	snprintf(path, sizeof path, "%s/%s", dir, name);
-	enum rs_status st = t->failed ? rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for %s", path)
-	                              : rs_tool_write_text(path, t->s ? t->s : "", err);
+	enum rs_status st = t->failed
+	                        ? rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for %s", path)
+	                        : rs_tool_write_text(path, t->s ? t->s : "", err);
 	free(t->s);
 	*t = (struct text){0};
 	return st;
@@ -85,10 +87,11 @@ static void csv(const struct report *rep, struct text *t)
 static void markdown(const struct report *rep, struct text *t)
 {
 	put(t, "# Speed against error: %s, %ux%u\n\n", rep->scene, rep->size, rep->size);
-	put(t, "Machine: %s; load average %.2f at the start. Renderer: %s. Times: wall ms of "
-	       "one frame with readback, median (min-max) of %u after a warm-up frame; CPU ms: "
-	       "process CPU time per frame, all threads. Error against the CPU double reference "
-	       "(%u passes, exact shadow feelers, %u light(s), SAH, watertight).\n\n",
+	put(t,
+	    "Machine: %s; load average %.2f at the start. Renderer: %s. Times: wall ms of "
+	    "one frame with readback, median (min-max) of %u after a warm-up frame; CPU ms: "
+	    "process CPU time per frame, all threads. Error against the CPU double reference "
+	    "(%u passes, exact shadow feelers, %u light(s), SAH, watertight).\n\n",
 	    rep->machine, rep->load1, rep->renderer, rep->frames, rep->max_passes, rep->lights);
 	put(t, "| setting | ms | min-max | CPU ms | PSNR dB | mean abs | max abs | off > 8/255 "
 	       "| Pareto |\n|---|---:|---:|---:|---:|---:|---:|---:|:-:|\n");
@@ -109,7 +112,8 @@ static void markdown(const struct report *rep, struct text *t)
 		size_t i;
 		if (rs_report_pick(pts, rep->count, report_budgets[b], &i))
 			put(t, "| %.1f %% | %s | %.1f | %.3f %% |\n", 100.0 * report_budgets[b],
-			    rep->rows[i].label, rep->rows[i].ms_med, 100.0 * rep->rows[i].diff.bad_share);
+			    rep->rows[i].label, rep->rows[i].ms_med,
+			    100.0 * rep->rows[i].diff.bad_share);
 		else
 			put(t, "| %.1f %% | none meets it | | |\n", 100.0 * report_budgets[b]);
 	}
@@ -138,11 +142,12 @@ static enum rs_status plot(const struct report *rep, const char *dir, struct rs_
 	         rep->renderer);
 	for (char *c = title; *c; ++c)
 		*c = *c == '\'' || *c == '"' ? ' ' : *c;
-	fprintf(gp, "set terminal pngcairo size 1100,750 noenhanced font ',10'\n"
-	            "set output '%s'\nset title '%s'\nset logscale x\nset grid\n"
-	            "set xlabel 'frame time, ms (median, log scale)'\n"
-	            "set ylabel 'pixels off by more than 8/255, %%'\nset key top right\n"
-	            "$all << EOD\n",
+	fprintf(gp,
+	        "set terminal pngcairo size 1100,750 noenhanced font ',10'\n"
+	        "set output '%s'\nset title '%s'\nset logscale x\nset grid\n"
+	        "set xlabel 'frame time, ms (median, log scale)'\n"
+	        "set ylabel 'pixels off by more than 8/255, %%'\nset key top right\n"
+	        "$all << EOD\n",
 	        tmp, title);
 	const struct report_row *order[REPORT_MAX_ROWS];
 	for (uint32_t i = 0; i < rep->count; ++i) {
@@ -154,7 +159,8 @@ static enum rs_status plot(const struct report *rep, const char *dir, struct rs_
 	qsort(order, rep->count, sizeof order[0], by_time);
 	for (uint32_t i = 0; i < rep->count; ++i)
 		if (order[i]->front)
-			fprintf(gp, "%.6g %.6g\n", order[i]->ms_med, 100.0 * order[i]->diff.bad_share);
+			fprintf(gp, "%.6g %.6g\n", order[i]->ms_med,
+			        100.0 * order[i]->diff.bad_share);
 	fprintf(gp, "EOD\nplot $front using 1:2 with linespoints lw 2 pt 6 ps 2.2 lc rgb "
 	            "'#d62728' title 'Pareto front', $all using 1:2 with points pt 7 ps 1.1 lc "
 	            "rgb '#1f77b4' title 'setting', $all using 1:2:3 with labels left offset "
@@ -167,7 +173,8 @@ static enum rs_status plot(const struct report *rep, const char *dir, struct rs_
 		fclose(f);
 	if (!png || rename(tmp, path) != 0) {
 		remove(tmp);
-		return rs_error_set(err, RS_ERR_IO, "gnuplot could not write %s (exit %d)", path, rc);
+		return rs_error_set(err, RS_ERR_IO, "gnuplot could not write %s (exit %d)", path,
+		                    rc);
 	}
 	return RS_OK;
 }
