@@ -17,6 +17,10 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 		out->kind = RS_SCENEGEN_BOX;
 		return RS_OK;
 	}
+	if (strcmp(name, "mirrors") == 0) {
+		out->kind = RS_SCENEGEN_MIRRORS;
+		return RS_OK;
+	}
 	if (strncmp(name, "cow", 3) != 0 || name[3] < '1' || name[3] > '9')
 		goto bad;
 	for (p = name + 3; *p != '\0'; p++) {
@@ -31,8 +35,8 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 	return RS_OK;
 bad:
 	return rs_error_set(err, RS_ERR_INVALID,
-	                    "unknown scene '%.64s' (expected box or cowN, N = 1..%u)", name,
-	                    RS_SCENEGEN_MAX_COWS);
+	                    "unknown scene '%.64s' (expected box, mirrors or cowN, N = 1..%u)",
+	                    name, RS_SCENEGEN_MAX_COWS);
 }
 
 enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size,
@@ -46,6 +50,8 @@ enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, 
 		                    (unsigned)desc->cows, RS_SCENEGEN_MAX_COWS);
 	if (desc->kind == RS_SCENEGEN_BOX)
 		n = snprintf(out, size, "box");
+	else if (desc->kind == RS_SCENEGEN_MIRRORS)
+		n = snprintf(out, size, "mirrors");
 	else if (desc->kind == RS_SCENEGEN_COW)
 		n = snprintf(out, size, "cow%u", desc->cows == 0 ? 1u : (unsigned)desc->cows);
 	else
@@ -66,13 +72,16 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 	if (desc->kind == RS_SCENEGEN_COW && desc->cows > RS_SCENEGEN_MAX_COWS)
 		return rs_error_set(err, RS_ERR_INVALID, "cow scene: %u cows (limit %u)",
 		                    (unsigned)desc->cows, RS_SCENEGEN_MAX_COWS);
-	if (desc->kind != RS_SCENEGEN_COW && desc->kind != RS_SCENEGEN_BOX)
+	if (desc->kind != RS_SCENEGEN_COW && desc->kind != RS_SCENEGEN_BOX &&
+	    desc->kind != RS_SCENEGEN_MIRRORS)
 		return rs_error_set(err, RS_ERR_INVALID, "unknown scene kind %d", (int)desc->kind);
 	st = rs_scene_create(NULL, &scene, err);
 	if (st != RS_OK)
 		return st;
 	if (desc->kind == RS_SCENEGEN_BOX)
 		st = sg_build_box(scene, err);
+	else if (desc->kind == RS_SCENEGEN_MIRRORS)
+		st = sg_build_mirrors(scene, err);
 	else
 		st = sg_build_cows(scene, desc->cow_path, desc->cows == 0 ? 1 : desc->cows, err);
 	if (st != RS_OK) {

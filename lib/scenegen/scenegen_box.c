@@ -113,11 +113,6 @@ enum rs_status sg_build_box(struct rs_scene *scene, struct rs_error *err)
 		if ((st = sg_add_box(scene, mlo, mhi, 0.0, id[M_MIRROR], err)) != RS_OK ||
 		    (st = sg_add_box(scene, llo, lhi, 0.0, id[M_LAMP], err)) != RS_OK)
 			return st;
-		for (int l = 0; l < 4; l++)
-			if ((st = sg_add_light(scene, lights[l], err)) != RS_OK)
-				return st;
+		return sg_finish(scene, lights, err);
 	}
-	if ((st = sg_set_environment(scene, err)) != RS_OK)
-		return st;
-	return rs_scene_set_ambient(scene, 0.1, err);
 }

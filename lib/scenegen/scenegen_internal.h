@@ -43,10 +43,15 @@ enum rs_status sg_add_light(struct rs_scene *scene, const double pos[3], struct 
  * face colours, 16x16 grid. Call after all geometry is in. */
 enum rs_status sg_set_environment(struct rs_scene *scene, struct rs_error *err);
 
-/* The two scene builders, into an empty scene. */
+/* The last step of a scene: the four lights L1..L4 at `lights`, the environment cube
+ * (sg_set_environment) and ambient 0.1. */
+enum rs_status sg_finish(struct rs_scene *scene, const double lights[4][3], struct rs_error *err);
+
+/* The scene builders, into an empty scene. */
 enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
                              struct rs_error *err);
 enum rs_status sg_build_box(struct rs_scene *scene, struct rs_error *err);
+enum rs_status sg_build_mirrors(struct rs_scene *scene, struct rs_error *err);
 
 /* Bounds centre. */
 void sg_center(const struct rs_bounds *b, double out[3]);

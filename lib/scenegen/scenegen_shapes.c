@@ -230,3 +230,15 @@ enum rs_status sg_set_environment(struct rs_scene *scene, struct rs_error *err)
 		return rs_error_prefix(err, st, "scene generator: environment");
 	return RS_OK;
 }
+
+enum rs_status sg_finish(struct rs_scene *scene, const double lights[4][3], struct rs_error *err)
+{
+	enum rs_status st;
+
+	for (int l = 0; l < 4; l++)
+		if ((st = sg_add_light(scene, lights[l], err)) != RS_OK)
+			return st;
+	if ((st = sg_set_environment(scene, err)) != RS_OK)
+		return st;
+	return rs_scene_set_ambient(scene, 0.1, err);
+}

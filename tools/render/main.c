@@ -24,7 +24,7 @@ struct options {
 
 static void usage(FILE *to)
 {
-	fputs("usage: raystream-render --scene box|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
+	fputs("usage: raystream-render --scene box|mirrors|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
 	      "         [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah] [--passes N]\n"
 	      "         [--lights N] [--size WxH] [--out FILE.png] [--stats FILE.json]\n"
 	      "         [--depth FILE.pfm] [--triangle-test watertight|mt] [--threads N]\n"

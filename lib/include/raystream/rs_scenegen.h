@@ -1,7 +1,8 @@
 /**
  * @file rs_scenegen.h
  * The seed paper's benchmark scenes, built exactly to shared/SCENES.md: Box (153
- * triangles) and CowN (N copies of the 5,804-triangle cow plus a 33-triangle stage), and
+ * triangles) and CowN (N copies of the 5,804-triangle cow plus a 33-triangle stage), the
+ * Mirrors scene of Table 3 (25,254 triangles, defined here: the paper only sizes it), and
  * the exporter that writes any scene as OBJ + MTL + JSON view file for other tools.
  * docs/scenes.md describes every part and how it maps to the spec.
  */
@@ -24,8 +25,17 @@ extern "C" {
 /** Triangles of the stage added to every CowN herd. */
 #define RS_SCENEGEN_STAGE_TRIANGLES 33u
 
+/** Triangles of the mirrors scene (the size of the paper's Table 3 scene). */
+#define RS_SCENEGEN_MIRRORS_TRIANGLES 25254u
+
 /** Which scene to build. */
-enum rs_scenegen_kind { RS_SCENEGEN_COW = 0, RS_SCENEGEN_BOX = 1 };
+enum rs_scenegen_kind {
+	RS_SCENEGEN_COW = 0,
+	RS_SCENEGEN_BOX = 1,
+	/** Table 3's scene: mirror spheres and a mirror torus that reflect each other and
+	 * themselves, 25,254 triangles (docs/scenes.md) */
+	RS_SCENEGEN_MIRRORS = 2,
+};
 
 /** What to build; zero-initialised means Cow1 (cow_path must still be set). */
 struct rs_scenegen_desc {
@@ -35,7 +45,7 @@ struct rs_scenegen_desc {
 };
 
 /**
- * Parse a scene name: "box", or "cowN" with N = 1..RS_SCENEGEN_MAX_COWS written without
+ * Parse a scene name: "box", "mirrors", or "cowN" with N = 1..RS_SCENEGEN_MAX_COWS written without
  * leading zeros (lower case). Fills *out (cow_path NULL); on failure returns RS_ERR_INVALID
  * with a message naming the bad name.
  */
@@ -43,7 +53,8 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
                                  struct rs_error *err);
 
 /**
- * Canonical name of a scene ("box", "cow17") into out (at most size bytes, NUL included).
+ * Canonical name of a scene ("box", "mirrors", "cow17") into out (at most size bytes, NUL
+ * included).
  * @return RS_OK, RS_ERR_INVALID (bad desc) or RS_ERR_LIMIT (does not fit).
  */
 enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size,
