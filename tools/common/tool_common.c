@@ -96,7 +96,8 @@ enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struc
 	}
 	if (!is_file(name))
 		return rs_error_set(err, RS_ERR_NOT_FOUND,
-		                    "scene '%s' is neither box, cowN nor an existing file", name);
+		                    "scene '%s' is neither box, mirrors, cowN nor an existing file",
+		                    name);
 	return rs_load_scene(NULL, name, out, err);
 }
 

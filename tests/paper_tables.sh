@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Usage: paper_tables.sh SCRIPT WORK_DIR BUILD_DIR. tools/paper-tables.sh --quick writes the
+# three tables with the paper's figures beside a number of ours in every cell it measures,
+# names machine and renderer, shows progress, and fails cleanly on a bad option.
+source "$(dirname "$0")/cli_harness.sh"
+script=$bin
+build=$3
+
+if bash "$script" --quick --build "$build" --out tables.md >stdout.txt 2>stderr.txt; then
+  ok "quick run"
+else
+  bad "quick run: $(tail -c 400 stderr.txt)"
+fi
+for t in "Table 1" "Table 2" "Table 3"; do
+  grep -q "^## $t" tables.md && ok "$t present" || bad "$t missing"
+done
+# the paper's figures beside ours
+for f in 174.652 443.34 646.73 268.77 101.74 3.46 12.79; do
+  grep -q -- "$f" tables.md || bad "paper figure $f missing"
+done
+grep -Eq '^\| box +\| +153 \| +[0-9.]+ \|' tables.md && ok "Table 1 has our hit numbers" ||
+  bad "Table 1 row: $(grep '^| box' tables.md | head -1)"
+grep -Eq '^\| box \| [0-9.]+ \([0-9.]+\) \| 443.34' tables.md && ok "Table 2 has our fps" ||
+  bad "Table 2 row: $(grep '^| box' tables.md | tail -1)"
+grep -Eq '^\| ours, fps \| .* \| [0-9.]+ \(hit numbers [0-9.]+\) \| [0-9.]+ \|' tables.md &&
+  ok "Table 3 has the ray tracer's fps" || bad "Table 3 row: $(grep '^| ours' tables.md)"
+grep -q "^Machine: " tables.md && grep -q "llvmpipe\|Renderers: egl: [^;]" tables.md &&
+  ok "machine and renderer named" || bad "machine or renderer missing"
+[ "$(grep -c '^paper-tables: Table' stderr.txt)" -ge 5 ] && ok "progress shown" ||
+  bad "progress: $(cat stderr.txt)"
+if bash "$script" --frobnicate >stdout.txt 2>stderr.txt; then bad "bad option accepted"
+else grep -q "unknown option '--frobnicate'" stderr.txt && ok "bad option refused" ||
+  bad "bad option message: $(cat stderr.txt)"; fi
+finish
