@@ -8,6 +8,7 @@ fails_cleanly "no output dir" 2 "--out DIR is required" --quick && ok "no output
 fails_cleanly "unknown option" 2 "unknown option '--frobnicate'" --frobnicate 1 --out . &&
   ok "unknown option"
 fails_cleanly "bad passes" 2 "--max-passes" --max-passes 9 --out . && ok "bad passes"
+fails_cleanly "bad time" 2 "--time wants wall or cpu" --time gpu --out . && ok "bad time"
 fails_cleanly "bad backend" 2 "unknown backend 'vulkan'" --backend vulkan --out . &&
   ok "bad backend"
 fails_cleanly "unwritable dir" 1 "nodir: not a writable folder" --quick --backend cpu --no-plot \
@@ -51,8 +52,9 @@ check_run() {
 mkdir -p cpu egl
 if "$bin" --quick --backend cpu --out cpu >cpu.out 2>cpu.err; then check_run cpu cpu
 else bad "cpu run: $(tail -c 400 cpu.err)"; fi
-if "$bin" --quick --backend egl --out egl >egl.out 2>egl.err; then
+if "$bin" --quick --backend egl --time cpu --out egl >egl.out 2>egl.err; then
   check_run egl egl
+  grep -q "Pareto (CPU ms)" egl/report.md && ok "egl: front by CPU time" || bad "egl: --time cpu ignored"
   grep -q "raster 2p map" egl/report.csv && grep -q ",map,128,3," egl/report.csv &&
     ok "egl: raster and shadow-map settings measured" || bad "egl: settings missing"
 elif grep -q "unknown backend 'egl'" egl.err; then

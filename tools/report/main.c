@@ -24,14 +24,14 @@
 struct options {
 	const char *scene, *backend, *out;
 	uint32_t size, frames, lights, max_passes, threads;
-	bool plot;
+	bool plot, by_cpu;
 };
 
 static int usage(void)
 {
 	fprintf(stderr, "usage: raystream-report [--quick] [--scene NAME] [--size N] "
 	                "[--backend cpu|egl|osmesa] [--frames N] [--lights N] [--max-passes N] "
-	                "[--threads N] [--no-plot] --out DIR\n");
+	                "[--threads N] [--time wall|cpu] [--no-plot] --out DIR\n");
 	return 2;
 }
 
@@ -162,6 +162,17 @@ static int parse(int argc, char **argv, struct options *o)
 			o->plot = false;
 			continue;
 		}
+		if (!strcmp(a, "--time")) {
+			if (!v || (strcmp(v, "wall") != 0 && strcmp(v, "cpu") != 0)) {
+				fprintf(stderr,
+				        "raystream-report: --time wants wall or cpu, not '%s'\n",
+				        v ? v : "");
+				return 2;
+			}
+			o->by_cpu = !strcmp(v, "cpu");
+			++i;
+			continue;
+		}
 		if (!strcmp(a, "--help"))
 			return usage();
 		uint32_t *dst = !strcmp(a, "--size")         ? &o->size
@@ -284,7 +295,7 @@ int main(int argc, char **argv)
 			goto done;
 		}
 		rs_image_compare(img, ref, o.size, o.size, 3, 1.0, 8.0 / 255.0, &row->diff);
-		pts[i] = (struct rs_report_point){row->ms_med, row->diff.bad_share};
+		pts[i] = (struct rs_report_point){report_time(&rep, row), row->diff.bad_share};
 		fprintf(stderr, "[%u/%u] %-28s %9.1f ms  PSNR %6.2f dB  off>8/255 %6.3f%%\n", i + 1,
 		        rep.count, row->label, row->ms_med, row->diff.psnr_db,
 		        100.0 * row->diff.bad_share);

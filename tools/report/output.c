@@ -93,8 +93,10 @@ static void markdown(const struct report *rep, struct text *t)
 	    "process CPU time per frame, all threads. Error against the CPU double reference "
 	    "(%u passes, exact shadow feelers, %u light(s), SAH, watertight).\n\n",
 	    rep->machine, rep->load1, rep->renderer, rep->frames, rep->max_passes, rep->lights);
-	put(t, "| setting | ms | min-max | CPU ms | PSNR dB | mean abs | max abs | off > 8/255 "
-	       "| Pareto |\n|---|---:|---:|---:|---:|---:|---:|---:|:-:|\n");
+	put(t,
+	    "| setting | ms | min-max | CPU ms | PSNR dB | mean abs | max abs | off > 8/255 "
+	    "| Pareto (%s ms) |\n|---|---:|---:|---:|---:|---:|---:|---:|:-:|\n",
+	    rep->by_cpu ? "CPU" : "wall");
 	for (uint32_t i = 0; i < rep->count; ++i) {
 		const struct report_row *r = &rep->rows[i];
 		put(t, "| %s | %.1f | %.1f-%.1f | %.1f | %.2f | %.5f | %.4f | %.3f %% | %s |\n",
@@ -104,26 +106,22 @@ static void markdown(const struct report *rep, struct text *t)
 	}
 	struct rs_report_point pts[REPORT_MAX_ROWS];
 	for (uint32_t i = 0; i < rep->count; ++i)
-		pts[i] = (struct rs_report_point){rep->rows[i].ms_med, rep->rows[i].diff.bad_share};
-	put(t, "\nWhat to pick for an error budget (share of pixels off by more than 8/255): "
-	       "the fastest setting within it.\n\n| budget | pick | ms | off > 8/255 |\n"
-	       "|---:|---|---:|---:|\n");
+		pts[i] = (struct rs_report_point){report_time(rep, &rep->rows[i]),
+		                                  rep->rows[i].diff.bad_share};
+	put(t,
+	    "\nWhat to pick for an error budget (share of pixels off by more than 8/255): "
+	    "the fastest setting within it (by %s ms).\n\n| budget | pick | ms | off > 8/255 |\n"
+	    "|---:|---|---:|---:|\n",
+	    rep->by_cpu ? "process CPU" : "wall");
 	for (uint32_t b = 0; b < report_budget_count; ++b) {
 		size_t i;
 		if (rs_report_pick(pts, rep->count, report_budgets[b], &i))
 			put(t, "| %.1f %% | %s | %.1f | %.3f %% |\n", 100.0 * report_budgets[b],
-			    rep->rows[i].label, rep->rows[i].ms_med,
+			    rep->rows[i].label, report_time(rep, &rep->rows[i]),
 			    100.0 * rep->rows[i].diff.bad_share);
 		else
 			put(t, "| %.1f %% | none meets it | | |\n", 100.0 * report_budgets[b]);
 	}
-}
-
-static int by_time(const void *a, const void *b)
-{
-	const struct report_row *x = *(const struct report_row *const *)a;
-	const struct report_row *y = *(const struct report_row *const *)b;
-	return x->ms_med < y->ms_med ? -1 : x->ms_med > y->ms_med;
 }
 
 /* gnuplot draws into a temporary; it becomes report.png only when gnuplot succeeded. */
@@ -145,21 +143,28 @@ static enum rs_status plot(const struct report *rep, const char *dir, struct rs_
 	fprintf(gp,
 	        "set terminal pngcairo size 1100,750 noenhanced font ',10'\n"
 	        "set output '%s'\nset title '%s'\nset logscale x\nset grid\n"
-	        "set xlabel 'frame time, ms (median, log scale)'\n"
+	        "set xlabel '%s ms per frame (median, log scale)'\n"
 	        "set ylabel 'pixels off by more than 8/255, %%'\nset key top right\n"
 	        "$all << EOD\n",
-	        tmp, title);
+	        tmp, title, rep->by_cpu ? "process CPU" : "wall");
 	const struct report_row *order[REPORT_MAX_ROWS];
 	for (uint32_t i = 0; i < rep->count; ++i) {
 		const struct report_row *r = &rep->rows[i];
 		order[i] = r;
-		fprintf(gp, "%.6g %.6g \"%s\"\n", r->ms_med, 100.0 * r->diff.bad_share, r->label);
+		fprintf(gp, "%.6g %.6g \"%s\"\n", report_time(rep, r), 100.0 * r->diff.bad_share,
+		        r->label);
 	}
 	fprintf(gp, "EOD\n$front << EOD\n");
-	qsort(order, rep->count, sizeof order[0], by_time);
+	for (uint32_t i = 1; i < rep->count; ++i) /* by time, for the front's line */
+		for (uint32_t j = i;
+		     j > 0 && report_time(rep, order[j]) < report_time(rep, order[j - 1]); --j) {
+			const struct report_row *t = order[j];
+			order[j] = order[j - 1];
+			order[j - 1] = t;
+		}
 	for (uint32_t i = 0; i < rep->count; ++i)
 		if (order[i]->front)
-			fprintf(gp, "%.6g %.6g\n", order[i]->ms_med,
+			fprintf(gp, "%.6g %.6g\n", report_time(rep, order[i]),
 			        100.0 * order[i]->diff.bad_share);
 	fprintf(gp, "EOD\nplot $front using 1:2 with linespoints lw 2 pt 6 ps 2.2 lc rgb "
 	            "'#d62728' title 'Pareto front', $all using 1:2 with points pt 7 ps 1.1 lc "

@@ -28,9 +28,16 @@ struct report {
 	char renderer[128]; /* the GL renderer string of the measured backend (or the CPU's) */
 	char machine[160];
 	double load1;
+	bool by_cpu; /* the front and the pick use CPU ms (steadier for llvmpipe), else wall ms */
 	struct report_row rows[REPORT_MAX_ROWS];
 	uint32_t count;
 };
+
+/* The time the front, the pick and the plot use for a row. */
+static inline double report_time(const struct report *rep, const struct report_row *row)
+{
+	return rep->by_cpu ? row->cpu_med : row->ms_med;
+}
 
 /* Error budgets (share of pixels off by more than 8/255) the report names a pick for. */
 extern const double report_budgets[];
