@@ -255,6 +255,7 @@ int main(int argc, char **argv)
 	                      .size = o.size,
 	                      .frames = o.frames,
 	                      .lights = o.lights,
+	                      .by_cpu = o.by_cpu,
 	                      .max_passes = o.max_passes};
 	/* A long run must not end in an unwritable folder. */
 	struct stat st;
