@@ -52,8 +52,14 @@ check_run() {
 mkdir -p cpu egl
 if "$bin" --quick --backend cpu --out cpu >cpu.out 2>cpu.err; then check_run cpu cpu
 else bad "cpu run: $(tail -c 400 cpu.err)"; fi
-if "$bin" --quick --backend egl --time cpu --out egl >egl.out 2>egl.err; then
+if "$bin" --quick --backend egl --time cpu --diffs --out egl >egl.out 2>egl.err; then
   check_run egl egl
+  pngs=0
+  for f in egl/diff-*.png; do
+    [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && pngs=$((pngs + 1))
+  done
+  [ "$pngs" -eq $(($(wc -l <egl/report.csv) - 1)) ] && grep -q 'diff-00.png' egl/report.md &&
+    ok "egl: a difference image per setting" || bad "egl: $pngs difference images"
   grep -q "Pareto (CPU ms)" egl/report.md && ok "egl: front by CPU time" || bad "egl: --time cpu ignored"
   grep -q "raster 2p map" egl/report.csv && grep -q ",map,128,3," egl/report.csv &&
     ok "egl: raster and shadow-map settings measured" || bad "egl: settings missing"

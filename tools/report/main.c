@@ -24,14 +24,14 @@
 struct options {
 	const char *scene, *backend, *out;
 	uint32_t size, frames, lights, max_passes, threads;
-	bool plot, by_cpu;
+	bool plot, by_cpu, diffs;
 };
 
 static int usage(void)
 {
 	fprintf(stderr, "usage: raystream-report [--quick] [--scene NAME] [--size N] "
 	                "[--backend cpu|egl|osmesa] [--frames N] [--lights N] [--max-passes N] "
-	                "[--threads N] [--time wall|cpu] [--no-plot] --out DIR\n");
+	                "[--threads N] [--time wall|cpu] [--no-plot] [--diffs] --out DIR\n");
 	return 2;
 }
 
@@ -144,6 +144,20 @@ static enum rs_status measure(const struct rs_scene *scene, struct report_row *r
 	return st;
 }
 
+/* DIR/diff-NN.png: |setting - reference| x 8 per channel, so an error of 8/255 (the
+ * "off" threshold) shows as 64/255 and anything off by 1/8 or more saturates. `img` is
+ * overwritten (the next setting renders into it again). */
+static enum rs_status write_diff(const char *dir, uint32_t index, float *img, const float *ref,
+                                 uint32_t size, struct rs_error *err)
+{
+	char path[4096];
+	size_t n = (size_t)size * size * 3;
+	for (size_t k = 0; k < n; ++k)
+		img[k] = fminf(8.0f * fabsf(img[k] - ref[k]), 1.0f);
+	snprintf(path, sizeof path, "%s/diff-%02u.png", dir, index);
+	return rs_image_write_png(path, img, size, size, err);
+}
+
 static int parse(int argc, char **argv, struct options *o)
 {
 	*o = (struct options){
@@ -160,6 +174,10 @@ static int parse(int argc, char **argv, struct options *o)
 		}
 		if (!strcmp(a, "--no-plot")) {
 			o->plot = false;
+			continue;
+		}
+		if (!strcmp(a, "--diffs")) {
+			o->diffs = true;
 			continue;
 		}
 		if (!strcmp(a, "--time")) {
@@ -256,6 +274,7 @@ int main(int argc, char **argv)
 	                      .frames = o.frames,
 	                      .lights = o.lights,
 	                      .by_cpu = o.by_cpu,
+	                      .diffs = o.diffs,
 	                      .max_passes = o.max_passes};
 	/* A long run must not end in an unwritable folder. */
 	struct stat st;
@@ -296,6 +315,8 @@ int main(int argc, char **argv)
 			goto done;
 		}
 		rs_image_compare(img, ref, o.size, o.size, 3, 1.0, 8.0 / 255.0, &row->diff);
+		if (o.diffs && write_diff(o.out, i, img, ref, o.size, &err) != RS_OK)
+			goto done;
 		pts[i] = (struct rs_report_point){report_time(&rep, row), row->diff.bad_share};
 		fprintf(stderr, "[%u/%u] %-28s %9.1f ms  PSNR %6.2f dB  off>8/255 %6.3f%%\n", i + 1,
 		        rep.count, row->label, row->ms_med, row->diff.psnr_db,

@@ -104,6 +104,13 @@ static void markdown(const struct report *rep, struct text *t)
 		    r->diff.mean_abs_error, r->diff.max_abs_error, 100.0 * r->diff.bad_share,
 		    r->front ? "yes" : "");
 	}
+	if (rep->diffs) {
+		put(t, "\nDifference images (|setting - reference| x 8 per channel: 8/255 off "
+		       "shows as "
+		       "64/255):\n\n");
+		for (uint32_t i = 0; i < rep->count; ++i)
+			put(t, "- `diff-%02u.png`: %s\n", i, rep->rows[i].label);
+	}
 	struct rs_report_point pts[REPORT_MAX_ROWS];
 	for (uint32_t i = 0; i < rep->count; ++i)
 		pts[i] = (struct rs_report_point){report_time(rep, &rep->rows[i]),

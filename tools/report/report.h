@@ -28,6 +28,7 @@ struct report {
 	char renderer[128]; /* the GL renderer string of the measured backend (or the CPU's) */
 	char machine[160];
 	double load1;
+	bool diffs;  /* diff-NN.png written beside the report */
 	bool by_cpu; /* the front and the pick use CPU ms (steadier for llvmpipe), else wall ms */
 	struct report_row rows[REPORT_MAX_ROWS];
 	uint32_t count;
