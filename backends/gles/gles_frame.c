@@ -124,7 +124,9 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 	gl->UseProgram(g->prog[PROG_RAYGEN]);
 	rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
 	enum rs_status st = draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
-	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters;
+	/* Environment mapping switches tracing off per pass: the separate chain only. */
+	bool envmap = g->desc.reflections == RS_REFLECT_ENVMAP;
+	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters && !envmap;
 	for (uint32_t pass = 0; st == RS_OK && pass < g->desc.passes; ++pass) {
 		GLuint hit = g->hit[pass == 0 ? 0 : 1];
 		int nxt = 1 - cur;
@@ -147,6 +149,8 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		} else {
 			gl->UseProgram(prog);
 			rs_gles_scene_uniforms(g, prog);
+			if (envmap)
+				rs_gles_envmap_uniforms(g, prog, pass);
 			state_inputs(g, prog, cur, cc);
 			GLuint out_i[2] = {hit, g->cnt[1 - cc]};
 			st = draw(g, "intersect", out_i, counters ? 2 : 1, stats, t0, err);
@@ -158,6 +162,8 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		prog = g->prog[PROG_SHADE];
 		gl->UseProgram(prog);
 		rs_gles_scene_uniforms(g, prog);
+		if (envmap)
+			rs_gles_envmap_uniforms(g, prog, pass);
 		state_inputs(g, prog, cur, cc);
 		rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_hit", hit);
 		GLuint out_s[4] = {g->state[nxt][ST_ORIG], g->state[nxt][ST_DIR],

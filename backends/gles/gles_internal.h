@@ -22,6 +22,7 @@ enum {
 	UNIT_HIT,
 	UNIT_CNT,
 	UNIT_SHADOW,
+	UNIT_ENVMAP,
 	UNIT_COUNT
 };
 
@@ -58,6 +59,8 @@ struct gles {
 	GLuint color;                /* RGBA8 display target */
 	GLuint depth;                /* raster primary: depth renderbuffer */
 	GLuint shadow, shadow_depth; /* shadow maps: R32F array (6 faces a light), depth */
+	GLuint envmap;               /* RS_REFLECT_ENVMAP: RGB16F cube map (gles_envmap.c) */
+	bool envmap_ready;           /* captured: later passes read it instead of tracing */
 	double bounds_center[3], bounds_radius; /* raster primary: clip planes per camera */
 	GLuint prog[PROG_COUNT];
 	uint32_t light_count;
@@ -93,6 +96,13 @@ enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
 
 /* Render the cube shadow maps of every light (set_scene: lights and geometry are fixed). */
 enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);
+
+/* RS_REFLECT_ENVMAP: capture the cube map from the centre of `scene` (6 traced frames of
+ * 1 pass, 90 degrees, the frame's square size). */
+enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, struct rs_error *err);
+
+/* RS_REFLECT_ENVMAP: the cube map and whether pass `pass` reads it, for `prog`. */
+void rs_gles_envmap_uniforms(const struct gles *g, GLuint prog, uint32_t pass);
 
 /* Bind `tex` (target GL_TEXTURE_2D or GL_TEXTURE_2D_ARRAY) to `unit` as sampler `name`. */
 void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,

@@ -24,7 +24,9 @@ static void delete_scene(struct gles *g)
 	GLuint rbs[2] = {g->depth, g->shadow_depth};
 	gl->DeleteRenderbuffers(2, rbs);
 	gl->DeleteTextures(1, &g->shadow);
-	g->depth = g->shadow_depth = g->shadow = 0;
+	gl->DeleteTextures(1, &g->envmap);
+	g->depth = g->shadow_depth = g->shadow = g->envmap = 0;
+	g->envmap_ready = false;
 	rs_render_accel_free(&g->accel);
 	free(g->scratch);
 	g->scratch = NULL;
@@ -141,18 +143,19 @@ static int row_shift(uint32_t items)
 static enum rs_status build_programs(struct gles *g, const struct rs_scene *scene,
                                      struct rs_error *err)
 {
-	char defines[256];
+	char defines[320];
 	snprintf(defines, sizeof defines,
 	         "#define RS_ROW_ITEMS %u\n#define RS_ROW_SHIFT %d\n"
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
-	         "#define RS_SHADOW_MAP %d\n",
+	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n",
 	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
-	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP);
+	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP,
+	         g->desc.reflections == RS_REFLECT_ENVMAP);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
-	char full[320];
+	char full[384];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
 	         g->light_count ? g->light_count : 1u);
 	static const char *const files[PROG_COUNT][4] = {
@@ -240,6 +243,8 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 		st = upload(g, err);
 	if (st == RS_OK && desc->shadows == RS_SHADOW_MAP)
 		st = rs_gles_shadow_maps(g, err);
+	if (st == RS_OK && desc->reflections == RS_REFLECT_ENVMAP)
+		st = rs_gles_envmap(g, scene, err);
 	if (st == RS_OK) {
 		struct rs_camera cam;
 		rs_camera_resolve(rs_scene_camera(scene), &cam);

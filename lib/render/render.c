@@ -66,6 +66,9 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 	if (d.shadows != RS_SHADOW_RAYS && d.shadows != RS_SHADOW_MAP)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown shadow mode %d",
 		                    (int)d.shadows);
+	if (d.reflections != RS_REFLECT_TRACE && d.reflections != RS_REFLECT_ENVMAP)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown reflection mode %d",
+		                    (int)d.reflections);
 	if (d.chain != RS_CHAIN_FUSED && d.chain != RS_CHAIN_SEPARATE)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown kernel chain %d",
 		                    (int)d.chain);

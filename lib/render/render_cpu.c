@@ -223,6 +223,9 @@ enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct 
 	if (desc && desc->shadows == RS_SHADOW_MAP)
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "render: the cpu backend has exact shadow rays only (no maps)");
+	if (desc && desc->reflections == RS_REFLECT_ENVMAP)
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                    "render: the cpu backend traces reflections only (no env map)");
 	struct cpu_renderer *cpu = calloc(1, sizeof *cpu);
 	if (!cpu)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "render: out of memory");

@@ -16,7 +16,8 @@ static int usage(void)
 {
 	fprintf(stderr, "usage: raystream-glbench [--backend egl|osmesa|cpu] [--size N] "
 	                "[--passes N] [--lights N] [--frames N] [--chain fused|separate] "
-	                "[--primary trace|raster] [--shadows rays|map:RES:FILTER] SCENE...\n");
+	                "[--primary trace|raster] [--shadows rays|map:RES:FILTER] "
+	                "[--reflections trace|envmap] SCENE...\n");
 	return 2;
 }
 
@@ -69,8 +70,10 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	       name, s->backend, desc.width, desc.height, desc.passes, desc.lights,
 	       desc.chain == RS_CHAIN_SEPARATE ? "separate" : "fused",
 	       desc.primary == RS_PRIMARY_RASTER ? "raster" : "trace",
-	       desc.shadows == RS_SHADOW_MAP ? "map" : "rays", cpu[frames / 2], cpu[0],
-	       cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
+	       desc.shadows == RS_SHADOW_MAP
+	           ? "map"
+	           : (desc.reflections == RS_REFLECT_ENVMAP ? "rays envmap" : "rays"),
+	       cpu[frames / 2], cpu[0], cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
 	       (double)rays / (med * 1000.0), (unsigned long long)rays, hits);
 	for (uint32_t k = 0; k < s->kernel_count; ++k) {
 		qsort(kms[k], frames, sizeof kms[k][0], rs_tool_cmp_double);
@@ -120,6 +123,10 @@ int main(int argc, char **argv)
 			desc.primary = RS_PRIMARY_TRACE;
 		else if (strcmp(a, "--primary") == 0 && strcmp(v, "raster") == 0)
 			desc.primary = RS_PRIMARY_RASTER;
+		else if (strcmp(a, "--reflections") == 0 && strcmp(v, "trace") == 0)
+			desc.reflections = RS_REFLECT_TRACE;
+		else if (strcmp(a, "--reflections") == 0 && strcmp(v, "envmap") == 0)
+			desc.reflections = RS_REFLECT_ENVMAP;
 		else if (strcmp(a, "--shadows") == 0 && strcmp(v, "rays") == 0)
 			desc.shadows = RS_SHADOW_RAYS;
 		else if (strcmp(a, "--shadows") == 0 && sscanf(v, "map:%u:%u", &res, &filter) == 2)

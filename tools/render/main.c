@@ -17,6 +17,7 @@ struct options {
 	enum rs_bvh_builder builder;
 	enum rs_triangle_test triangle_test;
 	enum rs_primary_mode primary;
+	enum rs_reflection_mode reflections;
 	enum rs_shadow_mode shadows;
 	uint32_t shadow_map_size, shadow_filter;
 	uint32_t passes, lights, width, height, threads;
@@ -29,6 +30,7 @@ static void usage(FILE *to)
 	      "         [--lights N] [--size WxH] [--out FILE.png] [--stats FILE.json]\n"
 	      "         [--depth FILE.pfm] [--triangle-test watertight|mt] [--threads N]\n"
 	      "         [--primary trace|raster] [--shadows rays|map[:RESOLUTION[:FILTER]]]\n"
+	      "         [--reflections trace|envmap]\n"
 	      "Renders with the chosen backend (default cpu, the double-precision reference).\n"
 	      "FILE is an OBJ or PLY mesh; a FILE.json beside it (from raystream-scene) sets\n"
 	      "camera, lights and environment. --triangle-test defaults to watertight; mt is the\n"
@@ -121,6 +123,14 @@ static int parse_args(int argc, char **argv, struct options *o)
 				o->primary = RS_PRIMARY_RASTER;
 			else
 				return fail_usage("--primary wants trace or raster, not '%s'", v);
+		} else if (!strcmp(a, "--reflections")) {
+			if (!strcmp(v, "trace"))
+				o->reflections = RS_REFLECT_TRACE;
+			else if (!strcmp(v, "envmap"))
+				o->reflections = RS_REFLECT_ENVMAP;
+			else
+				return fail_usage("--reflections wants trace or envmap, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--shadows")) {
 			if (parse_shadows(v, o) != 0)
 				return fail_usage(
@@ -236,6 +246,7 @@ static int run(const struct options *o)
 	    .lights = lights, /* 0 means "all": right for a scene without lights */
 	    .triangle_test = o->triangle_test,
 	    .primary = o->primary,
+	    .reflections = o->reflections,
 	    .shadows = o->shadows,
 	    .shadow_map_size = o->shadow_map_size,
 	    .shadow_filter = o->shadow_filter,

@@ -21,6 +21,9 @@ void main()
 		vec4 o = texelFetch(u_orig, px, 0), d = texelFetch(u_dir, px, 0);
 		h.slot = -1;
 #if RS_GEOMETRY
+#if RS_ENVMAP
+		if (u_envmap_on == 0) // environment mapping: later passes are not traced
+#endif
 		rs_traverse(Ray(o.xyz, d.xyz, RS_FAR, int(o.w)), false, h, c);
 #endif
 	}

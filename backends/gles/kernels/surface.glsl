@@ -287,6 +287,11 @@ float rs_next_ray(Ray r, Hit h, Surf s, out Ray next, out float weight)
 }
 #endif
 
+#if RS_ENVMAP
+uniform samplerCube u_envmap; // RS_REFLECT_ENVMAP: the cube map captured at the centre
+uniform int u_envmap_on;      // 1 from the second pass on: misses read u_envmap
+#endif
+
 // One path step after the intersection: environment for a miss (state -1 resolved to -2),
 // else local shading and the next ray. orig = (origin, skip slot), dir = (direction,
 // throughput), acc = (rgb, state), cnt += (0, shadow rays, box, triangle tests).
@@ -295,7 +300,12 @@ void rs_path_step(inout vec4 orig, inout vec4 dir, inout vec4 acc, Hit h, inout 
 	Ray r = Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w));
 	float throughput = dir.w;
 	if (h.slot < 0) {
+#if RS_ENVMAP
+		acc.rgb += throughput * (u_envmap_on != 0 ? texture(u_envmap, r.d).rgb
+		                                          : rs_environment(r.o, r.d));
+#else
 		acc.rgb += throughput * rs_environment(r.o, r.d);
+#endif
 		acc.w = RS_STATE_ENVIRONMENT;
 		return;
 	}

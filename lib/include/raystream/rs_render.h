@@ -48,6 +48,16 @@ enum rs_kernel_chain {
 	RS_CHAIN_SEPARATE = 1, /**< the paper's chain: one pass per kernel */
 };
 
+/** Where reflected and refracted rays (passes after the first) find their colour. */
+enum rs_reflection_mode {
+	RS_REFLECT_TRACE = 0, /**< traced through the BVH (default) */
+	/** Classic environment mapping (GL backends only): one cube map captured once at
+	 * set_scene from the scene's centre (the traced image of 1 pass, 90-degree faces of
+	 * the frame's size, which must be square); later rays read it by direction and stop.
+	 * No inter- or self-reflection, parallax error away from the centre. */
+	RS_REFLECT_ENVMAP = 1,
+};
+
 /** Largest rs_render_desc.threads. */
 #define RS_RENDER_MAX_THREADS 256u
 
@@ -66,6 +76,7 @@ struct rs_render_desc {
 	struct rs_bvh_desc bvh;   /**< the BVH builder and its options */
 	uint32_t threads;         /**< CPU backend threads; 0 -> the machine's cores */
 	enum rs_kernel_chain chain;
+	enum rs_reflection_mode reflections;
 	/** GL backends: EGL platform to use ("surfaceless", "device", "gbm"); NULL: the
 	 * RS_EGL_PLATFORM environment variable, else the first that works in that order.
 	 * Read only while the renderer is created. */
@@ -148,8 +159,8 @@ enum rs_status rs_renderer_create(const struct rs_renderer_ops *ops, void *impl,
                                   const struct rs_render_desc *desc, struct rs_renderer **out,
                                   struct rs_error *err);
 
-/** The CPU reference backend (rs_trace_render over threads). Trace-only: RS_PRIMARY_RASTER
- * and RS_SHADOW_MAP are refused with RS_ERR_UNSUPPORTED. */
+/** The CPU reference backend (rs_trace_render over threads). Trace-only: RS_PRIMARY_RASTER,
+ * RS_SHADOW_MAP and RS_REFLECT_ENVMAP are refused with RS_ERR_UNSUPPORTED. */
 enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
                                       struct rs_error *err);
 
