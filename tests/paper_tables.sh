@@ -22,11 +22,11 @@ grep -Eq '^\| box +\| +153 \| +[0-9.]+ \|' tables.md && ok "Table 1 has our hit 
   bad "Table 1 row: $(grep '^| box' tables.md | head -1)"
 grep -Eq '^\| box \| [0-9.]+ \([0-9.]+\) \| 443.34' tables.md && ok "Table 2 has our fps" ||
   bad "Table 2 row: $(grep '^| box' tables.md | tail -1)"
-grep -Eq '^\| ours, fps \| .* \| [0-9.]+ \(hit numbers [0-9.]+\) \| [0-9.]+ \|' tables.md &&
+grep -Eq '^\| ours, fps \| [0-9.]+ \| .* \| [0-9.]+ \(hit numbers [0-9.]+\) \| [0-9.]+ \|' tables.md &&
   ok "Table 3 has the ray tracer's fps" || bad "Table 3 row: $(grep '^| ours' tables.md)"
 grep -q "^Machine: " tables.md && grep -q "llvmpipe\|Renderers: egl: [^;]" tables.md &&
   ok "machine and renderer named" || bad "machine or renderer missing"
-[ "$(grep -c '^paper-tables: Table' stderr.txt)" -ge 5 ] && ok "progress shown" ||
+[ "$(grep -c '^paper-tables: Table' stderr.txt)" -ge 6 ] && ok "progress shown" ||
   bad "progress: $(cat stderr.txt)"
 if bash "$script" --frobnicate >stdout.txt 2>stderr.txt; then bad "bad option accepted"
 else grep -q "unknown option '--frobnicate'" stderr.txt && ok "bad option refused" ||

@@ -23,20 +23,20 @@ check_run() {
   local rows
   rows=$(($(wc -l <"$csv") - 1))
   [ "$rows" -ge 5 ] || { bad "$name: only $rows settings"; return; }
-  # 18 fields, numbers 10..17 finite (PSNR may be inf for an exact setting), none empty
+  # 19 fields, numbers 11..18 finite (PSNR may be inf for an exact setting), none empty
   local broken
   broken=$(awk -F, 'NR > 1 {
-      if (NF != 18) { print "line " NR ": " NF " fields"; next }
+      if (NF != 19) { print "line " NR ": " NF " fields"; next }
       for (i = 1; i <= NF; i++) if ($i == "") print "line " NR ": field " i " empty"
-      for (i = 10; i <= 17; i++)
-        if ($i !~ /^-?[0-9.]+(e[-+]?[0-9]+)?$/ && !(i == 14 && $i == "inf"))
+      for (i = 11; i <= 18; i++)
+        if ($i !~ /^-?[0-9.]+(e[-+]?[0-9]+)?$/ && !(i == 15 && $i == "inf"))
           print "line " NR ": field " i " = " $i
     }' "$csv")
   [ -z "$broken" ] || { bad "$name: $broken"; return; }
   ok "$name: $rows settings, every number present"
   # row 1: the reference setting rendered again by its own renderer
   local self
-  self=$(awk -F, 'NR == 2 { print $1 "|" $14 "|" $15 "|" $16 "|" $17 }' "$csv")
+  self=$(awk -F, 'NR == 2 { print $1 "|" $15 "|" $16 "|" $17 "|" $18 }' "$csv")
   if [ "$self" = "cpu reference (self)|inf|0|0|0" ]; then ok "$name: reference against itself is exact"
   else bad "$name: reference against itself: $self"; fi
   # the reference setting is exact, so the zero budget has a pick, and the front exists
@@ -62,7 +62,8 @@ if "$bin" --quick --backend egl --time cpu --diffs --out egl >egl.out 2>egl.err;
     ok "egl: a difference image per setting" || bad "egl: $pngs difference images"
   grep -q "Pareto (CPU ms)" egl/report.md && ok "egl: front by CPU time" || bad "egl: --time cpu ignored"
   grep -q "raster 2p map" egl/report.csv && grep -q ",map,128,3," egl/report.csv &&
-    ok "egl: raster and shadow-map settings measured" || bad "egl: settings missing"
+    grep -q ",envmap," egl/report.csv &&
+    ok "egl: raster, shadow-map and env-map settings measured" || bad "egl: settings missing"
 elif grep -q "unknown backend 'egl'" egl.err; then
   echo "skip: this build has no EGL backend"
 else

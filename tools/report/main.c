@@ -101,6 +101,18 @@ static void settings(struct report *rep, const struct options *o)
 			add(rep, b, d, label);
 		}
 	}
+	if (gl) {
+		/* classic environment mapping: the second pass reads a cube map, no later pass */
+		d = base;
+		d.reflections = RS_REFLECT_ENVMAP;
+		snprintf(label, sizeof label, "%s trace 2p envmap", b);
+		add(rep, b, d, label);
+		d.shadows = RS_SHADOW_MAP;
+		d.shadow_map_size = o->size < 128 ? 128 : 512;
+		d.shadow_filter = 3;
+		snprintf(label, sizeof label, "%s trace 2p envmap map %u/3", b, d.shadow_map_size);
+		add(rep, b, d, label);
+	}
 	d = base;
 	d.bvh.builder = RS_BVH_PAPER;
 	snprintf(label, sizeof label, "%s trace 2p paper-bvh", b);

@@ -68,19 +68,21 @@ static enum rs_status save(const char *dir, const char *name, struct text *t, st
 static void csv(const struct report *rep, struct text *t)
 {
 	put(t, "setting,backend,primary,shadows,shadow_map,shadow_filter,passes,bvh,triangle_test,"
+	       "reflections,"
 	       "ms_median,ms_min,ms_max,cpu_ms_median,psnr_db,mean_abs_error,max_abs_error,"
 	       "share_off_8,pareto\n");
 	for (uint32_t i = 0; i < rep->count; ++i) {
 		const struct report_row *r = &rep->rows[i];
 		const struct rs_render_desc *d = &r->desc;
 		bool map = d->shadows == RS_SHADOW_MAP;
-		put(t, "%s,%s,%s,%s,%u,%u,%u,%s,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.6g,%.6g,%.6g,%d\n",
+		put(t, "%s,%s,%s,%s,%u,%u,%u,%s,%s,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.6g,%.6g,%.6g,%d\n",
 		    r->label, r->backend, d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
 		    map ? "map" : "rays", map ? d->shadow_map_size : 0, map ? d->shadow_filter : 0,
 		    d->passes, bvh_name(d->bvh.builder),
 		    d->triangle_test == RS_TRIANGLE_MOLLER_TRUMBORE ? "moller" : "watertight",
-		    r->ms_med, r->ms_min, r->ms_max, r->cpu_med, r->diff.psnr_db,
-		    r->diff.mean_abs_error, r->diff.max_abs_error, r->diff.bad_share, r->front);
+		    d->reflections == RS_REFLECT_ENVMAP ? "envmap" : "trace", r->ms_med, r->ms_min,
+		    r->ms_max, r->cpu_med, r->diff.psnr_db, r->diff.mean_abs_error,
+		    r->diff.max_abs_error, r->diff.bad_share, r->front);
 	}
 }
 
