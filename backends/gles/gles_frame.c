@@ -127,7 +127,9 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 	/* Environment mapping switches tracing off per pass: the separate chain only. */
 	bool envmap = g->desc.reflections == RS_REFLECT_ENVMAP;
 	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters && !envmap;
-	for (uint32_t pass = 0; st == RS_OK && pass < g->desc.passes; ++pass) {
+	/* With the env map every path ends in the second pass: later ones would be empty. */
+	uint32_t count = envmap && g->desc.passes > 2 ? 2 : g->desc.passes;
+	for (uint32_t pass = 0; st == RS_OK && pass < count; ++pass) {
 		GLuint hit = g->hit[pass == 0 ? 0 : 1];
 		int nxt = 1 - cur;
 		double t0 = rs_gles_now_ms();
