@@ -109,7 +109,8 @@ static enum rs_status cpu_set_scene(void *impl, const struct rs_scene *scene,
 	struct cpu_renderer *cpu = impl;
 	rs_render_accel_free(&cpu->accel);
 	cpu->scene = NULL;
-	enum rs_status status = rs_render_accel_build(scene, &desc->bvh, &cpu->accel, err);
+	enum rs_status status =
+	    rs_render_accel_build(scene, &desc->bvh, &desc->pack, &cpu->accel, err);
 	if (status != RS_OK)
 		return status;
 	size_t floats = (size_t)desc->width * desc->height * 3u;

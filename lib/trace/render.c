@@ -18,11 +18,13 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "trace: packed arrays hold %u triangles, the scene %zu",
 		                    packed->triangle_count, tris);
-	if (tris > 0 && (packed->node_count == 0 || !packed->nodes.texels ||
-	                 !packed->triangles.texels || !packed->normals.texels))
-		return rs_error_set(err, RS_ERR_INVALID, "trace: packed arrays have no texels");
-	if (packed->material_count > 0 && !packed->materials.texels)
-		return rs_error_set(err, RS_ERR_INVALID, "trace: packed materials have no texels");
+	if (tris > 0 && packed->node_count == 0)
+		return rs_error_set(err, RS_ERR_INVALID, "trace: packed arrays have no BVH nodes");
+	/* rs_pack_texel() addresses items linearly, which is the kernels' 2D layout only for
+	 * textures sized exactly as rs_pack_layout() sizes them. */
+	enum rs_status st = rs_pack_check(packed, err);
+	if (st != RS_OK)
+		return st;
 	if (desc->triangle_test != RS_TRIANGLE_MOLLER_TRUMBORE &&
 	    desc->triangle_test != RS_TRIANGLE_WATERTIGHT)
 		return rs_error_set(err, RS_ERR_INVALID, "trace: unknown triangle test %d",

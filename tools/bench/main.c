@@ -86,7 +86,7 @@ static int bench_scene(const struct options *o, const struct paper_row *row, dou
 		double times[32];
 		struct rs_render_accel accel;
 		for (uint32_t r = 0; r < o->repeats; ++r) {
-			if (rs_render_accel_build(scene, &desc, &accel, &err) != RS_OK) {
+			if (rs_render_accel_build(scene, &desc, NULL, &accel, &err) != RS_OK) {
 				fprintf(stderr, "raystream-bench: %s\n", err.message);
 				rs_scene_destroy(&scene);
 				return 1;
