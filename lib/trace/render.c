@@ -40,6 +40,9 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	if (!isfinite(desc->ray_epsilon) || desc->ray_epsilon < 0.0)
 		return rs_error_set(err, RS_ERR_INVALID, "trace: ray epsilon %g is not >= 0",
 		                    desc->ray_epsilon);
+	if (desc->intersector && (!desc->intersector->closest || !desc->intersector->occluded))
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "trace: the intersector lacks a closest or occluded query");
 
 	memset(out, 0, sizeof *out);
 	out->packed = packed;
@@ -49,6 +52,7 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	out->lights = rs_scene_lights(scene);
 	out->ambient = rs_scene_ambient(scene);
 	out->has_geometry = tris > 0;
+	out->intersector = desc->intersector;
 	rs_scene_environment(scene, &out->env);
 
 	/* The offset scales with the scene so that scaled copies of a scene render alike. */

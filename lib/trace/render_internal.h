@@ -56,7 +56,27 @@ struct rs_trace_frame {
 	double offset;     /* absolute self-hit offset: ray_epsilon * scene extent */
 	bool has_geometry; /* false: every ray misses (empty scene) */
 	struct rs_environment env;
+	const struct rs_trace_intersector *intersector; /* NULL: walk packed's BVH */
 };
+
+/* The frame's ray queries: the packed BVH, or the caller's intersector. */
+static inline bool rs_trace_frame_closest(const struct rs_trace_frame *frame,
+                                          const struct rs_ray *ray, struct rs_hit *hit,
+                                          struct rs_trace_counters *counters)
+{
+	if (frame->intersector)
+		return frame->intersector->closest(frame->intersector->user, ray, hit);
+	return rs_trace_closest(frame->packed, frame->test, ray, hit, counters);
+}
+
+static inline bool rs_trace_frame_occluded(const struct rs_trace_frame *frame,
+                                           const struct rs_ray *ray,
+                                           struct rs_trace_counters *counters)
+{
+	if (frame->intersector)
+		return frame->intersector->occluded(frame->intersector->user, ray);
+	return rs_trace_occluded(frame->packed, frame->test, ray, counters);
+}
 
 enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs_packed *packed,
                                    const struct rs_trace_desc *desc, struct rs_trace_frame *out,

@@ -155,6 +155,14 @@ enum rs_status rs_renderer_create(const struct rs_renderer_ops *ops, void *impl,
 enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
                                       struct rs_error *err);
 
+/** The CPU backend with `intersector`'s ray queries in place of its BVH walk (NULL: as
+ * rs_renderer_create_cpu()): the reference's rays, paths, shading and threads over a peer's
+ * intersection code. The intersector must outlive the renderer; its prepare() runs at each
+ * set_scene. Box and triangle counts stay 0 (counters_valid false) under an intersector. */
+enum rs_status rs_renderer_create_cpu_with(const struct rs_render_desc *desc,
+                                           const struct rs_trace_intersector *intersector,
+                                           struct rs_renderer **out, struct rs_error *err);
+
 /** Destroy and set *renderer to NULL; NULL and *renderer == NULL are allowed. */
 void rs_renderer_destroy(struct rs_renderer **renderer);
 

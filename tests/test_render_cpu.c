@@ -1,7 +1,9 @@
-/* rs_render with the texture layout as a parameter: the CPU backend renders the same scene
- * bit-identically at every row width (it walks the layout the kernels sample), a scene over
- * the texture size limit is refused at set_scene naming the limit, and impossible limits are
- * refused when the renderer is made. */
+/* The CPU backend's options. Texture layout: the same scene renders bit-identically at every
+ * row width (the reference walks the layout the kernels sample), a scene over the texture
+ * size limit is refused at set_scene naming the limit, impossible limits are refused when the
+ * renderer is made. Intersector: a peer's ray queries run under the reference's paths, one
+ * query per ray the stats count. */
+#include <stdatomic.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -143,6 +145,90 @@ static void impossible_limits_are_refused_up_front(void **state)
 	rs_scene_destroy(&scene);
 }
 
+struct counting_peer {
+	const struct rs_packed *packed; /* from prepare: the renderer's own textures */
+	atomic_ulong closest, occluded, prepared;
+	enum rs_status fail_prepare;
+};
+
+static bool peer_closest(void *user, const struct rs_ray *ray, struct rs_hit *hit)
+{
+	struct counting_peer *p = user;
+	atomic_fetch_add(&p->closest, 1);
+	return rs_trace_closest(p->packed, RS_TRIANGLE_MOLLER_TRUMBORE, ray, hit, NULL);
+}
+
+static bool peer_occluded(void *user, const struct rs_ray *ray)
+{
+	struct counting_peer *p = user;
+	atomic_fetch_add(&p->occluded, 1);
+	return rs_trace_occluded(p->packed, RS_TRIANGLE_MOLLER_TRUMBORE, ray, NULL);
+}
+
+static enum rs_status peer_prepare(void *user, const struct rs_packed *packed, struct rs_error *err)
+{
+	struct counting_peer *p = user;
+	atomic_fetch_add(&p->prepared, 1);
+	p->packed = packed;
+	if (p->fail_prepare != RS_OK)
+		return rs_error_set(err, p->fail_prepare, "peer: cannot build");
+	return RS_OK;
+}
+
+static void intersector_answers_every_ray_of_the_reference(void **state)
+{
+	struct rs_scene *scene = shelf();
+	static struct frame_out want;
+	render(scene, 0, &want);
+	struct counting_peer peer = {0};
+	const struct rs_trace_intersector isect = {.closest = peer_closest,
+	                                           .occluded = peer_occluded,
+	                                           .prepare = peer_prepare,
+	                                           .user = &peer};
+	struct rs_render_desc d = {.passes = 3, .threads = 2};
+	struct rs_renderer *r = NULL;
+	struct rs_error err;
+	assert_int_equal(rs_renderer_create_cpu_with(&d, &isect, &r, &err), RS_OK);
+	assert_int_equal(rs_renderer_set_scene(r, scene, &err), RS_OK);
+	assert_int_equal(atomic_load(&peer.prepared), 1);
+	static float rgb[SIZE * SIZE * 3], depth[SIZE * SIZE];
+	struct rs_frame frame = {.rgb = rgb, .depth = depth};
+	assert_int_equal(rs_renderer_render(r, NULL, &frame, &err), RS_OK);
+	assert_memory_equal(want.rgb, rgb, sizeof rgb);
+	assert_memory_equal(want.depth, depth, sizeof depth);
+	const struct rs_render_stats *s = rs_renderer_stats(r);
+	assert_int_equal(atomic_load(&peer.closest), s->primary_rays + s->secondary_rays);
+	assert_int_equal(atomic_load(&peer.occluded), s->shadow_rays);
+	assert_int_equal(s->shadow_rays, want.stats.shadow_rays);
+	assert_false(s->counters_valid); /* the peer counts no box tests */
+	assert_int_equal(s->box_tests, 0);
+	rs_renderer_destroy(&r);
+	rs_scene_destroy(&scene);
+}
+
+static void intersector_faults_are_reported(void **state)
+{
+	struct rs_scene *scene = shelf();
+	struct counting_peer peer = {.fail_prepare = RS_ERR_NO_MEMORY};
+	struct rs_trace_intersector isect = {.closest = peer_closest,
+	                                     .occluded = peer_occluded,
+	                                     .prepare = peer_prepare,
+	                                     .user = &peer};
+	struct rs_renderer *r = NULL;
+	struct rs_error err;
+	assert_int_equal(rs_renderer_create_cpu_with(NULL, &isect, &r, &err), RS_OK);
+	assert_int_equal(rs_renderer_set_scene(r, scene, &err), RS_ERR_NO_MEMORY);
+	assert_non_null(strstr(err.message, "peer: cannot build"));
+	float rgb[SIZE * SIZE * 3];
+	struct rs_frame frame = {.rgb = rgb};
+	assert_int_equal(rs_renderer_render(r, NULL, &frame, &err), RS_ERR_INVALID);
+	rs_renderer_destroy(&r);
+	isect.occluded = NULL;
+	assert_int_equal(rs_renderer_create_cpu_with(NULL, &isect, &r, &err), RS_ERR_INVALID);
+	assert_null(r);
+	rs_scene_destroy(&scene);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -150,6 +236,8 @@ int main(void)
 	    cmocka_unit_test(accel_packs_with_the_given_row_width),
 	    cmocka_unit_test(scene_over_the_limit_is_refused_at_set_scene),
 	    cmocka_unit_test(impossible_limits_are_refused_up_front),
+	    cmocka_unit_test(intersector_answers_every_ray_of_the_reference),
+	    cmocka_unit_test(intersector_faults_are_reported),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
