@@ -12,7 +12,7 @@ mkdir -p "$out/corpus"
 "$cc" -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O1 -g \
   -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
   -I"$root/lib/include" \
-  "$root/tests/fuzz/fuzz_proto.c" "$root/lib/track/proto.c" "$root/lib/core/status.c" \
+  "$root/tests/fuzz/fuzz_proto.c" "$root/lib/track/proto.c" "$root/lib/core/status.c" "$root/lib/core/assert.c" \
   -lm -o "$out/fuzz_proto"
 # Seeds: a raw stream of garbage and a program of valid/corrupt/raw/truncated frames.
 printf '\000\001garbage\245Z\001>' > "$out/corpus/seed_raw"

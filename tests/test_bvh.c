@@ -446,10 +446,11 @@ static void names_and_defaults(void **state)
 	enum rs_bvh_builder b;
 	for (int i = 0; i <= RS_BVH_PAPER; i++) {
 		assert_int_equal(
-		    rs_bvh_builder_parse(rs_bvh_builder_name((enum rs_bvh_builder)i), &b), RS_OK);
+		    rs_bvh_builder_parse(rs_bvh_builder_name((enum rs_bvh_builder)i), &b, NULL),
+		    RS_OK);
 		assert_int_equal(b, i);
 	}
-	assert_int_equal(rs_bvh_builder_parse("kd", &b), RS_ERR_INVALID);
+	assert_int_equal(rs_bvh_builder_parse("kd", &b, NULL), RS_ERR_INVALID);
 	struct rs_bvh_desc d;
 	rs_bvh_desc_resolve(NULL, &d);
 	assert_int_equal(d.builder, RS_BVH_SAH);

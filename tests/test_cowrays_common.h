@@ -96,6 +96,7 @@ static enum rs_triangle_test cow_test_of(size_t i)
  * stays short. cow_check_reference() compares it with rs_trace_closest_brute(). */
 struct cow_brute {
 	size_t tris;
+	double origin[3]; /* the packed frame (docs/tracer.md R1), as rs_pack_scene() sets it */
 	double (*v)[3][3];
 	double *lo[3], *hi[3]; /* boxes, one array per axis so the filter loop vectorises */
 	unsigned char *pass;
@@ -103,11 +104,13 @@ struct cow_brute {
 
 static struct cow_brute cow_brute_make(const struct rs_scene *scene)
 {
-	struct cow_brute b = {rs_scene_triangle_count(scene), NULL, {0}, {0}, NULL};
-	const float *pos = rs_scene_positions(scene);
+	struct cow_brute b = {rs_scene_triangle_count(scene), {0}, NULL, {0}, {0}, NULL};
+	const double *pos = rs_scene_positions_f64(scene);
 	const uint32_t *idx = rs_scene_indices(scene);
 	struct rs_bounds sb;
 	rs_scene_bounds(scene, &sb);
+	for (int a = 0; a < 3; a++)
+		b.origin[a] = 0.5 * (sb.lo[a] + sb.hi[a]);
 	double margin = 0;
 	for (int a = 0; a < 3; a++)
 		margin = fmax(margin, 1e-7 * (fabs(sb.lo[a]) + fabs(sb.hi[a])));
@@ -120,7 +123,7 @@ static struct cow_brute cow_brute_make(const struct rs_scene *scene)
 	for (size_t t = 0; t < b.tris; t++) {
 		for (int k = 0; k < 3; k++)
 			for (int a = 0; a < 3; a++)
-				b.v[t][k][a] = pos[3 * idx[3 * t + k] + a];
+				b.v[t][k][a] = (float)(pos[3 * idx[3 * t + k] + a] - b.origin[a]);
 		for (int a = 0; a < 3; a++) {
 			b.lo[a][t] = fmin(b.v[t][0][a], fmin(b.v[t][1][a], b.v[t][2][a])) - margin;
 			b.hi[a][t] = fmax(b.v[t][0][a], fmax(b.v[t][1][a], b.v[t][2][a])) + margin;
@@ -143,6 +146,8 @@ static bool cow_brute_closest(const struct cow_brute *b, enum rs_triangle_test t
                               const struct rs_ray *ray, struct rs_hit *out)
 {
 	struct rs_ray r = *ray;
+	for (int a = 0; a < 3; a++)
+		r.origin[a] -= b->origin[a];
 	double inv[3];
 	/* A zero component gets 1e300 instead of inf: no 0 * inf NaN, and a slab the
 	 * origin lies in still spans every t, one it lies outside starts at ~1e300 t. The
@@ -197,7 +202,8 @@ static struct cow_ref *cow_references(const struct rs_scene *scene, size_t begin
 			double b1 = cow_rnd(), b2 = cow_rnd() * (1 - b1);
 			for (int a = 0; a < 3; a++)
 				r->ray.dir[a] = v[0][a] + b1 * (v[1][a] - v[0][a]) +
-				                b2 * (v[2][a] - v[0][a]) - r->ray.origin[a];
+				                b2 * (v[2][a] - v[0][a]) -
+				                (r->ray.origin[a] - brute.origin[a]);
 		} else if (kind < 0.55) {
 			int axis = (int)(cow_rnd() * 3);
 			for (int a = 0; a < 3; a++)

@@ -105,11 +105,11 @@ static void reports_become_samples(void **state)
 	struct rs_track_source *src = open_fake(NULL);
 	struct rs_marker_sample s;
 	for (uint32_t i = 1; i <= 3; i++) {
-		assert_int_equal(rs_track_source_read(src, &s, 10), RS_OK);
+		assert_int_equal(rs_track_source_read(src, &s, 10, NULL), RS_OK);
 		assert_int_equal(s.sequence, i);
 		assert_true(s.markers[1].position[2] == 1.25);
 	}
-	assert_int_equal(rs_track_source_read(src, &s, 10), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(src, &s, 10, NULL), RS_TIMEOUT);
 	struct rs_track_source_stats st;
 	rs_track_source_get_stats(src, &st);
 	assert_int_equal(rs_proto_stats_faults(&st.proto), 0);
@@ -125,7 +125,7 @@ static void corrupt_report_is_counted(void **state)
 	push_report(2, 64);
 	struct rs_track_source *src = open_fake(NULL);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 10), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 10, NULL), RS_OK);
 	assert_int_equal(s.sequence, 2);
 	struct rs_track_source_stats st;
 	rs_track_source_get_stats(src, &st);
@@ -166,16 +166,16 @@ static void unplug_and_replug(void **state)
 	push_report(1, 64);
 	struct rs_track_source *src = open_fake(NULL);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 10), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 10, NULL), RS_OK);
 	fake.plugged = 0;
-	assert_int_equal(rs_track_source_read(src, &s, 10), RS_ERR_DISCONNECTED);
+	assert_int_equal(rs_track_source_read(src, &s, 10, NULL), RS_ERR_DISCONNECTED);
 	assert_non_null(strstr(rs_track_source_last_error(src), "unplugged"));
 	assert_int_equal(fake.open_handles, 0); /* the dead handle was closed */
-	assert_int_equal(rs_track_source_reopen(src), RS_ERR_NOT_FOUND);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_ERR_NOT_FOUND);
 	fake.plugged = 1;
 	push_report(1, 64); /* the device restarted its sequence: accepted after reopen */
-	assert_int_equal(rs_track_source_reopen(src), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &s, 10), RS_OK);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 10, NULL), RS_OK);
 	assert_int_equal(s.sequence, 1);
 	rs_track_source_destroy(&src);
 	assert_int_equal(fake.open_handles, 0);

@@ -56,7 +56,7 @@ static void png_round_trip_is_exact_after_quantizing(void **state)
 	assert_int_equal(w, 4);
 	assert_int_equal(h, 3);
 	assert_memory_equal(got, expect, sizeof expect);
-	free(got);
+	rs_free(got);
 }
 
 static void pfm_round_trip_keeps_rows_and_infinity(void **state)
@@ -70,7 +70,7 @@ static void pfm_round_trip_keeps_rows_and_infinity(void **state)
 	assert_int_equal(rs_image_read_pfm(path, &got, &w, &h, &c, NULL), RS_OK);
 	assert_true(w == 3 && h == 2 && c == 1);
 	assert_memory_equal(got, depth, sizeof depth);
-	free(got);
+	rs_free(got);
 }
 
 static void nan_is_refused_without_leaving_a_file(void **state)

@@ -43,11 +43,11 @@ static struct rs_scene *decorated_scene(void)
 	for (int f = 0; f < 6; f++)
 		for (int k = 0; k < 3; k++)
 			env.face_color[f][k] = 0.1f * (float)(f + 1) + 0.01f * (float)k;
-	assert_int_equal(rs_scene_set_camera(s, &cam), RS_OK);
-	assert_int_equal(rs_scene_add_light(s, &l1), RS_OK);
-	assert_int_equal(rs_scene_add_light(s, &l2), RS_OK);
-	assert_int_equal(rs_scene_set_environment(s, &env), RS_OK);
-	assert_int_equal(rs_scene_set_ambient(s, 0.123456789), RS_OK);
+	assert_int_equal(rs_scene_set_camera(s, &cam, NULL), RS_OK);
+	assert_int_equal(rs_scene_add_light(s, &l1, NULL), RS_OK);
+	assert_int_equal(rs_scene_add_light(s, &l2, NULL), RS_OK);
+	assert_int_equal(rs_scene_set_environment(s, &env, NULL), RS_OK);
+	assert_int_equal(rs_scene_set_ambient(s, 0.123456789, NULL), RS_OK);
 	return s;
 }
 
@@ -71,7 +71,7 @@ static void view_round_trip_is_bit_exact(void **state)
 
 	assert_int_equal(rs_load_view_format(a, &text, NULL), RS_OK);
 	assert_int_equal(load_view_text(text, b, &(struct rs_error){0}), RS_OK);
-	rs_load_free(text);
+	rs_free(text);
 	assert_memory_equal(rs_scene_camera(a), rs_scene_camera(b), sizeof(struct rs_camera));
 	assert_int_equal(rs_scene_light_count(b), 2);
 	assert_memory_equal(rs_scene_lights(a), rs_scene_lights(b), 2 * sizeof(struct rs_light));
@@ -188,13 +188,13 @@ static void sidecar_path_replaces_the_extension(void **state)
 {
 	char out[64];
 
-	assert_int_equal(rs_load_sidecar_path("a/b.obj", out, sizeof(out)), RS_OK);
+	assert_int_equal(rs_load_sidecar_path("a/b.obj", out, sizeof(out), NULL), RS_OK);
 	assert_string_equal(out, "a/b.json");
-	assert_int_equal(rs_load_sidecar_path("dir.d/mesh", out, sizeof(out)), RS_OK);
+	assert_int_equal(rs_load_sidecar_path("dir.d/mesh", out, sizeof(out), NULL), RS_OK);
 	assert_string_equal(out, "dir.d/mesh.json");
-	assert_int_equal(rs_load_sidecar_path(".hidden", out, sizeof(out)), RS_OK);
+	assert_int_equal(rs_load_sidecar_path(".hidden", out, sizeof(out), NULL), RS_OK);
 	assert_string_equal(out, ".hidden.json");
-	assert_int_equal(rs_load_sidecar_path("abc.ply", out, 8), RS_ERR_LIMIT);
+	assert_int_equal(rs_load_sidecar_path("abc.ply", out, 8, NULL), RS_ERR_LIMIT);
 }
 
 static void load_scene_reads_the_sidecar(void **state)

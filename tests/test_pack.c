@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,8 +44,8 @@ static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32
 	                         .reflectance = 0.25f,
 	                         .flags = RS_MATERIAL_FRESNEL};
 	struct rs_material m1 = {.diffuse = {0.8f, 0.8f, 0.8f}, .transmittance = 0.9f, .ior = 1.5f};
-	assert_int_equal(rs_scene_add_material(f.scene, &m0, &mat[0]), RS_OK);
-	assert_int_equal(rs_scene_add_material(f.scene, &m1, &mat[1]), RS_OK);
+	assert_int_equal(rs_scene_add_material(f.scene, &m0, &mat[0], NULL), RS_OK);
+	assert_int_equal(rs_scene_add_material(f.scene, &m1, &mat[1], NULL), RS_OK);
 	size_t half = tris / 2;
 	for (int part = 0; part < 2; part++) {
 		size_t n = part ? tris - half : half;
@@ -61,7 +62,7 @@ static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32
 		                          .indices = idx,
 		                          .triangle_count = n,
 		                          .material = mat[part]};
-		assert_int_equal(rs_scene_add_mesh(f.scene, &md), RS_OK);
+		assert_int_equal(rs_scene_add_mesh(f.scene, &md, NULL), RS_OK);
 		free(pos);
 		free(idx);
 	}
@@ -219,8 +220,21 @@ static void round_trip_rows(enum rs_bvh_builder builder, size_t tris, uint32_t r
 		const float *t0 = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, i, 0);
 		const float *t1 = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, i, 1);
 		const float *t2 = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, i, 2);
-		assert_memory_equal(t0, n->lo, sizeof n->lo);
-		assert_memory_equal(t1, n->hi, sizeof n->hi);
+		/* tight bounds of the packed vertices of every leaf in the subtree */
+		float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+		for (uint32_t j = i; j < n->escape; j++)
+			for (uint32_t s = f.nodes[j].first;
+			     f.nodes[j].level == 0 && s < f.nodes[j].first + f.nodes[j].count; s++)
+				for (uint32_t k = 0; k < 3; k++)
+					for (int a = 0; a < 3; a++) {
+						float v =
+						    rs_pack_texel(&p->triangles,
+						                  RS_PACK_TRIANGLE_TEXELS, s, k)[a];
+						lo[a] = fminf(lo[a], v);
+						hi[a] = fmaxf(hi[a], v);
+					}
+		assert_memory_equal(t0, lo, sizeof lo);
+		assert_memory_equal(t1, hi, sizeof hi);
 		assert_int_equal((uint32_t)t0[3], n->escape);
 		assert_int_equal((uint32_t)t1[3], n->level);
 		assert_int_equal((uint32_t)t2[0], n->first);
@@ -228,8 +242,12 @@ static void round_trip_rows(enum rs_bvh_builder builder, size_t tris, uint32_t r
 		assert_int_equal((uint32_t)t2[2], n->order);
 		assert_true(t2[3] == 0.0f);
 	}
-	const float *pos = rs_scene_positions(f.scene);
+	const double *pos = rs_scene_positions_f64(f.scene);
 	const float *nrm = rs_scene_normals(f.scene);
+	struct rs_bounds b;
+	rs_scene_bounds(f.scene, &b);
+	for (int a = 0; a < 3; a++)
+		assert_true(p->origin[a] == 0.5 * (b.lo[a] + b.hi[a]));
 	const uint32_t *idx = rs_scene_indices(f.scene);
 	const uint32_t *mat = rs_scene_triangle_materials(f.scene);
 	for (uint32_t s = 0; s < p->triangle_count; s++) {
@@ -238,7 +256,10 @@ static void round_trip_rows(enum rs_bvh_builder builder, size_t tris, uint32_t r
 			const float *t =
 			    rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, s, k);
 			const float *nn = rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, s, k);
-			assert_memory_equal(t, pos + 3 * idx[3 * tri + k], 3 * sizeof(float));
+			/* relative to the centre, subtracted in double, then rounded (R1) */
+			for (int a = 0; a < 3; a++)
+				assert_true(t[a] ==
+				            (float)(pos[3 * idx[3 * tri + k] + a] - p->origin[a]));
 			assert_memory_equal(nn, nrm + 3 * idx[3 * tri + k], 3 * sizeof(float));
 			float w = k == 0 ? (float)tri : k == 1 ? (float)mat[tri] : 0.0f;
 			assert_true(t[3] == w);

@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contract.h"
 #include "raystream/rs_pose.h"
 #include "test_pose_fixture.h"
 
@@ -65,11 +66,11 @@ static void test_converges_to_constant(void **state)
 	(void)state;
 	struct rs_pose_filter *f = make(NULL);
 	struct rs_pose in = pose_z(0.0, 0.0, 0.0), out;
-	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	struct rs_pose target = pose_z(0.0, 0.1, 0.5);
 	for (int i = 1; i <= 300; ++i) {
 		target.time_s = 0.01 * i;
-		assert_int_equal(rs_pose_filter_update(f, &target, &out), RS_OK);
+		assert_int_equal(rs_pose_filter_update(f, &target, &out, NULL), RS_OK);
 	}
 	assert_true(fabs(out.position[0] - 0.1) < 1e-9);
 	assert_true(rs_pose_angle_between(&out, &target) < 1e-9);
@@ -102,7 +103,7 @@ static void test_reduces_jitter_of_still_signal(void **state)
 			v[k] = sa * gauss(&r);
 		}
 		perturb(in.orientation, v);
-		assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+		assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 		if (i < 400)
 			continue; /* let the start-up transient pass */
 		for (int k = 0; k < 3; ++k) {
@@ -138,7 +139,7 @@ static void test_lag_bounded_on_ramp(void **state)
 	for (int i = 0; i <= 600; ++i) {
 		double t = 0.005 * i;
 		in = pose_z(t, v * t, w * t);
-		assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+		assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	}
 	double lag = in.position[0] - out.position[0];
 	double expect = v / (2.0 * PI * (1.15 + 0.5 * v));
@@ -168,8 +169,8 @@ static void test_quaternion_sign_flip_no_jump(void **state)
 		if (i % 2 || uniform01(&r) < 0.3)
 			for (int k = 0; k < 4; ++k)
 				flipped.orientation[k] = -flipped.orientation[k];
-		assert_int_equal(rs_pose_filter_update(a, &in, &oa), RS_OK);
-		assert_int_equal(rs_pose_filter_update(b, &flipped, &ob), RS_OK);
+		assert_int_equal(rs_pose_filter_update(a, &in, &oa, NULL), RS_OK);
+		assert_int_equal(rs_pose_filter_update(b, &flipped, &ob, NULL), RS_OK);
 		assert_true(rs_pose_angle_between(&oa, &ob) < 1e-12);
 		assert_true(ob.orientation[3] >= 0.0);
 		if (i > 0)
@@ -189,12 +190,13 @@ static void test_prediction_capped(void **state)
 	struct rs_pose in, out, pred;
 	for (int i = 0; i <= 600; ++i) {
 		in = pose_z(0.005 * i, 1.0 * 0.005 * i, 2.0 * 0.005 * i);
-		rs_pose_filter_update(f, &in, &out);
+		rs_pose_filter_update(f, &in, &out, NULL);
 	}
 	const double horizon[] = {0.01, 1.0, -1.0};
 	const double used[] = {0.01, 0.03, 0.0};
 	for (int j = 0; j < 3; ++j) {
-		assert_int_equal(rs_pose_filter_predict(f, out.time_s + horizon[j], &pred), RS_OK);
+		assert_int_equal(rs_pose_filter_predict(f, out.time_s + horizon[j], &pred, NULL),
+		                 RS_OK);
 		assert_true(fabs(pred.position[0] - out.position[0] - used[j]) < 1e-9);
 		assert_true(fabs(rs_pose_angle_between(&pred, &out) - 2.0 * used[j]) < 1e-9);
 		assert_true(fabs(pred.time_s - (out.time_s + used[j])) < 1e-12);
@@ -212,10 +214,10 @@ static void test_disabled_filter_passes_through(void **state)
 	struct rs_pose in, out, pred;
 	for (int i = 0; i <= 600; ++i) {
 		in = pose_z(0.005 * i, 0.7 * 0.005 * i, 0.0);
-		assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+		assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 		assert_true(fabs(out.position[0] - in.position[0]) < 1e-15);
 	}
-	assert_int_equal(rs_pose_filter_predict(f, in.time_s + 0.02, &pred), RS_OK);
+	assert_int_equal(rs_pose_filter_predict(f, in.time_s + 0.02, &pred, NULL), RS_OK);
 	assert_true(fabs(pred.position[0] - (in.position[0] + 0.7 * 0.02)) < 1e-9);
 	rs_pose_filter_destroy(&f);
 }
@@ -225,22 +227,22 @@ static void test_nonpositive_dt_and_gaps(void **state)
 	(void)state;
 	struct rs_pose_filter *f = make(NULL);
 	struct rs_pose in = pose_z(1.0, 0.0, 0.0), out, held;
-	rs_pose_filter_update(f, &in, &out);
+	rs_pose_filter_update(f, &in, &out, NULL);
 	in = pose_z(1.01, 0.05, 0.2);
-	rs_pose_filter_update(f, &in, &held);
+	rs_pose_filter_update(f, &in, &held, NULL);
 	/* repeated and backwards timestamps: state unchanged */
 	in = pose_z(1.01, 9.0, 1.0);
-	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	assert_memory_equal(&out, &held, sizeof out);
 	in = pose_z(0.5, 9.0, 1.0);
-	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	assert_memory_equal(&out, &held, sizeof out);
 	/* a 1 s gap (> reset_gap_s 0.25): the filter restarts at the new sample */
 	in = pose_z(2.01, 3.0, 1.0);
-	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	assert_true(out.position[0] == 3.0 && rs_pose_angle_between(&out, &in) < 1e-12);
 	/* and its velocity restarts at zero: prediction does not fly off */
-	assert_int_equal(rs_pose_filter_predict(f, 2.04, &held), RS_OK);
+	assert_int_equal(rs_pose_filter_predict(f, 2.04, &held, NULL), RS_OK);
 	assert_true(held.position[0] == 3.0);
 	rs_pose_filter_destroy(&f);
 }
@@ -254,14 +256,14 @@ static void test_denormal_dt_stays_finite(void **state)
 	(void)state;
 	struct rs_pose_filter *f = make(NULL);
 	struct rs_pose in = pose_z(0.0, 0.0, 0.0), out, pred;
-	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	for (int i = 1; i <= 3; ++i) {
 		in = pose_z(1e-310 * i, (double)(i % 2), 3.0 * (i % 2));
-		assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+		assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 		assert_true(isfinite(out.position[0]) && isfinite(out.orientation[3]));
 		assert_true(fabs(out.position[0]) < 1e-9);
 	}
-	assert_int_equal(rs_pose_filter_predict(f, 0.02, &pred), RS_OK);
+	assert_int_equal(rs_pose_filter_predict(f, 0.02, &pred, NULL), RS_OK);
 	for (int k = 0; k < 3; ++k)
 		assert_true(isfinite(pred.position[k]));
 	assert_true(isfinite(pred.orientation[3]) && pred.orientation[3] >= 0.0);
@@ -275,12 +277,12 @@ static void test_huge_position_refused(void **state)
 	(void)state;
 	struct rs_pose_filter *f = make(NULL);
 	struct rs_pose in = pose_z(0.0, 1.0, 0.0), out, p;
-	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+	assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	in = pose_z(0.01, -1.7e308, 0.0);
-	assert_int_equal(rs_pose_filter_update(f, &in, &p), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_pose_filter_update(f, &in, &p, NULL), RS_ERR_BAD_DATA);
 	assert_memory_equal(&p, &out, sizeof p);
 	in = pose_z(0.02, 1.7e308, 0.0);
-	assert_int_equal(rs_pose_filter_update(f, &in, &p), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_pose_filter_update(f, &in, &p, NULL), RS_ERR_BAD_DATA);
 	assert_memory_equal(&p, &out, sizeof p);
 	rs_pose_filter_destroy(&f);
 }
@@ -295,9 +297,9 @@ static void test_absurd_prediction_cap_stays_finite(void **state)
 	struct rs_pose in, out, pred;
 	for (int i = 0; i <= 100; ++i) {
 		in = pose_z(0.005 * i, 5.0 * 0.005 * i, 0.0);
-		assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_OK);
+		assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	}
-	assert_int_equal(rs_pose_filter_predict(f, 1e308, &pred), RS_OK);
+	assert_int_equal(rs_pose_filter_predict(f, 1e308, &pred, NULL), RS_OK);
 	assert_true(isfinite(pred.position[0]) && isfinite(pred.time_s));
 	assert_true(pred.position[0] == out.position[0] && pred.time_s == out.time_s);
 	rs_pose_filter_destroy(&f);
@@ -312,25 +314,25 @@ static void test_bad_input(void **state)
 	assert_null(f);
 	f = make(NULL);
 	struct rs_pose in = pose_z(0.0, 0.0, 0.0), out, p;
-	assert_int_equal(rs_pose_filter_predict(f, 1.0, &p), RS_END);
+	assert_int_equal(rs_pose_filter_predict(f, 1.0, &p, NULL), RS_END);
 	assert_true(p.orientation[3] == 1.0 && p.position[0] == 0.0);
 	in.position[1] = NAN;
-	assert_int_equal(rs_pose_filter_update(f, &in, &out), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_ERR_BAD_DATA);
 	assert_true(isfinite(out.position[1]) && out.orientation[3] == 1.0);
 	in = pose_z(0.0, 0.4, 0.3);
-	rs_pose_filter_update(f, &in, &out);
+	rs_pose_filter_update(f, &in, &out, NULL);
 	struct rs_pose bad = pose_z(0.01, 0.0, 0.0);
 	memset(bad.orientation, 0, sizeof bad.orientation);
-	assert_int_equal(rs_pose_filter_update(f, &bad, &p), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_pose_filter_update(f, &bad, &p, NULL), RS_ERR_BAD_DATA);
 	assert_memory_equal(&p, &out, sizeof p);
 	assert_true(strlen(rs_pose_filter_last_error(f)) > 0);
 	bad = pose_z(INFINITY, 0.0, 0.0);
-	assert_int_equal(rs_pose_filter_update(f, &bad, &p), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_pose_filter_update(f, &bad, &p, NULL), RS_ERR_BAD_DATA);
 	assert_memory_equal(&p, &out, sizeof p);
-	assert_int_equal(rs_pose_filter_predict(f, NAN, &p), RS_ERR_INVALID);
-	assert_int_equal(rs_pose_filter_update(NULL, &in, &out), RS_ERR_INVALID);
+	assert_int_equal(rs_pose_filter_predict(f, NAN, &p, NULL), RS_ERR_INVALID);
+	RS_EXPECT_CONTRACT_VIOLATION(rs_pose_filter_update(NULL, &in, &out, NULL));
 	rs_pose_filter_reset(f);
-	assert_int_equal(rs_pose_filter_predict(f, 1.0, &p), RS_END);
+	assert_int_equal(rs_pose_filter_predict(f, 1.0, &p, NULL), RS_END);
 	rs_pose_filter_destroy(&f);
 	rs_pose_filter_destroy(NULL);
 }

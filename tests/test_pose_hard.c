@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contract.h"
 #include "raystream/rs_pose.h"
 #include "test_pose_fixture.h"
 
@@ -503,8 +504,8 @@ static void test_bad_arguments(void **state)
 	rs_pose_layout_default(&L);
 	assert_int_equal(rs_pose_solver_create(NULL, &L, &s, &err), RS_OK);
 	struct rs_pose out;
-	assert_int_equal(rs_pose_solver_update(s, NULL, &out, NULL), RS_ERR_INVALID);
-	assert_int_equal(rs_pose_solver_update(NULL, NULL, &out, NULL), RS_ERR_INVALID);
+	RS_EXPECT_CONTRACT_VIOLATION(rs_pose_solver_update(s, NULL, &out, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_pose_solver_update(NULL, NULL, &out, NULL));
 	assert_string_equal(rs_pose_status_name(RS_POSE_RELABELED), "RS_POSE_RELABELED");
 	rs_pose_solver_destroy(&s);
 	rs_pose_solver_destroy(&s); /* NULL is fine */

@@ -87,7 +87,7 @@ static void per_frame_camera_renders_as_the_scene_camera_would(void **state)
 	assert_int_equal(rs_renderer_render(r, &moved, &frame, NULL), RS_OK);
 	memcpy(first, got, sizeof got);
 	moved.width = moved.height = SIZE;
-	assert_int_equal(rs_scene_set_camera(fx.scene, &moved), RS_OK);
+	assert_int_equal(rs_scene_set_camera(fx.scene, &moved, NULL), RS_OK);
 	struct rs_trace_desc td = {0};
 	assert_int_equal(rs_trace_render(fx.scene, &fx.packed, &td, want, NULL, NULL, NULL), RS_OK);
 	assert_memory_equal(first, want, sizeof want);

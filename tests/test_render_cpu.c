@@ -146,7 +146,9 @@ static void impossible_limits_are_refused_up_front(void **state)
 }
 
 struct counting_peer {
-	const struct rs_packed *packed; /* from prepare: the renderer's own textures */
+	/* from prepare: the renderer's own textures, with a zero origin because the rays come
+	 * in the packed frame already (the walk then sees them bit for bit) */
+	struct rs_packed packed;
 	atomic_ulong closest, occluded, prepared;
 	enum rs_status fail_prepare;
 };
@@ -155,21 +157,22 @@ static bool peer_closest(void *user, const struct rs_ray *ray, struct rs_hit *hi
 {
 	struct counting_peer *p = user;
 	atomic_fetch_add(&p->closest, 1);
-	return rs_trace_closest(p->packed, RS_TRIANGLE_MOLLER_TRUMBORE, ray, hit, NULL);
+	return rs_trace_closest(&p->packed, RS_TRIANGLE_WATERTIGHT, ray, hit, NULL);
 }
 
 static bool peer_occluded(void *user, const struct rs_ray *ray)
 {
 	struct counting_peer *p = user;
 	atomic_fetch_add(&p->occluded, 1);
-	return rs_trace_occluded(p->packed, RS_TRIANGLE_MOLLER_TRUMBORE, ray, NULL);
+	return rs_trace_occluded(&p->packed, RS_TRIANGLE_WATERTIGHT, ray, NULL);
 }
 
 static enum rs_status peer_prepare(void *user, const struct rs_packed *packed, struct rs_error *err)
 {
 	struct counting_peer *p = user;
 	atomic_fetch_add(&p->prepared, 1);
-	p->packed = packed;
+	p->packed = *packed;
+	memset(p->packed.origin, 0, sizeof p->packed.origin);
 	if (p->fail_prepare != RS_OK)
 		return rs_error_set(err, p->fail_prepare, "peer: cannot build");
 	return RS_OK;

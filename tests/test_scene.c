@@ -21,7 +21,7 @@ static struct rs_scene *make_scene(void)
 	assert_int_equal(rs_scene_create(NULL, &scene, NULL), RS_OK);
 	struct rs_material m = {.diffuse = {0.5f, 0.5f, 0.5f}};
 	uint32_t id = 99;
-	assert_int_equal(rs_scene_add_material(scene, &m, &id), RS_OK);
+	assert_int_equal(rs_scene_add_material(scene, &m, &id, NULL), RS_OK);
 	assert_int_equal(id, 0);
 	return scene;
 }
@@ -36,8 +36,8 @@ static void mesh_is_copied(void **state)
 {
 	struct rs_scene *scene = make_scene();
 	struct rs_mesh_desc mesh = cube_mesh();
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
 	assert_int_equal(rs_scene_triangle_count(scene), 24);
 	assert_int_equal(rs_scene_vertex_count(scene), 16);
 	/* The second copy's indices are offset to its own vertices. */
@@ -55,7 +55,7 @@ static void normals_are_angle_weighted(void **state)
 {
 	struct rs_scene *scene = make_scene();
 	struct rs_mesh_desc mesh = cube_mesh();
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
 	const float *n = rs_scene_normals(scene);
 	const double k = -1.0 / sqrt(3.0);
 	for (int a = 0; a < 3; ++a)
@@ -70,8 +70,10 @@ static void nan_vertex_is_rejected(void **state)
 	uint32_t idx[3] = {0, 1, 2};
 	struct rs_mesh_desc mesh = {
 	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
-	assert_non_null(strstr(rs_scene_last_error(scene), "vertex 2"));
+	struct rs_error err;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, &err), RS_ERR_BAD_DATA);
+	assert_int_equal(err.status, RS_ERR_BAD_DATA);
+	assert_non_null(strstr(err.message, "vertex 2"));
 	assert_int_equal(rs_scene_triangle_count(scene), 0);
 	rs_scene_destroy(&scene);
 }
@@ -83,8 +85,9 @@ static void index_out_of_range_is_rejected(void **state)
 	uint32_t idx[3] = {0, 1, 3};
 	struct rs_mesh_desc mesh = {
 	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
-	assert_non_null(strstr(rs_scene_last_error(scene), "triangle 0"));
+	struct rs_error err;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, &err), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(err.message, "triangle 0"));
 	rs_scene_destroy(&scene);
 }
 
@@ -93,10 +96,10 @@ static void zero_triangles_and_unknown_material_are_rejected(void **state)
 	struct rs_scene *scene = make_scene();
 	struct rs_mesh_desc mesh = cube_mesh();
 	mesh.triangle_count = 0;
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_BAD_DATA);
 	mesh = cube_mesh();
 	mesh.material = 5;
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_BAD_DATA);
 	rs_scene_destroy(&scene);
 }
 
@@ -107,7 +110,7 @@ static void degenerate_triangle_gets_finite_normals(void **state)
 	uint32_t idx[3] = {0, 1, 2};
 	struct rs_mesh_desc mesh = {
 	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
 	for (int i = 0; i < 9; ++i)
 		assert_true(isfinite(rs_scene_normals(scene)[i]));
 	rs_scene_destroy(&scene);
@@ -117,13 +120,13 @@ static void bad_camera_is_rejected(void **state)
 {
 	struct rs_scene *scene = make_scene();
 	struct rs_camera cam = {.eye = {0, 0, 5}, .target = {0, 0, 0}, .up = {0, 0, 1}};
-	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_ERR_BAD_DATA); /* up parallel */
+	assert_int_equal(rs_scene_set_camera(scene, &cam, NULL), RS_ERR_BAD_DATA); /* up parallel */
 	cam.up[1] = 1;
 	cam.up[2] = 0;
 	cam.fov_y_deg = 200;
-	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_scene_set_camera(scene, &cam, NULL), RS_ERR_BAD_DATA);
 	cam.fov_y_deg = 0;
-	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_OK);
+	assert_int_equal(rs_scene_set_camera(scene, &cam, NULL), RS_OK);
 	rs_scene_destroy(&scene);
 }
 
@@ -133,8 +136,9 @@ static void camera_with_infinite_view_vector_is_rejected(void **state)
 {
 	struct rs_scene *scene = make_scene();
 	struct rs_camera cam = {.eye = {1e308, 0, 5}, .target = {-1e308, 0, 0}, .up = {0, 1, 0}};
-	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_ERR_BAD_DATA);
-	assert_non_null(strstr(rs_scene_last_error(scene), "too large"));
+	struct rs_error err;
+	assert_int_equal(rs_scene_set_camera(scene, &cam, &err), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(err.message, "too large"));
 	rs_scene_destroy(&scene);
 }
 
@@ -149,7 +153,7 @@ static void camera_frame_of_empty_bounds_is_finite(void **state)
 	rs_camera_frame(&empty, 30.0, &cam);
 	for (int a = 0; a < 3; ++a)
 		assert_true(isfinite(cam.eye[a]) && isfinite(cam.target[a]));
-	assert_int_equal(rs_scene_set_camera(scene, &cam), RS_OK);
+	assert_int_equal(rs_scene_set_camera(scene, &cam, NULL), RS_OK);
 	rs_scene_destroy(&scene);
 }
 
@@ -169,7 +173,7 @@ static void environment_defaults_follow_bounds(void **state)
 {
 	struct rs_scene *scene = make_scene();
 	struct rs_mesh_desc mesh = cube_mesh();
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
 	struct rs_environment env;
 	rs_scene_environment(scene, &env);
 	assert_true(env.center[0] == 0.5 && env.half_size == 2.0 && env.grid == 16);

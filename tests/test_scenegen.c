@@ -83,15 +83,15 @@ static void name_is_canonical(void **state)
 	struct rs_scenegen_desc d = {.kind = RS_SCENEGEN_COW, .cows = 0};
 	char out[16];
 
-	assert_int_equal(rs_scenegen_name(&d, out, sizeof(out)), RS_OK);
+	assert_int_equal(rs_scenegen_name(&d, out, sizeof(out), NULL), RS_OK);
 	assert_string_equal(out, "cow1");
 	d.cows = 17;
-	assert_int_equal(rs_scenegen_name(&d, out, sizeof(out)), RS_OK);
+	assert_int_equal(rs_scenegen_name(&d, out, sizeof(out), NULL), RS_OK);
 	assert_string_equal(out, "cow17");
 	d.kind = RS_SCENEGEN_BOX;
-	assert_int_equal(rs_scenegen_name(&d, out, sizeof(out)), RS_OK);
+	assert_int_equal(rs_scenegen_name(&d, out, sizeof(out), NULL), RS_OK);
 	assert_string_equal(out, "box");
-	assert_int_equal(rs_scenegen_name(&d, out, 3), RS_ERR_LIMIT);
+	assert_int_equal(rs_scenegen_name(&d, out, 3, NULL), RS_ERR_LIMIT);
 }
 
 /* The paper's Table 1 triangle counts. */

@@ -139,11 +139,11 @@ static void unusual_materials_round_trip(void **state)
 		struct rs_mesh_desc d = {
 		    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
 
-		assert_int_equal(rs_scene_add_material(s, &mats[m], &id), RS_OK);
+		assert_int_equal(rs_scene_add_material(s, &mats[m], &id, NULL), RS_OK);
 		d.material = id;
-		assert_int_equal(rs_scene_add_mesh(s, &d), RS_OK);
+		assert_int_equal(rs_scene_add_mesh(s, &d, NULL), RS_OK);
 	}
-	assert_int_equal(rs_scene_set_camera(s, &cam), RS_OK);
+	assert_int_equal(rs_scene_set_camera(s, &cam, NULL), RS_OK);
 	round_trip(s);
 	rs_scene_destroy(&s);
 }

@@ -54,11 +54,11 @@ static void sim_frames_arrive_in_order(void **state)
 	struct rs_marker_sample ref[20], got;
 	for (int burst = 0; burst < 30; burst++) {
 		for (int i = 0; i < 20; i++) {
-			assert_int_equal(rs_sim_next(sim, &ref[i], NULL), RS_OK);
+			assert_int_equal(rs_sim_next(sim, &ref[i], NULL, NULL), RS_OK);
 			write_sample(r, &ref[i]);
 		}
 		for (int i = 0; i < 20; i++) {
-			assert_int_equal(rs_track_source_read(r->src, &got, 2000), RS_OK);
+			assert_int_equal(rs_track_source_read(r->src, &got, 2000, NULL), RS_OK);
 			assert_int_equal(got.sequence, ref[i].sequence);
 			assert_true(got.device_time_us == ref[i].device_time_us);
 			for (int m = 0; m < 3; m++) {
@@ -90,7 +90,7 @@ static void line_noise_is_skipped(void **state)
 	}
 	struct rs_marker_sample got;
 	for (uint32_t i = 0; i < 10; i++) {
-		assert_int_equal(rs_track_source_read(r->src, &got, 2000), RS_OK);
+		assert_int_equal(rs_track_source_read(r->src, &got, 2000, NULL), RS_OK);
 		assert_int_equal(got.sequence, i);
 	}
 	struct rs_track_source_stats st;
@@ -103,7 +103,7 @@ static void silence_times_out(void **state)
 	struct rig *r = *state;
 	struct rs_marker_sample got;
 	double t0 = rs_track_now_s();
-	assert_int_equal(rs_track_source_read(r->src, &got, 50), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(r->src, &got, 50, NULL), RS_TIMEOUT);
 	/* poll() sleeps at least the timeout; allow 5 ms of clock granularity below it. */
 	assert_true(rs_track_now_s() - t0 >= 0.045);
 }
@@ -113,19 +113,19 @@ static void hangup_is_disconnect(void **state)
 	struct rig *r = *state;
 	struct rs_marker_sample got;
 	rs_serial_pty_hangup(r->pty);
-	assert_int_equal(rs_track_source_read(r->src, &got, 1000), RS_ERR_DISCONNECTED);
-	assert_int_equal(rs_track_source_read(r->src, &got, 0), RS_ERR_DISCONNECTED);
+	assert_int_equal(rs_track_source_read(r->src, &got, 1000, NULL), RS_ERR_DISCONNECTED);
+	assert_int_equal(rs_track_source_read(r->src, &got, 0, NULL), RS_ERR_DISCONNECTED);
 	/* The pty is gone, so reopening cannot find it yet. */
-	assert_true(rs_track_source_reopen(r->src) != RS_OK);
+	assert_true(rs_track_source_reopen(r->src, NULL) != RS_OK);
 }
 
 static void reopen_resumes_reading(void **state)
 {
 	struct rig *r = *state;
-	assert_int_equal(rs_track_source_reopen(r->src), RS_OK);
+	assert_int_equal(rs_track_source_reopen(r->src, NULL), RS_OK);
 	struct rs_marker_sample s = {.sequence = 1, .marker_count = 3}, got;
 	write_sample(r, &s);
-	assert_int_equal(rs_track_source_read(r->src, &got, 2000), RS_OK);
+	assert_int_equal(rs_track_source_read(r->src, &got, 2000, NULL), RS_OK);
 	assert_int_equal(got.sequence, 1);
 	struct rs_track_source_stats st;
 	rs_track_source_get_stats(r->src, &st);

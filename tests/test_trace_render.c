@@ -365,7 +365,7 @@ static void empty_scene_shows_the_environment(void **state)
 	for (int f = 0; f < 6; ++f)
 		for (int c = 0; c < 3; ++c)
 			env.face_color[f][c] = 0.5f;
-	assert_int_equal(rs_scene_set_environment(fx.scene, &env), RS_OK);
+	assert_int_equal(rs_scene_set_environment(fx.scene, &env, NULL), RS_OK);
 	assert_int_equal(rs_pack_layout(NULL, 0, 0, 0, &fx.packed, NULL), RS_OK);
 	assert_int_equal(rs_pack_alloc(&fx.packed, NULL), RS_OK);
 	float rgb[8 * 8 * 3], depth[8 * 8];

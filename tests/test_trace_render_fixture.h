@@ -1,4 +1,4 @@
-/* Tiny scenes for the reference renderer's tests: built through rs_scene_add_mesh(),
+/* Tiny scenes for the reference renderer's tests: built through rs_scene_add_mesh(, NULL),
  * packed with rs_bvh_build() + rs_pack_*(). Included by tests/test_trace_render*.c only. */
 #ifndef TEST_TRACE_RENDER_FIXTURE_H
 #define TEST_TRACE_RENDER_FIXTURE_H
@@ -29,7 +29,7 @@ static inline struct rs_scene *fx_scene(void)
 static inline uint32_t fx_material(struct rs_scene *scene, struct rs_material m)
 {
 	uint32_t id = 0;
-	assert_int_equal(rs_scene_add_material(scene, &m, &id), RS_OK);
+	assert_int_equal(rs_scene_add_material(scene, &m, &id, NULL), RS_OK);
 	return id;
 }
 
@@ -42,7 +42,7 @@ static inline void fx_mesh(struct rs_scene *scene, const float *pos, size_t nv, 
 	                         .indices = idx,
 	                         .triangle_count = nt,
 	                         .material = material};
-	assert_int_equal(rs_scene_add_mesh(scene, &d), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(scene, &d, NULL), RS_OK);
 }
 
 /* Axis-aligned rectangle at height `h` on axis `axis` (0..2), spanning [lo1, hi1] x
@@ -93,14 +93,14 @@ static inline void fx_camera(struct rs_scene *scene, const double eye[3], const 
 		c.up[1] = 0.0;
 		c.up[2] = -1.0;
 	}
-	assert_int_equal(rs_scene_set_camera(scene, &c), RS_OK);
+	assert_int_equal(rs_scene_set_camera(scene, &c, NULL), RS_OK);
 }
 
 static inline void fx_light(struct rs_scene *scene, double x, double y, double z, double r,
                             double g, double b)
 {
 	struct rs_light l = {.position = {x, y, z}, .color = {r, g, b}};
-	assert_int_equal(rs_scene_add_light(scene, &l), RS_OK);
+	assert_int_equal(rs_scene_add_light(scene, &l, NULL), RS_OK);
 }
 
 /* Pack the scene with the given builder (the scene stays owned by fx). */

@@ -29,7 +29,7 @@ static void mirror_shows_the_environment_at_the_reflected_exit_point(void **stat
 	struct fx fx = {.scene = fx_scene()};
 	fx_quad(fx.scene, 2, 0.0, -10, 10, 0, fx_material(fx.scene, mirror));
 	struct rs_environment env = test_env();
-	assert_int_equal(rs_scene_set_environment(fx.scene, &env), RS_OK);
+	assert_int_equal(rs_scene_set_environment(fx.scene, &env, NULL), RS_OK);
 	fx_pack(&fx, RS_BVH_SAH);
 	const double eye[3] = {0, 0, 5}, p[3] = {1.5, 0.5, 0};
 	struct rs_trace_segment seg[2];
@@ -82,7 +82,7 @@ static void slab_scene(struct fx *fx, struct rs_material glass)
 	fx_box(fx->scene, lo, hi, fx_material(fx->scene, glass));
 	struct rs_environment env = test_env();
 	env.half_size = 200;
-	assert_int_equal(rs_scene_set_environment(fx->scene, &env), RS_OK);
+	assert_int_equal(rs_scene_set_environment(fx->scene, &env, NULL), RS_OK);
 	fx_pack(fx, RS_BVH_SAH);
 }
 

@@ -53,7 +53,7 @@ static void record(int n, struct rs_marker_sample *ref)
 	assert_int_equal(rs_sim_create(&d, &sim, NULL), RS_OK);
 	assert_int_equal(rs_track_recorder_create(path, &rec, NULL), RS_OK);
 	for (int i = 0; i < n; i++) {
-		assert_int_equal(rs_sim_next(sim, &ref[i], NULL), RS_OK);
+		assert_int_equal(rs_sim_next(sim, &ref[i], NULL, NULL), RS_OK);
 		ref[i].host_time_s = 1000.0 + i * 0.01;
 		assert_int_equal(rs_track_recorder_write(rec, &ref[i], NULL), RS_OK);
 	}
@@ -70,7 +70,7 @@ static void round_trip_preserves_samples(void **state)
 	assert_int_equal(rs_track_replay_open(path, NULL, &src, NULL), RS_OK);
 	struct rs_marker_sample s;
 	for (int i = 0; i < 500; i++) {
-		assert_int_equal(rs_track_source_read(src, &s, 0), RS_OK);
+		assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_OK);
 		assert_int_equal(s.sequence, ref[i].sequence);
 		assert_true(s.device_time_us == ref[i].device_time_us);
 		assert_true(s.host_time_s == ref[i].host_time_s); /* stored bit-exact */
@@ -81,10 +81,10 @@ static void round_trip_preserves_samples(void **state)
 				                 ref[i].markers[m].position[a]) <= 0.5e-6 + 1e-12);
 		}
 	}
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_END);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_END);
 	/* Reopen rewinds. */
-	assert_int_equal(rs_track_source_reopen(src), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_OK);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_OK);
 	assert_int_equal(s.sequence, ref[0].sequence);
 	rs_track_source_destroy(&src);
 }
@@ -105,11 +105,11 @@ static void raw_frame_dump_replays(void **state)
 	assert_int_equal(rs_track_replay_open(path, NULL, &src, NULL), RS_OK);
 	struct rs_marker_sample s;
 	for (uint32_t i = 0; i < 20; i++) {
-		assert_int_equal(rs_track_source_read(src, &s, 0), RS_OK);
+		assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_OK);
 		assert_int_equal(s.sequence, i);
 		assert_true(fabs(s.host_time_s - (0.5 + i * 0.001)) < 1e-9); /* = device time */
 	}
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_END);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_END);
 	rs_track_source_destroy(&src);
 }
 
@@ -127,7 +127,7 @@ static void damaged_record_is_counted_and_skipped(void **state)
 	assert_int_equal(rs_track_replay_open(path, NULL, &src, NULL), RS_OK);
 	struct rs_marker_sample s;
 	int n = 0;
-	while (rs_track_source_read(src, &s, 0) == RS_OK) {
+	while (rs_track_source_read(src, &s, 0, NULL) == RS_OK) {
 		assert_true(s.sequence != ref[3].sequence);
 		n++;
 	}
@@ -149,7 +149,7 @@ static void truncated_file_ends_cleanly(void **state)
 	struct rs_marker_sample s;
 	int n = 0;
 	enum rs_status st;
-	while ((st = rs_track_source_read(src, &s, 0)) == RS_OK)
+	while ((st = rs_track_source_read(src, &s, 0, NULL)) == RS_OK)
 		n++;
 	assert_int_equal(st, RS_END);
 	assert_int_equal(n, 5);
@@ -190,7 +190,7 @@ static void unencodable_sample_is_not_recorded(void **state)
 	assert_int_equal(rs_track_recorder_destroy(&rec, NULL), RS_OK);
 	struct rs_track_source *src = NULL;
 	assert_int_equal(rs_track_replay_open(path, NULL, &src, NULL), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_END);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_END);
 	rs_track_source_destroy(&src);
 }
 
@@ -283,7 +283,7 @@ static void bad_recorded_time_falls_back_to_device_time(void **state)
 		assert_int_equal(rs_track_replay_open(path, &d, &src, NULL), RS_OK);
 		struct rs_marker_sample s;
 		for (uint32_t i = 0; i < 4; i++) {
-			assert_int_equal(rs_track_source_read(src, &s, -1), RS_OK);
+			assert_int_equal(rs_track_source_read(src, &s, -1, NULL), RS_OK);
 			double want = i < 3 ? 2.0 + i * 1e-6 : 12.5;
 			assert_true(fabs(s.host_time_s - want) < 1e-9);
 		}
@@ -299,7 +299,7 @@ static void endless_frameless_input_times_out(void **state)
 	assert_int_equal(rs_track_replay_open("/dev/zero", NULL, &src, NULL), RS_OK);
 	struct rs_marker_sample s;
 	for (int i = 0; i < 3; i++)
-		assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+		assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_TIMEOUT);
 	struct rs_track_source_stats st;
 	rs_track_source_get_stats(src, &st);
 	assert_true(st.proto.garbage_bytes >= 3u << 20);
@@ -317,7 +317,7 @@ static void realtime_replay_keeps_recorded_spacing(void **state)
 	struct rs_marker_sample s;
 	double t0 = rs_track_now_s();
 	for (int i = 0; i < 11; i++)
-		while (rs_track_source_read(src, &s, 2) == RS_TIMEOUT) {
+		while (rs_track_source_read(src, &s, 2, NULL) == RS_TIMEOUT) {
 		}
 	assert_true(rs_track_now_s() - t0 >= 0.095);
 	rs_track_source_destroy(&src);

@@ -28,7 +28,8 @@ static void run(const struct rs_sim_desc *d, int n, struct rs_marker_sample *sam
 	struct rs_sim *sim = NULL;
 	assert_int_equal(rs_sim_create(d, &sim, NULL), RS_OK);
 	for (int i = 0; i < n; i++)
-		assert_int_equal(rs_sim_next(sim, &samples[i], truth ? &truth[i] : NULL), RS_OK);
+		assert_int_equal(rs_sim_next(sim, &samples[i], truth ? &truth[i] : NULL, NULL),
+		                 RS_OK);
 	rs_sim_destroy(&sim);
 	assert_null(sim);
 }
@@ -224,7 +225,7 @@ static void duration_ends_the_run(void **state)
 	struct rs_marker_sample s;
 	assert_int_equal(rs_sim_create(&d, &sim, NULL), RS_OK);
 	int n = 0;
-	while (rs_sim_next(sim, &s, NULL) == RS_OK)
+	while (rs_sim_next(sim, &s, NULL, NULL) == RS_OK)
 		n++;
 	assert_int_equal(n, 50);
 	rs_sim_destroy(&sim);
@@ -303,7 +304,7 @@ static void sim_source_delivers_quantised_samples(void **state)
 	struct rs_marker_sample ref[50], got;
 	run(&d.sim, 50, ref, NULL);
 	for (int i = 0; i < 50; i++) {
-		assert_int_equal(rs_track_source_read(src, &got, 0), RS_OK);
+		assert_int_equal(rs_track_source_read(src, &got, 0, NULL), RS_OK);
 		assert_int_equal(got.sequence, ref[i].sequence);
 		for (int m = 0; m < 3; m++)
 			for (int a = 0; a < 3; a++)
@@ -314,8 +315,8 @@ static void sim_source_delivers_quantised_samples(void **state)
 	rs_track_source_get_stats(src, &st);
 	assert_true(st.samples == 50 && st.proto.frames == 50);
 	/* Reopen restarts the same run. */
-	assert_int_equal(rs_track_source_reopen(src), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &got, 0), RS_OK);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &got, 0, NULL), RS_OK);
 	assert_int_equal(got.sequence, ref[0].sequence);
 	rs_track_source_destroy(&src);
 	assert_null(src);
@@ -330,7 +331,7 @@ static void sim_source_realtime_paces(void **state)
 	struct rs_marker_sample s;
 	double t0 = rs_track_now_s();
 	for (int i = 0; i < 20; i++)
-		while (rs_track_source_read(src, &s, 5) == RS_TIMEOUT) {
+		while (rs_track_source_read(src, &s, 5, NULL) == RS_TIMEOUT) {
 		}
 	assert_true(rs_track_now_s() - t0 >= 0.094);
 	rs_track_source_destroy(&src);

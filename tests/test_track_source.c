@@ -109,7 +109,7 @@ static void frame_split_across_reads(void **state)
 	add_bytes(f, fr + 50, RS_PROTO_FRAME_SIZE - 50);
 	struct rs_track_source *src = open_fake(f);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 100), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 100, NULL), RS_OK);
 	assert_int_equal(s.sequence, 1);
 	assert_int_equal(f->reads, 3);
 	assert_true(s.host_time_s > 0);
@@ -128,7 +128,7 @@ static void several_frames_in_one_read(void **state)
 	struct rs_track_source *src = open_fake(f);
 	struct rs_marker_sample s[3];
 	for (int i = 0; i < 3; i++) {
-		assert_int_equal(rs_track_source_read(src, &s[i], 0), RS_OK);
+		assert_int_equal(rs_track_source_read(src, &s[i], 0, NULL), RS_OK);
 		assert_int_equal(s[i].sequence, (uint32_t)i + 1);
 	}
 	assert_int_equal(f->reads, 1);
@@ -141,8 +141,8 @@ static void quiet_transport_times_out(void **state)
 	struct fake *f = new_fake();
 	struct rs_track_source *src = open_fake(f);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 10), RS_TIMEOUT);
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(src, &s, 10, NULL), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_TIMEOUT);
 	rs_track_source_destroy(&src);
 }
 
@@ -161,9 +161,9 @@ static void early_empty_transport_read_keeps_waiting(void **state)
 	add_bytes(f, fr, sizeof fr);
 	struct rs_track_source *src = open_fake(f);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 1000), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 1000, NULL), RS_OK);
 	assert_int_equal(s.sequence, 7);
-	assert_int_equal(rs_track_source_read(src, &s, -1), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, -1, NULL), RS_OK);
 	assert_int_equal(s.sequence, 8);
 	rs_track_source_destroy(&src);
 }
@@ -180,16 +180,16 @@ static void disconnect_then_reopen(void **state)
 	f->reopen_fails = 1;
 	struct rs_track_source *src = open_fake(f);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_ERR_DISCONNECTED);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_ERR_DISCONNECTED);
 	assert_true(rs_track_source_last_error(src)[0] != '\0');
 	int reads = f->reads;
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_ERR_DISCONNECTED);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_ERR_DISCONNECTED);
 	assert_int_equal(f->reads, reads); /* no transport call while disconnected */
-	assert_int_equal(rs_track_source_reopen(src), RS_ERR_NOT_FOUND);
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_ERR_DISCONNECTED);
-	assert_int_equal(rs_track_source_reopen(src), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_OK);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_ERR_NOT_FOUND);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_ERR_DISCONNECTED);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_OK);
 	assert_int_equal(s.sequence, 3);
 	struct rs_track_source_stats st;
 	rs_track_source_get_stats(src, &st);
@@ -205,8 +205,8 @@ static void transport_errors_pass_through(void **state)
 	add_status(f, RS_END);
 	struct rs_track_source *src = open_fake(f);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_ERR_IO);
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_END);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_ERR_IO);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_END);
 	rs_track_source_destroy(&src);
 }
 

@@ -49,7 +49,7 @@ static void malformed_device_uris(void **state)
 	/* A build without hidapi/libusb says so instead of parsing the rest. */
 	const char *bad[] = {"hid:", "hid:1234", "hid:xyz:1", "usb:", "usb:1:2:3"};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-		int have = rs_tracker_has_scheme(bad[i][0] == 'h' ? "hid" : "usb");
+		bool have = rs_tracker_has_scheme(bad[i][0] == 'h' ? "hid" : "usb");
 		expect(bad[i], have ? RS_ERR_PARSE : RS_ERR_UNSUPPORTED);
 	}
 }
@@ -88,7 +88,7 @@ static void sim_uri_opens_and_ends(void **state)
 	    rs_tracker_open("sim:seed=3&rate=240&duration=0.1&noise=0.1mm", &src, NULL), RS_OK);
 	struct rs_marker_sample s;
 	int n = 0;
-	while (rs_track_source_read(src, &s, 0) == RS_OK)
+	while (rs_track_source_read(src, &s, 0, NULL) == RS_OK)
 		n++;
 	assert_int_equal(n, 24);
 	rs_track_source_destroy(&src);
@@ -110,10 +110,10 @@ static void replay_uri_reads_recording(void **state)
 	assert_int_equal(rs_tracker_open(uri, &src, NULL), RS_OK);
 	struct rs_marker_sample s;
 	for (uint32_t i = 0; i < 5; i++) {
-		assert_int_equal(rs_track_source_read(src, &s, 0), RS_OK);
+		assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_OK);
 		assert_int_equal(s.sequence, 40 + i);
 	}
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_END);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_END);
 	rs_track_source_destroy(&src);
 	remove(path);
 }
@@ -130,7 +130,7 @@ static void serial_uri_reads_pty(void **state)
 	uint8_t f[RS_PROTO_FRAME_SIZE];
 	assert_int_equal(rs_proto_encode(&s, f, NULL), RS_OK);
 	assert_int_equal(rs_serial_pty_write(pty, f, sizeof f, NULL), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &s, 2000), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 2000, NULL), RS_OK);
 	assert_int_equal(s.sequence, 9);
 	rs_track_source_destroy(&src);
 	rs_serial_pty_destroy(&pty);

@@ -136,10 +136,10 @@ static void bulk_stream_becomes_samples(void **state)
 	assert_int_equal(fake.claimed, 1);
 	struct rs_marker_sample s;
 	for (uint32_t i = 0; i < 10; i++) {
-		assert_int_equal(rs_track_source_read(src, &s, 20), RS_OK);
+		assert_int_equal(rs_track_source_read(src, &s, 20, NULL), RS_OK);
 		assert_int_equal(s.sequence, i);
 	}
-	assert_int_equal(rs_track_source_read(src, &s, 20), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(src, &s, 20, NULL), RS_TIMEOUT);
 	rs_track_source_destroy(&src);
 	assert_int_equal(fake.claimed, 0);
 	assert_int_equal(fake.handles, 0);
@@ -161,11 +161,11 @@ static void reads_are_one_packet_long(void **state)
 	struct rs_track_source *src = NULL;
 	assert_int_equal(rs_usb_open(&d, &src, NULL), RS_OK);
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_TIMEOUT);
 	assert_int_equal(fake.last_len, 64);
 	rs_track_source_destroy(&src);
 	src = open_fake();
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_TIMEOUT);
 	assert_int_equal(fake.last_len, 512);
 	rs_track_source_destroy(&src);
 }
@@ -175,7 +175,7 @@ static void poll_uses_shortest_libusb_timeout(void **state)
 	/* libusb reads a 0 ms timeout as "wait forever": a poll must ask for 1 ms. */
 	struct rs_track_source *src = open_fake();
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 0), RS_TIMEOUT);
+	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_TIMEOUT);
 	assert_int_equal(fake.last_timeout, 1);
 	rs_track_source_destroy(&src);
 }
@@ -185,16 +185,16 @@ static void unplug_and_replug(void **state)
 	push(1);
 	struct rs_track_source *src = open_fake();
 	struct rs_marker_sample s;
-	assert_int_equal(rs_track_source_read(src, &s, 20), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 20, NULL), RS_OK);
 	fake.plugged = 0;
-	assert_int_equal(rs_track_source_read(src, &s, 20), RS_ERR_DISCONNECTED);
+	assert_int_equal(rs_track_source_read(src, &s, 20, NULL), RS_ERR_DISCONNECTED);
 	assert_non_null(strstr(rs_track_source_last_error(src), "NO_DEVICE"));
 	assert_int_equal(fake.handles, 0);
-	assert_int_equal(rs_track_source_reopen(src), RS_ERR_NOT_FOUND);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_ERR_NOT_FOUND);
 	fake.plugged = 1;
 	push(1);
-	assert_int_equal(rs_track_source_reopen(src), RS_OK);
-	assert_int_equal(rs_track_source_read(src, &s, 20), RS_OK);
+	assert_int_equal(rs_track_source_reopen(src, NULL), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 20, NULL), RS_OK);
 	assert_int_equal(s.sequence, 1);
 	rs_track_source_destroy(&src);
 	assert_int_equal(fake.handles, 0);

@@ -148,7 +148,7 @@ enum rs_status rs_hid_parse_uri(const char *rest, struct rs_hid_desc *out, char 
 	RS_ASSERT(rest && out);
 	memset(out, 0, sizeof *out);
 	const char *tail;
-	if (!rs_track_parse_vid_pid(rest, &out->vid, &out->pid, &tail))
+	if (rs_track_parse_vid_pid(rest, &out->vid, &out->pid, &tail, NULL) != RS_OK)
 		return rs_error_set(err, RS_ERR_PARSE,
 		                    "hid: expected hid:VID:PID[:SERIAL] in hex, got 'hid:%.60s'",
 		                    rest);

@@ -8,6 +8,7 @@
 #ifndef RS_SERIAL_H
 #define RS_SERIAL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -41,7 +42,7 @@ enum rs_status rs_serial_parse_uri(const char *rest, char *path_buf, size_t path
                                    struct rs_serial_desc *out_desc, struct rs_error *err);
 
 /** True when `baud` is a rate this build can set. */
-int rs_serial_baud_supported(int baud);
+bool rs_serial_is_baud_supported(int baud);
 
 /** A pseudo-terminal pair: write to the master, open the slave path as a serial line. */
 struct rs_serial_pty;

@@ -49,7 +49,7 @@ static int baud_code(int baud, speed_t *out)
 	return 0;
 }
 
-int rs_serial_baud_supported(int baud)
+bool rs_serial_is_baud_supported(int baud)
 {
 	speed_t c;
 	return baud_code(baud, &c);
@@ -201,7 +201,7 @@ enum rs_status rs_serial_parse_uri(const char *rest, char *path_buf, size_t path
 			size_t i = 5;
 			for (; i < len && q[i] >= '0' && q[i] <= '9' && v < 100000000; i++)
 				v = v * 10 + (q[i] - '0');
-			if (i != len || !rs_serial_baud_supported((int)v))
+			if (i != len || !rs_serial_is_baud_supported((int)v))
 				return rs_error_set(err, RS_ERR_PARSE,
 				                    "serial: bad baud rate '%.*s'",
 				                    (int)(len - 5 > 20 ? 20 : len - 5), q + 5);

@@ -14,6 +14,8 @@
 #ifndef RS_TRACKER_H
 #define RS_TRACKER_H
 
+#include <stdbool.h>
+
 #include "raystream/rs_track.h"
 
 #ifdef __cplusplus
@@ -29,7 +31,7 @@ enum rs_status rs_tracker_open(const char *uri, struct rs_track_source **out_sou
                                struct rs_error *err);
 
 /** Nonzero when this build can open `scheme` ("hid", "usb", "serial", "sim", "replay"). */
-int rs_tracker_has_scheme(const char *scheme);
+bool rs_tracker_has_scheme(const char *scheme);
 
 #ifdef __cplusplus
 }

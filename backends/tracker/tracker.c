@@ -16,25 +16,25 @@
 
 #define PATH_CAP 512
 
-int rs_tracker_has_scheme(const char *scheme)
+bool rs_tracker_has_scheme(const char *scheme)
 {
 	if (!scheme)
-		return 0;
+		return false;
 	if (!strcmp(scheme, "sim") || !strcmp(scheme, "replay"))
-		return 1;
+		return true;
 #ifdef RS_TRACKER_HAVE_SERIAL
 	if (!strcmp(scheme, "serial"))
-		return 1;
+		return true;
 #endif
 #ifdef RS_TRACKER_HAVE_HID
 	if (!strcmp(scheme, "hid"))
-		return 1;
+		return true;
 #endif
 #ifdef RS_TRACKER_HAVE_USB
 	if (!strcmp(scheme, "usb"))
-		return 1;
+		return true;
 #endif
-	return 0;
+	return false;
 }
 
 static enum rs_status open_replay(const char *rest, struct rs_track_source **out,

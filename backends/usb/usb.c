@@ -156,7 +156,8 @@ enum rs_status rs_usb_parse_uri(const char *rest, struct rs_usb_desc *out, struc
 	RS_ASSERT(rest && out);
 	memset(out, 0, sizeof *out);
 	const char *tail;
-	if (!rs_track_parse_vid_pid(rest, &out->vid, &out->pid, &tail) || *tail != '\0')
+	if (rs_track_parse_vid_pid(rest, &out->vid, &out->pid, &tail, NULL) != RS_OK ||
+	    *tail != '\0')
 		return rs_error_set(err, RS_ERR_PARSE,
 		                    "usb: expected usb:VID:PID in hex, got 'usb:%.60s'", rest);
 	return RS_OK;

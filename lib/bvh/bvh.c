@@ -40,16 +40,17 @@ const char *rs_bvh_builder_name(enum rs_bvh_builder builder)
 	return "unknown";
 }
 
-enum rs_status rs_bvh_builder_parse(const char *name, enum rs_bvh_builder *out)
+enum rs_status rs_bvh_builder_parse(const char *name, enum rs_bvh_builder *out,
+                                    struct rs_error *err)
 {
-	for (unsigned i = 0; name && i < sizeof builder_names / sizeof builder_names[0]; i++) {
+	RS_ASSERT(name && out);
+	for (unsigned i = 0; i < sizeof builder_names / sizeof builder_names[0]; i++) {
 		if (strcmp(name, builder_names[i]) == 0) {
-			if (out)
-				*out = (enum rs_bvh_builder)i;
+			*out = (enum rs_bvh_builder)i;
 			return RS_OK;
 		}
 	}
-	return RS_ERR_INVALID;
+	return rs_error_set(err, RS_ERR_INVALID, "unknown BVH builder '%.64s'", name);
 }
 
 static size_t pow2_ceil(size_t n)

@@ -69,3 +69,18 @@ void rs_error_clear(struct rs_error *err)
 	err->status = RS_OK;
 	err->message[0] = '\0';
 }
+
+enum rs_status rs_error_prefix(struct rs_error *err, enum rs_status status, const char *fmt, ...)
+{
+	if (!err)
+		return status;
+	char context[RS_ERROR_MESSAGE_MAX];
+	char old[RS_ERROR_MESSAGE_MAX];
+	va_list args;
+	va_start(args, fmt);
+	vsnprintf(context, sizeof context, fmt ? fmt : "", args);
+	va_end(args);
+	memcpy(old, err->message, sizeof old);
+	old[sizeof old - 1] = '\0';
+	return rs_error_set(err, status, "%s: %s", context, old);
+}

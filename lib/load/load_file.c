@@ -70,21 +70,18 @@ enum rs_status rs_load_read_text(const char *path, size_t max_bytes, char **out_
 	return RS_OK;
 }
 
-void rs_load_free(void *ptr)
+enum rs_status rs_load_sidecar_path(const char *path, char *out, size_t size, struct rs_error *err)
 {
-	free(ptr);
-}
-
-enum rs_status rs_load_sidecar_path(const char *path, char *out, size_t size)
-{
+	RS_ASSERT(path && out);
 	const char *slash = strrchr(path, '/');
 	const char *base = slash != NULL ? slash + 1 : path;
 	const char *dot = strrchr(base, '.');
 	/* A leading dot (".hidden") is a name, not an extension. */
 	size_t stem = (dot != NULL && dot != base) ? (size_t)(dot - path) : strlen(path);
 
-	if (out == NULL || size == 0 || stem + sizeof(".json") > size)
-		return RS_ERR_LIMIT;
+	if (size == 0 || stem + sizeof(".json") > size)
+		return rs_error_set(err, RS_ERR_LIMIT, "%.64s: sidecar path longer than %zu bytes",
+		                    path, size);
 	memcpy(out, path, stem);
 	memcpy(out + stem, ".json", sizeof(".json"));
 	return RS_OK;

@@ -3,6 +3,7 @@
 #define RS_LOAD_INTERNAL_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "raystream/rs_status.h"
 
@@ -23,5 +24,15 @@ enum rs_status rs_load_read_text(const char *path, size_t max_bytes, char **out_
  * headers it cannot follow; RS_ERR_PARSE naming the element otherwise.
  */
 enum rs_status rs_load_check_ply_header(const char *path, size_t file_size, struct rs_error *err);
+
+/*
+ * Exact weld of `count` vertices (float xyz at `stride` bytes; `nrm` NULL or normals at the
+ * same stride): vertices with exactly equal positions (and normals, when given) share one
+ * index. out_remap[v] = the vertex's new index; out_source[u] = the first input vertex of
+ * new vertex u (both caller-owned, `count` entries); *out_unique = number of new vertices,
+ * numbered in order of first appearance. RS_ERR_NO_MEMORY when scratch allocation fails.
+ */
+enum rs_status rs_load_weld(const float *pos, const float *nrm, size_t stride, size_t count,
+                            uint32_t *out_remap, uint32_t *out_source, size_t *out_unique);
 
 #endif

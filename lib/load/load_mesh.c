@@ -19,9 +19,11 @@
 /* rs_scene reads positions/normals straight from assimp's arrays with a stride. */
 _Static_assert(sizeof(struct aiVector3D) == 3 * sizeof(float), "assimp built with doubles");
 
-/* Triangulate polygons; share identical vertices so computed normals are smooth. No
- * FindDegenerates / ImproveCacheLocality / FindInvalidData: they drop or reorder triangles. */
-#define RS_LOAD_AI_FLAGS (aiProcess_Triangulate | aiProcess_JoinIdenticalVertices)
+/* Triangulate polygons. No JoinIdenticalVertices: it merges positions up to 1e-5 apart
+ * (absolute), moving the vertices of small models; rs_load_weld() shares exactly equal ones
+ * instead. No FindDegenerates / ImproveCacheLocality / FindInvalidData: they drop or
+ * reorder triangles. */
+#define RS_LOAD_AI_FLAGS (aiProcess_Triangulate)
 
 void rs_load_default_material(struct rs_material *out)
 {
@@ -92,8 +94,8 @@ static int finite3(const struct aiVector3D *v)
 
 /*
  * Everything rs_scene would reject, found before the scene is touched. This runs on the raw
- * import, before any post-processing: assimp's JoinIdenticalVertices quietly rewrites an
- * out-of-range index (PLY) into a valid one, and Triangulate would read through it.
+ * import, before any post-processing: Triangulate would read through an out-of-range index
+ * (PLY), and assimp's JoinIdenticalVertices (not used now) quietly rewrote one.
  */
 static enum rs_status check_mesh(const char *path, unsigned index, const struct aiMesh *mesh,
                                  int check_normals, struct rs_error *err)
@@ -181,12 +183,53 @@ static enum rs_status check_materials(const struct rs_load_desc *desc, const cha
 		if (mesh_triangles(ai->mMeshes[m]) == 0)
 			continue;
 		resolve_material(desc, ai, slot, &mat);
-		st = rs_scene_add_material(scratch, &mat, &id);
+		st = rs_scene_add_material(scratch, &mat, &id, err);
 		if (st != RS_OK)
-			rs_error_set(err, st, "%s: bad material (%s)", path,
-			             rs_scene_last_error(scratch));
+			rs_error_prefix(err, st, "%s: bad material", path);
 	}
 	rs_scene_destroy(&scratch);
+	return st;
+}
+
+/* Weld the mesh's vertices exactly (rs_load_weld), remap `indices` in place and add it. */
+static enum rs_status add_welded(const struct aiMesh *mesh, int use_normals, uint32_t *indices,
+                                 size_t tris, uint32_t material, struct rs_scene *scene,
+                                 struct rs_error *err)
+{
+	size_t n = mesh->mNumVertices, unique = 0;
+	const float *nrm = use_normals ? &mesh->mNormals[0].x : NULL;
+	uint32_t *remap = malloc(n * sizeof(*remap)), *source = malloc(n * sizeof(*source));
+	float *pos = malloc(n * 3 * sizeof(*pos)), *nn = malloc(n * 3 * sizeof(*nn));
+	enum rs_status st = RS_ERR_NO_MEMORY;
+
+	if (remap != NULL && source != NULL && pos != NULL && nn != NULL)
+		st = rs_load_weld(&mesh->mVertices[0].x, nrm, sizeof(struct aiVector3D), n, remap,
+		                  source, &unique);
+	if (st == RS_OK) {
+		struct rs_mesh_desc md;
+
+		for (size_t u = 0; u < unique; u++) {
+			memcpy(&pos[3 * u], &mesh->mVertices[source[u]], 3 * sizeof(float));
+			if (nrm != NULL)
+				memcpy(&nn[3 * u], &mesh->mNormals[source[u]], 3 * sizeof(float));
+		}
+		for (size_t i = 0; i < tris * 3; i++)
+			indices[i] = remap[indices[i]];
+		memset(&md, 0, sizeof(md));
+		md.positions = pos;
+		md.vertex_count = unique;
+		md.normals = nrm != NULL ? nn : NULL;
+		md.indices = indices;
+		md.triangle_count = tris;
+		md.material = material;
+		st = rs_scene_add_mesh(scene, &md, err);
+	} else if (st == RS_ERR_NO_MEMORY) {
+		rs_error_set(err, st, "out of memory");
+	}
+	free(remap);
+	free(source);
+	free(pos);
+	free(nn);
 	return st;
 }
 
@@ -209,7 +252,6 @@ static enum rs_status add_meshes(const struct rs_load_desc *desc, const char *pa
 		const struct aiMesh *mesh = ai->mMeshes[m];
 		size_t tris = mesh_triangles(mesh), t = 0;
 		unsigned slot;
-		struct rs_mesh_desc md;
 
 		if (tris == 0)
 			continue;
@@ -218,10 +260,9 @@ static enum rs_status add_meshes(const struct rs_load_desc *desc, const char *pa
 			struct rs_material mat;
 
 			resolve_material(desc, ai, slot, &mat);
-			st = rs_scene_add_material(scene, &mat, &ids[slot]);
+			st = rs_scene_add_material(scene, &mat, &ids[slot], err);
 			if (st != RS_OK) {
-				rs_error_set(err, st, "%s: material %u: %s", path, slot,
-				             rs_scene_last_error(scene));
+				rs_error_prefix(err, st, "%s: material %u", path, slot);
 				break;
 			}
 		}
@@ -243,19 +284,9 @@ static enum rs_status add_meshes(const struct rs_load_desc *desc, const char *pa
 			memcpy(&indices[t * 3], face->mIndices, 3 * sizeof(*indices));
 			t++;
 		}
-		memset(&md, 0, sizeof(md));
-		md.positions = &mesh->mVertices[0].x;
-		md.vertex_count = mesh->mNumVertices;
-		md.position_stride = sizeof(struct aiVector3D);
-		md.normals = use_normals ? &mesh->mNormals[0].x : NULL;
-		md.normal_stride = sizeof(struct aiVector3D);
-		md.indices = indices;
-		md.triangle_count = tris;
-		md.material = ids[slot];
-		st = rs_scene_add_mesh(scene, &md);
+		st = add_welded(mesh, use_normals, indices, tris, ids[slot], scene, err);
 		if (st != RS_OK)
-			rs_error_set(err, st, "%s: mesh %u: %s", path, m,
-			             rs_scene_last_error(scene));
+			rs_error_prefix(err, st, "%s: mesh %u", path, m);
 	}
 	free(indices);
 	free(ids);

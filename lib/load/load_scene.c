@@ -29,9 +29,9 @@ static enum rs_status default_view(struct rs_scene *scene, struct rs_error *err)
 	cam.fov_y_deg = 45.0;
 	cam.width = cam.height = 512;
 	rs_camera_frame(&b, 30.0, &cam);
-	st = rs_scene_set_camera(scene, &cam);
+	st = rs_scene_set_camera(scene, &cam, err);
 	if (st != RS_OK)
-		return rs_error_set(err, st, "camera: %s", rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "camera");
 	for (int k = 0; k < 3; k++) {
 		diag += (b.hi[k] - b.lo[k]) * (b.hi[k] - b.lo[k]);
 		len += k_l1_offset[k] * k_l1_offset[k];
@@ -46,9 +46,9 @@ static enum rs_status default_view(struct rs_scene *scene, struct rs_error *err)
 		light.position[k] = 0.5 * (b.lo[k] + b.hi[k]) + scale * k_l1_offset[k];
 		light.color[k] = 1.0;
 	}
-	st = rs_scene_add_light(scene, &light);
+	st = rs_scene_add_light(scene, &light, err);
 	if (st != RS_OK)
-		return rs_error_set(err, st, "light: %s", rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "light");
 	return RS_OK;
 }
 
@@ -70,7 +70,7 @@ enum rs_status rs_load_scene(const struct rs_load_desc *desc, const char *path,
 	sidecar = malloc(len);
 	if (sidecar == NULL)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory");
-	rs_load_sidecar_path(path, sidecar, len);
+	rs_load_sidecar_path(path, sidecar, len, NULL);
 	st = rs_scene_create(NULL, &scene, err);
 	if (st == RS_OK)
 		st = rs_load_mesh_file(desc, path, scene, err);

@@ -217,18 +217,19 @@ static enum rs_status apply_view(const struct view *v, struct rs_scene *scene, s
 	enum rs_status st = RS_OK;
 	const char *what = "";
 
-	if (v->has_camera && (st = rs_scene_set_camera(scene, &v->camera)) != RS_OK)
+	if (v->has_camera && (st = rs_scene_set_camera(scene, &v->camera, err)) != RS_OK)
 		what = "camera";
 	for (size_t i = 0; st == RS_OK && i < v->light_count; i++)
-		if ((st = rs_scene_add_light(scene, &v->lights[i])) != RS_OK)
+		if ((st = rs_scene_add_light(scene, &v->lights[i], err)) != RS_OK)
 			what = "lights";
-	if (st == RS_OK && v->has_env && (st = rs_scene_set_environment(scene, &v->env)) != RS_OK)
+	if (st == RS_OK && v->has_env &&
+	    (st = rs_scene_set_environment(scene, &v->env, err)) != RS_OK)
 		what = "environment";
 	if (st == RS_OK && v->has_ambient &&
-	    (st = rs_scene_set_ambient(scene, v->ambient)) != RS_OK)
+	    (st = rs_scene_set_ambient(scene, v->ambient, err)) != RS_OK)
 		what = "ambient";
 	if (st != RS_OK)
-		return rs_error_set(err, st, "%s: %s", what, rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "%s", what);
 	return RS_OK;
 }
 

@@ -3,6 +3,7 @@
  * is why every count must stay below 2^24. */
 #include "raystream/rs_pack.h"
 
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -171,6 +172,68 @@ static enum rs_status check_packed(const struct rs_scene *scene, const struct rs
 	return RS_OK;
 }
 
+/* Vertices relative to the centre (docs/tracer.md R1): subtracted in double, then rounded. */
+static void pack_triangles(const struct rs_scene *scene, const uint32_t *triangle_order,
+                           struct rs_packed *packed)
+{
+	const double *pos = rs_scene_positions_f64(scene);
+	const float *nrm = rs_scene_normals(scene);
+	const uint32_t *idx = rs_scene_indices(scene);
+	const uint32_t *mat = rs_scene_triangle_materials(scene);
+	const double *o = packed->origin;
+	for (uint32_t slot = 0; slot < packed->triangle_count; slot++) {
+		uint32_t tri = triangle_order[slot];
+		const uint32_t *v = idx + 3 * (size_t)tri;
+		for (uint32_t k = 0; k < 3; k++) {
+			const double *p = pos + 3 * (size_t)v[k];
+			const float *nn = nrm + 3 * (size_t)v[k];
+			float w = k == 0 ? (float)tri : k == 1 ? (float)mat[tri] : 0.0f;
+			set4(texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, slot, k),
+			     (float)(p[0] - o[0]), (float)(p[1] - o[1]), (float)(p[2] - o[2]), w);
+			set4(texel(&packed->normals, RS_PACK_NORMAL_TEXELS, slot, k), nn[0], nn[1],
+			     nn[2], 0.0f);
+		}
+	}
+}
+
+static void grow_box(float *lo, float *hi, const float *plo, const float *phi)
+{
+	for (int a = 0; a < 3; a++) {
+		lo[a] = plo[a] < lo[a] ? plo[a] : lo[a];
+		hi[a] = phi[a] > hi[a] ? phi[a] : hi[a];
+	}
+}
+
+/* Tight node bounds of the packed vertices, children before parents (pre-order: children
+ * follow their parent, the right child at the left child's escape). Node texels start
+ * empty (lo = +FLT_MAX, hi = -FLT_MAX), which is what padding leaves keep. */
+static void node_bounds(const struct rs_bvh_node *nodes, size_t node_count,
+                        struct rs_packed *packed)
+{
+	for (size_t k = node_count; k-- > 0;) {
+		float *lo = texel(&packed->nodes, RS_PACK_NODE_TEXELS, (uint32_t)k, 0);
+		float *hi = texel(&packed->nodes, RS_PACK_NODE_TEXELS, (uint32_t)k, 1);
+		const struct rs_bvh_node *n = &nodes[k];
+		if (n->level == 0) {
+			for (uint32_t s = n->first; s < n->first + n->count; s++)
+				for (uint32_t j = 0; j < 3; j++) {
+					const float *v = texel(&packed->triangles,
+					                       RS_PACK_TRIANGLE_TEXELS, s, j);
+					grow_box(lo, hi, v, v);
+				}
+			continue;
+		}
+		/* a corrupt tree may not read outside its own subtree */
+		uint32_t end = n->escape < node_count ? n->escape : (uint32_t)node_count;
+		uint32_t child[2] = {(uint32_t)k + 1, k + 1 < end ? nodes[k + 1].escape : end};
+		for (int c = 0; c < 2; c++)
+			if (child[c] > k && child[c] < end)
+				grow_box(lo, hi,
+				         texel(&packed->nodes, RS_PACK_NODE_TEXELS, child[c], 0),
+				         texel(&packed->nodes, RS_PACK_NODE_TEXELS, child[c], 1));
+	}
+}
+
 enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
                              size_t node_count, const uint32_t *triangle_order,
                              struct rs_packed *packed, struct rs_error *err)
@@ -185,33 +248,21 @@ enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_n
 	for (int i = 0; i < 4; i++)
 		memset(tex[i]->texels, 0, texture_floats(tex[i]) * sizeof(float));
 
+	struct rs_bounds b;
+	rs_scene_bounds(scene, &b);
+	for (int a = 0; a < 3; a++)
+		packed->origin[a] = b.hi[a] >= b.lo[a] ? 0.5 * (b.lo[a] + b.hi[a]) : 0.0;
+	pack_triangles(scene, triangle_order, packed);
 	for (uint32_t i = 0; i < node_count; i++) {
 		const struct rs_bvh_node *n = &nodes[i];
-		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 0), n->lo[0], n->lo[1], n->lo[2],
+		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 0), FLT_MAX, FLT_MAX, FLT_MAX,
 		     (float)n->escape);
-		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 1), n->hi[0], n->hi[1], n->hi[2],
+		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 1), -FLT_MAX, -FLT_MAX, -FLT_MAX,
 		     (float)n->level);
 		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 2), (float)n->first,
 		     (float)n->count, (float)n->order, 0.0f);
 	}
-
-	const float *pos = rs_scene_positions(scene);
-	const float *nrm = rs_scene_normals(scene);
-	const uint32_t *idx = rs_scene_indices(scene);
-	const uint32_t *mat = rs_scene_triangle_materials(scene);
-	for (uint32_t slot = 0; slot < packed->triangle_count; slot++) {
-		uint32_t tri = triangle_order[slot];
-		const uint32_t *v = idx + 3 * (size_t)tri;
-		for (uint32_t k = 0; k < 3; k++) {
-			const float *p = pos + 3 * (size_t)v[k];
-			const float *nn = nrm + 3 * (size_t)v[k];
-			float w = k == 0 ? (float)tri : k == 1 ? (float)mat[tri] : 0.0f;
-			set4(texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, slot, k), p[0],
-			     p[1], p[2], w);
-			set4(texel(&packed->normals, RS_PACK_NORMAL_TEXELS, slot, k), nn[0], nn[1],
-			     nn[2], 0.0f);
-		}
-	}
+	node_bounds(nodes, node_count, packed);
 
 	const struct rs_material *m = rs_scene_materials(scene);
 	for (uint32_t i = 0; i < packed->material_count; i++) {

@@ -139,13 +139,9 @@ static void start(struct rs_pose_filter *f, double t, const double x[3], const d
 }
 
 enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_pose *in,
-                                     struct rs_pose *out)
+                                     struct rs_pose *out, struct rs_error *err)
 {
-	if (!f || !in || !out) {
-		if (f)
-			snprintf(f->message, sizeof f->message, "pose filter: NULL argument");
-		return RS_ERR_INVALID;
-	}
+	RS_ASSERT(f && in && out);
 	double q[4], x[3], t = in->time_s;
 	memcpy(x, in->position, sizeof x);
 	/* Positions beyond RS_POSE_MAX_COORD_M are refused like the solver's markers: their
@@ -163,7 +159,7 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 			memset(out, 0, sizeof *out);
 			out->orientation[3] = 1.0;
 		}
-		return RS_ERR_BAD_DATA;
+		return rs_error_set(err, RS_ERR_BAD_DATA, "%s", f->message);
 	}
 	f->message[0] = '\0';
 	double dt = t - f->t;
@@ -222,15 +218,16 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 }
 
 enum rs_status rs_pose_filter_predict(const struct rs_pose_filter *f, double display_time_s,
-                                      struct rs_pose *out)
+                                      struct rs_pose *out, struct rs_error *err)
 {
-	if (!f || !out || !isfinite(display_time_s))
-		return RS_ERR_INVALID;
+	RS_ASSERT(f && out);
+	if (!isfinite(display_time_s))
+		return rs_error_set(err, RS_ERR_INVALID, "pose filter: non-finite display time");
 	if (!f->have) {
 		memset(out, 0, sizeof *out);
 		out->orientation[3] = 1.0;
 		out->time_s = display_time_s;
-		return RS_END;
+		return rs_error_set(err, RS_END, "pose filter: no pose yet");
 	}
 	double h = display_time_s - f->t;
 	if (h < 0.0)

@@ -268,11 +268,7 @@ enum rs_status rs_pose_solver_update(struct rs_pose_solver *s,
 	struct rs_pose_quality qdummy;
 	struct rs_pose_quality *q = out_quality ? out_quality : &qdummy;
 	memset(q, 0, sizeof *q);
-	if (!s || !sample || !out) {
-		if (s)
-			note(s, "pose solver: NULL sample or output");
-		return RS_ERR_INVALID;
-	}
+	RS_ASSERT(s && sample && out);
 	s->message[0] = '\0';
 	double t = sample->host_time_s;
 	if (!isfinite(t)) {

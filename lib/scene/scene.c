@@ -1,6 +1,7 @@
 /* The scene container: copies caller geometry in, validates it, computes normals. */
 #include "raystream/rs_scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,16 +15,6 @@ static const float rs_default_face_colors[6][3] = {
     {0.80f, 0.35f, 0.30f}, {0.30f, 0.65f, 0.35f}, {0.55f, 0.70f, 0.90f},
     {0.45f, 0.40f, 0.35f}, {0.85f, 0.80f, 0.40f}, {0.55f, 0.40f, 0.75f},
 };
-
-static enum rs_status scene_fail(struct rs_scene *scene, enum rs_status status, const char *fmt,
-                                 ...)
-{
-	va_list args;
-	va_start(args, fmt);
-	rs_error_setv(&scene->error, status, fmt, args);
-	va_end(args);
-	return status;
-}
 
 enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene **out,
                                struct rs_error *err)
@@ -51,6 +42,7 @@ void rs_scene_destroy(struct rs_scene **scene)
 		return;
 	struct rs_scene *s = *scene;
 	free(s->positions);
+	free(s->positions_f64);
 	free(s->normals);
 	free(s->indices);
 	free(s->triangle_materials);
@@ -60,14 +52,24 @@ void rs_scene_destroy(struct rs_scene **scene)
 	*scene = NULL;
 }
 
-const char *rs_scene_last_error(const struct rs_scene *scene)
-{
-	return scene ? scene->error.message : "scene is NULL";
-}
-
 static int finite3(const float *v)
 {
 	return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+/* Vertex i of the mesh in double, whichever precision it was given in. */
+static void mesh_position(const struct rs_mesh_desc *mesh, size_t i, double out[3])
+{
+	if (mesh->positions_f64) {
+		size_t stride = mesh->position_stride ? mesh->position_stride : 3 * sizeof(double);
+		memcpy(out, (const char *)mesh->positions_f64 + i * stride, 3 * sizeof(double));
+		return;
+	}
+	size_t stride = mesh->position_stride ? mesh->position_stride : 3 * sizeof(float);
+	float f[3];
+	memcpy(f, (const char *)mesh->positions + i * stride, sizeof f);
+	for (int a = 0; a < 3; ++a)
+		out[a] = f[a];
 }
 
 /* Grow an array to hold `count` elements of `size` bytes, doubling capacity. */
@@ -90,7 +92,7 @@ static int grow(void **array, size_t *capacity, size_t count, size_t size)
 }
 
 enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_material *material,
-                                     uint32_t *out_id)
+                                     uint32_t *out_id, struct rs_error *err)
 {
 	RS_ASSERT(scene && material);
 	const float *m = material->diffuse;
@@ -104,17 +106,17 @@ enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_mat
 	                   material->ior};
 	for (size_t i = 0; i < sizeof v / sizeof v[0]; ++i)
 		if (!isfinite(v[i]) || v[i] < 0.0f)
-			return scene_fail(scene, RS_ERR_BAD_DATA,
-			                  "material %zu: value %zu is negative or not finite",
-			                  scene->material_count, i);
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "material %zu: value %zu is negative or not finite",
+			                    scene->material_count, i);
 	if (material->ior != 0.0f && material->ior < 1e-3f)
-		return scene_fail(scene, RS_ERR_BAD_DATA, "material %zu: ior %g is too small",
-		                  scene->material_count, (double)material->ior);
+		return rs_error_set(err, RS_ERR_BAD_DATA, "material %zu: ior %g is too small",
+		                    scene->material_count, (double)material->ior);
 	if (scene->material_count >= (1u << 24))
-		return scene_fail(scene, RS_ERR_LIMIT, "too many materials");
+		return rs_error_set(err, RS_ERR_LIMIT, "too many materials");
 	if (!grow((void **)&scene->materials, &scene->material_capacity, scene->material_count + 1,
 	          sizeof *scene->materials))
-		return scene_fail(scene, RS_ERR_NO_MEMORY, "out of memory adding a material");
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding a material");
 	scene->materials[scene->material_count] = *material;
 	if (out_id)
 		*out_id = (uint32_t)scene->material_count;
@@ -133,61 +135,76 @@ static const uint32_t *strided_u32(const uint32_t *base, size_t stride, size_t i
 	                          i * (stride ? stride : 3 * sizeof(uint32_t)));
 }
 
-static enum rs_status validate_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh)
+static enum rs_status validate_mesh(const struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                    struct rs_error *err)
 {
-	if (!mesh->positions || !mesh->indices)
-		return scene_fail(scene, RS_ERR_INVALID, "mesh has no positions or no indices");
+	if (!mesh->positions == !mesh->positions_f64 || !mesh->indices)
+		return rs_error_set(
+		    err, RS_ERR_INVALID,
+		    "mesh needs exactly one of positions/positions_f64, and indices");
 	if (mesh->triangle_count == 0)
-		return scene_fail(scene, RS_ERR_BAD_DATA, "mesh has zero triangles");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "mesh has zero triangles");
 	if (mesh->vertex_count == 0 || mesh->vertex_count > UINT32_MAX)
-		return scene_fail(scene, RS_ERR_BAD_DATA, "mesh has %zu vertices",
-		                  mesh->vertex_count);
+		return rs_error_set(err, RS_ERR_BAD_DATA, "mesh has %zu vertices",
+		                    mesh->vertex_count);
 	if (mesh->material >= scene->material_count)
-		return scene_fail(scene, RS_ERR_BAD_DATA, "mesh uses unknown material %u",
-		                  mesh->material);
+		return rs_error_set(err, RS_ERR_BAD_DATA, "mesh uses unknown material %u",
+		                    mesh->material);
 	if (mesh->triangle_count > scene->max_triangles - scene->triangle_count)
-		return scene_fail(scene, RS_ERR_LIMIT, "scene would have more than %zu triangles",
-		                  scene->max_triangles);
+		return rs_error_set(err, RS_ERR_LIMIT, "scene would have more than %zu triangles",
+		                    scene->max_triangles);
 	for (size_t i = 0; i < mesh->vertex_count; ++i) {
-		if (!finite3(strided(mesh->positions, mesh->position_stride, i)))
-			return scene_fail(scene, RS_ERR_BAD_DATA,
-			                  "vertex %zu has a NaN or infinite coordinate", i);
+		double p[3];
+		mesh_position(mesh, i, p);
+		/* also refuses doubles that would overflow to an infinite float */
+		for (int a = 0; a < 3; ++a)
+			if (!isfinite(p[a]) || fabs(p[a]) > FLT_MAX)
+				return rs_error_set(err, RS_ERR_BAD_DATA,
+				                    "vertex %zu has a NaN, infinite or too large "
+				                    "coordinate",
+				                    i);
 		if (mesh->normals && !finite3(strided(mesh->normals, mesh->normal_stride, i)))
-			return scene_fail(scene, RS_ERR_BAD_DATA,
-			                  "normal %zu has a NaN or infinite component", i);
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "normal %zu has a NaN or infinite component", i);
 	}
 	for (size_t t = 0; t < mesh->triangle_count; ++t) {
 		const uint32_t *tri = strided_u32(mesh->indices, mesh->index_stride, t);
 		for (int k = 0; k < 3; ++k)
 			if (tri[k] >= mesh->vertex_count)
-				return scene_fail(scene, RS_ERR_BAD_DATA,
-				                  "triangle %zu uses vertex %u of %zu", t, tri[k],
-				                  mesh->vertex_count);
+				return rs_error_set(err, RS_ERR_BAD_DATA,
+				                    "triangle %zu uses vertex %u of %zu", t, tri[k],
+				                    mesh->vertex_count);
 	}
 	return RS_OK;
 }
 
-enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh)
+enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                 struct rs_error *err)
 {
 	RS_ASSERT(scene);
 	if (!mesh)
-		return scene_fail(scene, RS_ERR_INVALID, "mesh descriptor is NULL");
-	enum rs_status status = validate_mesh(scene, mesh);
+		return rs_error_set(err, RS_ERR_INVALID, "mesh descriptor is NULL");
+	enum rs_status status = validate_mesh(scene, mesh, err);
 	if (status != RS_OK)
 		return status;
 	size_t v0 = scene->vertex_count, t0 = scene->triangle_count;
 	size_t vn = v0 + mesh->vertex_count, tn = t0 + mesh->triangle_count;
 	if (vn > UINT32_MAX ||
 	    !grow((void **)&scene->positions, &scene->position_capacity, vn * 3, sizeof(float)) ||
+	    !grow((void **)&scene->positions_f64, &scene->position_f64_capacity, vn * 3,
+	          sizeof(double)) ||
 	    !grow((void **)&scene->normals, &scene->normal_capacity, vn * 3, sizeof(float)) ||
 	    !grow((void **)&scene->indices, &scene->index_capacity, tn * 3, sizeof(uint32_t)) ||
 	    !grow((void **)&scene->triangle_materials, &scene->triangle_material_capacity, tn,
 	          sizeof(uint32_t)))
-		return scene_fail(scene, RS_ERR_NO_MEMORY, "out of memory adding %zu triangles",
-		                  mesh->triangle_count);
-	for (size_t i = 0; i < mesh->vertex_count; ++i)
-		memcpy(scene->positions + (v0 + i) * 3,
-		       strided(mesh->positions, mesh->position_stride, i), 3 * sizeof(float));
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding %zu triangles",
+		                    mesh->triangle_count);
+	for (size_t i = 0; i < mesh->vertex_count; ++i) {
+		double *p = scene->positions_f64 + (v0 + i) * 3;
+		mesh_position(mesh, i, p);
+		for (int a = 0; a < 3; ++a)
+			scene->positions[(v0 + i) * 3 + a] = (float)p[a];
+	}
 	for (size_t t = 0; t < mesh->triangle_count; ++t) {
 		const uint32_t *tri = strided_u32(mesh->indices, mesh->index_stride, t);
 		for (int k = 0; k < 3; ++k)
@@ -203,13 +220,13 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
 	                                            mesh->triangle_count, v0, mesh->vertex_count,
 	                                            scene->normals + v0 * 3)) {
 		/* Counts are not advanced yet, so the scene is unchanged. */
-		return scene_fail(scene, RS_ERR_NO_MEMORY, "out of memory computing normals");
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory computing normals");
 	}
 	scene->vertex_count = vn;
 	scene->triangle_count = tn;
 	for (size_t i = v0; i < vn; ++i)
 		for (int a = 0; a < 3; ++a) {
-			double p = scene->positions[i * 3 + a];
+			double p = scene->positions_f64[i * 3 + a];
 			if (i == 0) {
 				scene->bounds.lo[a] = scene->bounds.hi[a] = p;
 			} else {

@@ -5,15 +5,16 @@
 #include "raystream/rs_scene.h"
 
 struct rs_scene {
-	struct rs_error error;
 	size_t max_triangles;
 
 	float *positions;
+	double *positions_f64; /* the positions as given; packing subtracts the centre from these */
 	float *normals;
 	uint32_t *indices;
 	uint32_t *triangle_materials;
 	size_t vertex_count, triangle_count;
-	size_t position_capacity, normal_capacity, index_capacity, triangle_material_capacity;
+	size_t position_capacity, position_f64_capacity, normal_capacity, index_capacity,
+	    triangle_material_capacity;
 	struct rs_bounds bounds;
 
 	struct rs_material *materials;

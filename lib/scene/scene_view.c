@@ -59,28 +59,29 @@ enum rs_status rs_camera_check(const struct rs_camera *camera, struct rs_error *
 	return RS_OK;
 }
 
-enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera)
+enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera,
+                                   struct rs_error *err)
 {
 	RS_ASSERT(scene && camera);
-	enum rs_status status = rs_camera_check(camera, &scene->error);
+	enum rs_status status = rs_camera_check(camera, err);
 	if (status == RS_OK)
 		scene->camera = *camera;
 	return status;
 }
 
-enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light)
+enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light,
+                                  struct rs_error *err)
 {
 	RS_ASSERT(scene && light);
 	if (!finite_n(light->position, 3) || !finite_n(light->color, 3))
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "light has a non-finite value");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "light has a non-finite value");
 	if (light->color[0] < 0 || light->color[1] < 0 || light->color[2] < 0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "light colour is negative");
+		return rs_error_set(err, RS_ERR_BAD_DATA, "light colour is negative");
 	if (scene->light_count == scene->light_capacity) {
 		size_t cap = scene->light_capacity ? scene->light_capacity * 2 : 4;
 		struct rs_light *p = realloc(scene->lights, cap * sizeof *p);
 		if (!p)
-			return rs_error_set(&scene->error, RS_ERR_NO_MEMORY,
-			                    "out of memory adding a light");
+			return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding a light");
 		scene->lights = p;
 		scene->light_capacity = cap;
 	}
@@ -89,33 +90,33 @@ enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light 
 }
 
 enum rs_status rs_scene_set_environment(struct rs_scene *scene,
-                                        const struct rs_environment *environment)
+                                        const struct rs_environment *environment,
+                                        struct rs_error *err)
 {
 	RS_ASSERT(scene && environment);
 	const struct rs_environment *e = environment;
 	if (!finite_n(e->center, 3) || !isfinite(e->half_size) || e->half_size < 0.0 ||
 	    !isfinite(e->line_width) || !isfinite(e->line_scale) || e->line_width < 0.0f ||
 	    e->line_width > 1.0f || e->line_scale < 0.0f)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "environment has a non-finite or out-of-range value");
 	for (int f = 0; f < 6; ++f)
 		for (int c = 0; c < 3; ++c)
 			if (!isfinite(e->face_color[f][c]) || e->face_color[f][c] < 0.0f)
-				return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
+				return rs_error_set(err, RS_ERR_BAD_DATA,
 				                    "environment face %d colour is invalid", f);
 	if (e->grid > 4096)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA,
-		                    "environment grid %u is too fine", e->grid);
+		return rs_error_set(err, RS_ERR_BAD_DATA, "environment grid %u is too fine",
+		                    e->grid);
 	scene->environment = *e;
 	return RS_OK;
 }
 
-enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient)
+enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient, struct rs_error *err)
 {
 	RS_ASSERT(scene);
 	if (!isfinite(ambient) || ambient < 0.0)
-		return rs_error_set(&scene->error, RS_ERR_BAD_DATA, "ambient %g is invalid",
-		                    ambient);
+		return rs_error_set(err, RS_ERR_BAD_DATA, "ambient %g is invalid", ambient);
 	scene->ambient = ambient;
 	return RS_OK;
 }
@@ -131,6 +132,11 @@ size_t rs_scene_vertex_count(const struct rs_scene *s)
 const float *rs_scene_positions(const struct rs_scene *s)
 {
 	return s->positions;
+}
+
+const double *rs_scene_positions_f64(const struct rs_scene *s)
+{
+	return s->positions_f64;
 }
 const float *rs_scene_normals(const struct rs_scene *s)
 {

@@ -38,19 +38,24 @@ bad:
 	                    RS_SCENEGEN_MAX_COWS);
 }
 
-enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size)
+enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size,
+                                struct rs_error *err)
 {
 	int n;
 
-	if (desc == NULL || out == NULL || desc->cows > RS_SCENEGEN_MAX_COWS)
-		return RS_ERR_INVALID;
+	RS_ASSERT(desc && out);
+	if (desc->cows > RS_SCENEGEN_MAX_COWS)
+		return rs_error_set(err, RS_ERR_INVALID, "%u cows (at most %u)",
+		                    (unsigned)desc->cows, RS_SCENEGEN_MAX_COWS);
 	if (desc->kind == RS_SCENEGEN_BOX)
 		n = snprintf(out, size, "box");
 	else if (desc->kind == RS_SCENEGEN_COW)
 		n = snprintf(out, size, "cow%u", desc->cows == 0 ? 1u : (unsigned)desc->cows);
 	else
-		return RS_ERR_INVALID;
-	return n < 0 || (size_t)n >= size ? RS_ERR_LIMIT : RS_OK;
+		return rs_error_set(err, RS_ERR_INVALID, "unknown scene kind %d", (int)desc->kind);
+	if (n < 0 || (size_t)n >= size)
+		return rs_error_set(err, RS_ERR_LIMIT, "scene name longer than %zu bytes", size);
+	return RS_OK;
 }
 
 enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_scene **out,

@@ -119,7 +119,5 @@ enum rs_status sg_build_box(struct rs_scene *scene, struct rs_error *err)
 	}
 	if ((st = sg_set_environment(scene, err)) != RS_OK)
 		return st;
-	if ((st = rs_scene_set_ambient(scene, 0.1)) != RS_OK)
-		return rs_error_set(err, st, "%s", rs_scene_last_error(scene));
-	return RS_OK;
+	return rs_scene_set_ambient(scene, 0.1, err);
 }

@@ -66,9 +66,9 @@ static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *co
 	d.indices = rs_scene_indices(cow);
 	d.triangle_count = rs_scene_triangle_count(cow);
 	d.material = mat;
-	st = rs_scene_add_mesh(scene, &d);
+	st = rs_scene_add_mesh(scene, &d, err);
 	if (st != RS_OK)
-		return rs_error_set(err, st, "cow copy %u: %s", i, rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "cow copy %u", i);
 	return RS_OK;
 }
 
@@ -167,7 +167,5 @@ enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint3
 	}
 	if ((st = sg_set_environment(scene, err)) != RS_OK)
 		return st;
-	if ((st = rs_scene_set_ambient(scene, 0.1)) != RS_OK)
-		return rs_error_set(err, st, "%s", rs_scene_last_error(scene));
-	return RS_OK;
+	return rs_scene_set_ambient(scene, 0.1, err);
 }

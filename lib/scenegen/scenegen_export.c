@@ -168,7 +168,7 @@ static char *mtl_path_for(const char *obj_path, const char **out_base)
 	char *s = malloc(len);
 	const char *slash;
 
-	if (s == NULL || rs_load_sidecar_path(obj_path, s, len) != RS_OK) {
+	if (s == NULL || rs_load_sidecar_path(obj_path, s, len, NULL) != RS_OK) {
 		free(s);
 		return NULL;
 	}
@@ -194,7 +194,7 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 		return st;
 	mtl_path = mtl_path_for(obj_path, &mtl_base);
 	if (mtl_path == NULL) {
-		rs_load_free(view);
+		rs_free(view);
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "export: out of memory");
 	}
 	/* "scene.mtl" as the OBJ, or the OBJ's own name as the view file, would have one file
@@ -202,7 +202,7 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 	if (strcmp(mtl_path, obj_path) == 0 ||
 	    (view != NULL &&
 	     (strcmp(view_path, obj_path) == 0 || strcmp(view_path, mtl_path) == 0))) {
-		rs_load_free(view);
+		rs_free(view);
 		free(mtl_path);
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "export: %s: the OBJ, MTL and view files need distinct names",
@@ -230,7 +230,7 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 		enum rs_status c = out_commit(&o[i], st == RS_OK, err);
 		st = st == RS_OK ? c : st;
 	}
-	rs_load_free(view);
+	rs_free(view);
 	free(mtl_path);
 	return st;
 }

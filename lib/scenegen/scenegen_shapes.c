@@ -71,19 +71,19 @@ static enum rs_status flush(struct rs_scene *scene, const struct sg_mesh *m, uin
 	d.indices = &m->idx[0][0];
 	d.triangle_count = m->tris;
 	d.material = material;
-	st = rs_scene_add_mesh(scene, &d);
+	st = rs_scene_add_mesh(scene, &d, err);
 	if (st != RS_OK)
-		return rs_error_set(err, st, "scene generator: %s", rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "scene generator");
 	return RS_OK;
 }
 
 enum rs_status sg_material(struct rs_scene *scene, const struct rs_material *m, uint32_t *out_id,
                            struct rs_error *err)
 {
-	enum rs_status st = rs_scene_add_material(scene, m, out_id);
+	enum rs_status st = rs_scene_add_material(scene, m, out_id, err);
 
 	if (st != RS_OK)
-		return rs_error_set(err, st, "scene generator: %s", rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "scene generator");
 	return RS_OK;
 }
 
@@ -194,21 +194,19 @@ enum rs_status sg_frame_camera(struct rs_scene *scene, const struct rs_bounds *f
 	cam.fov_y_deg = 45.0;
 	cam.width = cam.height = 512;
 	rs_camera_frame(focus, 30.0, &cam);
-	st = rs_scene_set_camera(scene, &cam);
+	st = rs_scene_set_camera(scene, &cam, err);
 	if (st != RS_OK)
-		return rs_error_set(err, st, "scene generator: camera: %s",
-		                    rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "scene generator: camera");
 	return RS_OK;
 }
 
 enum rs_status sg_add_light(struct rs_scene *scene, const double pos[3], struct rs_error *err)
 {
 	struct rs_light l = {{pos[0], pos[1], pos[2]}, {1.0, 1.0, 1.0}};
-	enum rs_status st = rs_scene_add_light(scene, &l);
+	enum rs_status st = rs_scene_add_light(scene, &l, err);
 
 	if (st != RS_OK)
-		return rs_error_set(err, st, "scene generator: light: %s",
-		                    rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "scene generator: light");
 	return RS_OK;
 }
 
@@ -233,9 +231,8 @@ enum rs_status sg_set_environment(struct rs_scene *scene, struct rs_error *err)
 	env.half_size = 2.0 * extent; /* side 4x the largest extent */
 	memcpy(env.face_color, faces, sizeof(faces));
 	env.grid = 16;
-	st = rs_scene_set_environment(scene, &env);
+	st = rs_scene_set_environment(scene, &env, err);
 	if (st != RS_OK)
-		return rs_error_set(err, st, "scene generator: environment: %s",
-		                    rs_scene_last_error(scene));
+		return rs_error_prefix(err, st, "scene generator: environment");
 	return RS_OK;
 }

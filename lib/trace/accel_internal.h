@@ -15,8 +15,17 @@ struct rs__ray_pre {
 
 void rs__ray_prepare(const struct rs_ray *ray, struct rs__ray_pre *out);
 
+/* As rs_intersect_triangle() but accepting tmin < t <= tmax (closed at tmax, so that an
+ * equally distant triangle can still win the tie-break). */
 bool rs__intersect_triangle_pre(enum rs_triangle_test test, const double v0[3], const double v1[3],
                                 const double v2[3], const struct rs__ray_pre *pre, double *out_t,
                                 double *out_u, double *out_v);
+
+/* rs_trace_closest()/rs_trace_occluded() for a ray already in the packed frame (R1). */
+bool rs__trace_closest_local(const struct rs_packed *packed, enum rs_triangle_test test,
+                             const struct rs_ray *ray, struct rs_hit *out_hit,
+                             struct rs_trace_counters *counters);
+bool rs__trace_occluded_local(const struct rs_packed *packed, enum rs_triangle_test test,
+                              const struct rs_ray *ray, struct rs_trace_counters *counters);
 
 #endif

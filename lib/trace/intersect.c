@@ -9,9 +9,11 @@
 
 #include "accel_internal.h"
 
-/* Conservative widening of the far slab distance against rounding in (b - o) * inv
- * (Ize 2013, "Robust BVH ray traversal": 1 + 2 gamma_3 suffices; a little more is free). */
-#define BOX_FAR_SCALE (1.0 + 8.0 * 1.1102230246251565e-16)
+/* Both slab distances are widened outwards by K (docs/tracer.md R3). Ize 2013 ("Robust BVH
+ * ray traversal") shows 1 + 2 gamma_3 covers the rounding of (b - o) * inv; K = 16 ulps also
+ * covers the triangle test's rounding of t, so a flat box around a hit one ulp nearer than
+ * its computed near distance is still entered (the BVH must never change the result). */
+#define BOX_K 0x1p-49
 /* A ray this close to the triangle's plane (relative |d.n| / (|d| |n|), max norms) counts
  * as parallel: t would be dominated by rounding. ~1e-13 rad, far below any real grazing.
  * Moller-Trumbore scales it by |e1| |e2| instead of |n| (no extra cross product). */
@@ -36,9 +38,9 @@ bool rs_intersect_box(const float lo[3], const float hi[3], const double origin[
 		double t0 = ((double)lo[a] - origin[a]) * inv;
 		double t1 = ((double)hi[a] - origin[a]) * inv;
 		double near = inv >= 0.0 ? t0 : t1;
-		double far = (inv >= 0.0 ? t1 : t0) * BOX_FAR_SCALE;
-		if (far < 0.0)
-			far = (inv >= 0.0 ? t1 : t0) / BOX_FAR_SCALE;
+		double far = inv >= 0.0 ? t1 : t0;
+		near *= near > 0.0 ? 1.0 - BOX_K : 1.0 + BOX_K;
+		far *= far > 0.0 ? 1.0 + BOX_K : 1.0 - BOX_K;
 		tn = near > tn ? near : tn;
 		tf = far < tf ? far : tf;
 		if (tn > tf)
@@ -139,7 +141,7 @@ static bool moller_trumbore(const double v0[3], const double v1[3], const double
 		return false;
 	double inv = 1.0 / det;
 	double t = dot3(e2, q) * inv;
-	if (!(t > ray->tmin && t < ray->tmax))
+	if (!(t > ray->tmin && t <= ray->tmax))
 		return false;
 	*out_t = t;
 	*out_u = un * sign * inv;
@@ -176,7 +178,7 @@ static bool watertight(const double v0[3], const double v1[3], const double v2[3
 		return false;
 	double sz = pre->sz;
 	double t = (u * sz * a[kz] + v * sz * b[kz] + w * sz * c[kz]) / det;
-	if (!(t > ray->tmin && t < ray->tmax))
+	if (!(t > ray->tmin && t <= ray->tmax))
 		return false;
 	*out_t = t;
 	*out_u = v / det;
@@ -199,5 +201,12 @@ bool rs_intersect_triangle(enum rs_triangle_test test, const double v0[3], const
 {
 	struct rs__ray_pre pre;
 	rs__ray_prepare(ray, &pre);
-	return rs__intersect_triangle_pre(test, v0, v1, v2, &pre, out_t, out_u, out_v);
+	double t, u, v;
+	/* the traversal's form accepts t == tmax (for the tie-break); this one keeps it open */
+	if (!rs__intersect_triangle_pre(test, v0, v1, v2, &pre, &t, &u, &v) || !(t < ray->tmax))
+		return false;
+	*out_t = t;
+	*out_u = u;
+	*out_v = v;
+	return true;
 }

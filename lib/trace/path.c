@@ -3,6 +3,7 @@
  * ray). colour += throughput * local; throughput *= weight of the chosen continuation. */
 #include <string.h>
 
+#include "accel_internal.h"
 #include "render_internal.h"
 
 void rs_trace_path_run(const struct rs_trace_frame *frame, const struct rs_ray *primary,
@@ -20,6 +21,8 @@ void rs_trace_path_run(const struct rs_trace_frame *frame, const struct rs_ray *
 		             rs_trace_frame_closest(frame, &ray, &hit, &out->counters);
 		out->segments++;
 		struct rs_trace_segment seg = {.ray = ray, .throughput = throughput};
+		for (int a = 0; a < 3; ++a)
+			seg.ray.origin[a] += frame->origin[a]; /* reported in world coordinates */
 		if (!found) {
 			/* state -1; the environment kernel resolves it at once to -2 */
 			double env[3];

@@ -55,16 +55,13 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	out->intersector = desc->intersector;
 	rs_scene_environment(scene, &out->env);
 
-	/* The offset scales with the scene so that scaled copies of a scene render alike. */
-	struct rs_bounds b;
-	rs_scene_bounds(scene, &b);
-	double extent = 0.0;
-	for (int a = 0; a < 3; ++a)
-		if (b.hi[a] >= b.lo[a])
-			extent = fmax(extent, b.hi[a] - b.lo[a]);
-	if (!(extent > 0.0) || !isfinite(extent))
-		extent = 1.0;
-	out->offset = (desc->ray_epsilon > 0.0 ? desc->ray_epsilon : 1e-6) * extent;
+	/* R5: the offset scales with the hit triangle's coordinates in the packed frame. */
+	out->spawn_scale = desc->ray_epsilon > 0.0 ? desc->ray_epsilon : RS_TRACE_SPAWN_SCALE;
+	/* R1: everything is traced in the packed frame. */
+	for (int a = 0; a < 3; ++a) {
+		out->origin[a] = packed->origin[a];
+		out->env.center[a] -= packed->origin[a];
+	}
 	return RS_OK;
 }
 
@@ -89,6 +86,8 @@ enum rs_status rs_trace_ray_path(const struct rs_scene *scene, const struct rs_p
 		return rs_error_set(err, RS_ERR_INVALID, "trace: ray direction is zero");
 	if (!(ray.tmax > ray.tmin) || isnan(ray.tmin))
 		return rs_error_set(err, RS_ERR_INVALID, "trace: ray interval is empty");
+	for (int a = 0; a < 3; ++a)
+		ray.origin[a] -= frame.origin[a];
 	rs_trace_path_run(&frame, &ray, out_path, out_segments);
 	return RS_OK;
 }
@@ -128,6 +127,8 @@ enum rs_status rs_trace_render(const struct rs_scene *scene, const struct rs_pac
 			struct rs_ray ray;
 			struct rs_trace_path path;
 			rs_trace_camera_ray(&cam, width, height, x + 0.5, y + 0.5, &ray);
+			for (int a = 0; a < 3; ++a)
+				ray.origin[a] -= frame.origin[a];
 			rs_trace_path_run(&frame, &ray, &path, NULL);
 			size_t i = (size_t)y * width + x;
 			if (out_rgb)

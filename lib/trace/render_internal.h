@@ -5,6 +5,7 @@
 
 #include <math.h>
 
+#include "accel_internal.h"
 #include "raystream/rs_trace.h"
 
 #define RS_TRACE_PI 3.14159265358979323846
@@ -53,9 +54,10 @@ struct rs_trace_frame {
 	uint32_t light_count;
 	const struct rs_light *lights;
 	double ambient;
-	double offset;     /* absolute self-hit offset: ray_epsilon * scene extent */
-	bool has_geometry; /* false: every ray misses (empty scene) */
-	struct rs_environment env;
+	double spawn_scale;        /* R5's S: offset relative to the hit triangle's magnitude */
+	double origin[3];          /* the packed frame's origin (R1): lights are moved by it */
+	bool has_geometry;         /* false: every ray misses (empty scene) */
+	struct rs_environment env; /* centre already in the packed frame */
 	const struct rs_trace_intersector *intersector; /* NULL: walk packed's BVH */
 };
 
@@ -66,7 +68,7 @@ static inline bool rs_trace_frame_closest(const struct rs_trace_frame *frame,
 {
 	if (frame->intersector)
 		return frame->intersector->closest(frame->intersector->user, ray, hit);
-	return rs_trace_closest(frame->packed, frame->test, ray, hit, counters);
+	return rs__trace_closest_local(frame->packed, frame->test, ray, hit, counters);
 }
 
 static inline bool rs_trace_frame_occluded(const struct rs_trace_frame *frame,
@@ -75,23 +77,25 @@ static inline bool rs_trace_frame_occluded(const struct rs_trace_frame *frame,
 {
 	if (frame->intersector)
 		return frame->intersector->occluded(frame->intersector->user, ray);
-	return rs_trace_occluded(frame->packed, frame->test, ray, counters);
+	return rs__trace_occluded_local(frame->packed, frame->test, ray, counters);
 }
 
 enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs_packed *packed,
                                    const struct rs_trace_desc *desc, struct rs_trace_frame *out,
                                    struct rs_error *err);
 
-/* One path: the pass loop. primary->dir must be unit length. segments may be NULL. */
+/* One path: the pass loop. primary: packed frame, unit dir. segments may be NULL (their rays
+ * are reported in world coordinates). */
 void rs_trace_path_run(const struct rs_trace_frame *frame, const struct rs_ray *primary,
                        struct rs_trace_path *out, struct rs_trace_segment *segments);
 
 /* Surface data at a hit, read from the packed textures. */
 struct rs_surface {
-	double point[3];
-	double ng[3]; /* unit geometric normal facing the incoming ray */
-	double n[3];  /* unit shading normal, on ng's side */
-	int entering; /* dir . (v1-v0)x(v2-v0) < 0: the ray enters the closed mesh */
+	double point[3]; /* R5's P: from the barycentrics, pulled into the triangle */
+	double delta;    /* R5's offset for rays leaving here */
+	double ng[3];    /* unit geometric normal facing the incoming ray */
+	double n[3];     /* unit shading normal, on ng's side */
+	int entering;    /* dir . (v1-v0)x(v2-v0) < 0: the ray enters the closed mesh */
 	float diffuse[3];
 	float specular, shininess, reflectance, transmittance, ior;
 	uint32_t flags;
@@ -110,8 +114,9 @@ enum rs_ray_state rs_trace_next_ray(const struct rs_trace_frame *frame, const st
                                     const struct rs_hit *hit, const struct rs_surface *s,
                                     struct rs_ray *next, double *out_weight);
 
-/* Ray leaving a surface point along unit dir: offset to dir's side of ng, skip the slot. */
-void rs_trace_spawn(const struct rs_trace_frame *frame, const double point[3], const double ng[3],
-                    const double dir[3], uint32_t slot, struct rs_ray *out);
+/* Ray leaving the surface along unit dir (docs/tracer.md R5): from s->point, delta to dir's
+ * side of ng, skipping the slot. */
+void rs_trace_spawn(const struct rs_surface *s, const double dir[3], uint32_t slot,
+                    struct rs_ray *out);
 
 #endif

@@ -3,6 +3,7 @@
  * self-hit rule for rays leaving a surface. */
 #include <string.h>
 
+#include "accel_internal.h"
 #include "render_internal.h"
 
 static void texel3(const float *t, double out[3])
@@ -12,18 +13,60 @@ static void texel3(const float *t, double out[3])
 	out[2] = t[2];
 }
 
-void rs_trace_spawn(const struct rs_trace_frame *frame, const double point[3], const double ng[3],
-                    const double dir[3], uint32_t slot, struct rs_ray *out)
+void rs_trace_spawn(const struct rs_surface *s, const double dir[3], uint32_t slot,
+                    struct rs_ray *out)
 {
-	/* Leave on the side the ray goes to: off the plane by the offset, and never the same
-	 * triangle again (a plane cannot be re-hit by a ray starting on it anyway). */
-	double side = rs_v3_dot(dir, ng) >= 0.0 ? frame->offset : -frame->offset;
-	rs_v3_madd(point, side, ng, out->origin);
+	/* Off the own plane to the side the ray leaves on; the pull in rs_trace_surface()
+	 * already keeps the point off the neighbours' planes. The skip slot is exact and free:
+	 * a ray leaving a flat triangle can never hit it again. */
+	double side = rs_v3_dot(dir, s->ng) >= 0.0 ? s->delta : -s->delta;
+	rs_v3_madd(s->point, side, s->ng, out->origin);
 	for (int a = 0; a < 3; ++a)
 		out->dir[a] = dir[a];
 	out->tmin = 0.0;
 	out->tmax = INFINITY;
 	out->skip_slot = slot;
+}
+
+static double maxabs9(const double v0[3], const double v1[3], const double v2[3])
+{
+	double m = 0.0;
+	for (int a = 0; a < 3; ++a)
+		m = fmax(m, fmax(fabs(v0[a]), fmax(fabs(v1[a]), fabs(v2[a]))));
+	return m;
+}
+
+static double dist3(const double a[3], const double b[3])
+{
+	double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+	return sqrt(rs_v3_dot(d, d));
+}
+
+/* docs/tracer.md R5: the hit point from the barycentrics, pulled at least ~4 delta away from
+ * every edge (small triangles: to the centroid), so that it lies inside the triangle by
+ * more than rounding and thus in front of every neighbour's plane at a concave edge. */
+static void spawn_point(const double v0[3], const double v1[3], const double v2[3], double u,
+                        double v, double scale, struct rs_surface *out)
+{
+	double e1[3], e2[3], c[3];
+	for (int a = 0; a < 3; ++a) {
+		e1[a] = v1[a] - v0[a];
+		e2[a] = v2[a] - v0[a];
+	}
+	rs_v3_cross(e1, e2, c);
+	double a2 = sqrt(rs_v3_dot(c, c));
+	double delta = scale * fmax(maxabs9(v0, v1, v2), 0x1p-64);
+	double edge[3] = {dist3(v2, v1), dist3(v0, v2), dist3(v1, v0)};
+	double b[3] = {1.0 - u - v, u, v}, sum = 0.0;
+	for (int i = 0; i < 3; ++i) {
+		double h = edge[i] > 0.0 ? a2 / edge[i] : 0.0;
+		double floor_i = h > 12.0 * delta ? 4.0 * delta / h : 1.0 / 3.0;
+		b[i] = fmax(b[i], floor_i);
+		sum += b[i];
+	}
+	for (int a = 0; a < 3; ++a)
+		out->point[a] = v0[a] + (b[1] / sum) * e1[a] + (b[2] / sum) * e2[a];
+	out->delta = delta;
 }
 
 void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *ray,
@@ -36,7 +79,7 @@ void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *r
 	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 2), v2);
 	float material_f = rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 1)[3];
 
-	rs_v3_madd(ray->origin, hit->t, ray->dir, out->point);
+	spawn_point(v0, v1, v2, hit->u, hit->v, frame->spawn_scale, out);
 	for (int a = 0; a < 3; ++a) {
 		e1[a] = v1[a] - v0[a];
 		e2[a] = v2[a] - v0[a];
@@ -96,8 +139,10 @@ void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray
 
 	for (uint32_t i = 0; i < frame->light_count; ++i) {
 		const struct rs_light *light = &frame->lights[i];
-		double l[3] = {light->position[0] - s->point[0], light->position[1] - s->point[1],
-		               light->position[2] - s->point[2]};
+		double lp[3]; /* the light in the packed frame (R1) */
+		for (int a = 0; a < 3; ++a)
+			lp[a] = light->position[a] - frame->origin[a];
+		double l[3] = {lp[0] - s->point[0], lp[1] - s->point[1], lp[2] - s->point[2]};
 		if (rs_v3_normalize(l) == 0.0)
 			continue;
 		/* A light behind the surface (geometrically, or for the Phong normal) adds
@@ -106,9 +151,9 @@ void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray
 		if (rs_v3_dot(s->ng, l) <= 0.0 || n_dot_l <= 0.0)
 			continue;
 		struct rs_ray feeler;
-		rs_trace_spawn(frame, s->point, s->ng, l, hit->slot, &feeler);
+		rs_trace_spawn(s, l, hit->slot, &feeler);
 		for (int a = 0; a < 3; ++a)
-			feeler.dir[a] = light->position[a] - feeler.origin[a];
+			feeler.dir[a] = lp[a] - feeler.origin[a];
 		feeler.tmax = rs_v3_normalize(feeler.dir);
 		if (feeler.tmax == 0.0)
 			continue;

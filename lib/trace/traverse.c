@@ -38,27 +38,58 @@ static void load_triangle(const struct rs_packed *packed, uint32_t slot, double 
 	*out_id = to_index(t[3]);
 }
 
-/* One walk for both queries: `any` stops at the first hit. */
+/* The closest-hit rule (docs/tracer.md R4): nearer wins; on exactly equal t the lower scene
+ * triangle id wins, so the answer does not depend on the order the BVH visits triangles.
+ * The triangle tests accept t == r->tmax, which is the current best t once one is found. */
+static bool better(bool found, double t, uint32_t id, const struct rs_ray *r, uint32_t best_id)
+{
+	return !found || t < r->tmax || id < best_id;
+}
+
+static void record(struct rs_hit *out_hit, double t, double u, double v, uint32_t slot, uint32_t id)
+{
+	if (out_hit) {
+		out_hit->t = t;
+		out_hit->u = u;
+		out_hit->v = v;
+		out_hit->slot = slot;
+		out_hit->triangle = id;
+	}
+}
+
+static void clear(struct rs_hit *out_hit)
+{
+	record(out_hit, INFINITY, 0.0, 0.0, RS_NO_SLOT, RS_NO_SLOT);
+}
+
+/* The user's tmax is exclusive; the tests' closed bound is moved one ulp in to keep it so. */
+static void local_copy(const struct rs_ray *ray, const double *origin, struct rs_ray *out)
+{
+	*out = *ray;
+	if (origin)
+		for (int a = 0; a < 3; a++)
+			out->origin[a] = ray->origin[a] - origin[a];
+	out->tmax = nextafter(ray->tmax, -INFINITY);
+}
+
+/* One walk for both queries: `any` stops at the first hit. The ray is in the packed frame. */
 static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
                      const struct rs_ray *ray, bool any, struct rs_hit *out_hit,
                      struct rs_trace_counters *counters)
 {
-	if (out_hit) {
-		out_hit->t = INFINITY;
-		out_hit->u = out_hit->v = 0.0;
-		out_hit->slot = RS_NO_SLOT;
-		out_hit->triangle = RS_NO_SLOT;
-	}
+	clear(out_hit);
 	if (!packed || !ray_usable(ray))
 		return false;
 	double inv[3];
 	for (int a = 0; a < 3; a++)
 		inv[a] = 1.0 / ray->dir[a]; /* IEEE: 1/+-0 = +-inf, handled by the slab test */
-	struct rs_ray r = *ray;
+	struct rs_ray r;
+	local_copy(ray, NULL, &r);
 	struct rs__ray_pre pre;
 	rs__ray_prepare(&r, &pre);
 	uint64_t boxes = 0, tris = 0;
 	bool found = false;
+	uint32_t best_id = RS_NO_SLOT;
 	uint32_t n = packed->node_count;
 	uint32_t i = 0;
 	while (i < n) {
@@ -87,16 +118,12 @@ static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
 			uint32_t id;
 			load_triangle(packed, slot, v, &id);
 			tris++;
-			if (!rs__intersect_triangle_pre(test, v[0], v[1], v[2], &pre, &t, &u, &w))
+			if (!rs__intersect_triangle_pre(test, v[0], v[1], v[2], &pre, &t, &u, &w) ||
+			    !better(found, t, id, &r, best_id))
 				continue;
 			found = true;
-			if (out_hit) {
-				out_hit->t = t;
-				out_hit->u = u;
-				out_hit->v = w;
-				out_hit->slot = slot;
-				out_hit->triangle = id;
-			}
+			best_id = id;
+			record(out_hit, t, u, w, slot, id);
 			if (any)
 				goto done;
 			r.tmax = t;
@@ -111,51 +138,71 @@ done:
 	return found;
 }
 
+bool rs__trace_closest_local(const struct rs_packed *packed, enum rs_triangle_test test,
+                             const struct rs_ray *ray, struct rs_hit *out_hit,
+                             struct rs_trace_counters *counters)
+{
+	return traverse(packed, test, ray, false, out_hit, counters);
+}
+
+bool rs__trace_occluded_local(const struct rs_packed *packed, enum rs_triangle_test test,
+                              const struct rs_ray *ray, struct rs_trace_counters *counters)
+{
+	return traverse(packed, test, ray, true, NULL, counters);
+}
+
+/* World ray -> packed frame (docs/tracer.md R1); a non-finite ray stays non-finite. */
+static void to_packed_frame(const struct rs_packed *packed, const struct rs_ray *ray,
+                            struct rs_ray *out)
+{
+	*out = *ray;
+	if (packed)
+		for (int a = 0; a < 3; a++)
+			out->origin[a] = ray->origin[a] - packed->origin[a];
+}
+
 bool rs_trace_closest(const struct rs_packed *packed, enum rs_triangle_test test,
                       const struct rs_ray *ray, struct rs_hit *out_hit,
                       struct rs_trace_counters *counters)
 {
-	return traverse(packed, test, ray, false, out_hit, counters);
+	struct rs_ray r;
+	to_packed_frame(packed, ray, &r);
+	return traverse(packed, test, &r, false, out_hit, counters);
 }
 
 bool rs_trace_occluded(const struct rs_packed *packed, enum rs_triangle_test test,
                        const struct rs_ray *ray, struct rs_trace_counters *counters)
 {
-	return traverse(packed, test, ray, true, NULL, counters);
+	struct rs_ray r;
+	to_packed_frame(packed, ray, &r);
+	return traverse(packed, test, &r, true, NULL, counters);
 }
 
 bool rs_trace_closest_brute(const struct rs_packed *packed, enum rs_triangle_test test,
                             const struct rs_ray *ray, struct rs_hit *out_hit)
 {
-	if (out_hit) {
-		out_hit->t = INFINITY;
-		out_hit->u = out_hit->v = 0.0;
-		out_hit->slot = RS_NO_SLOT;
-		out_hit->triangle = RS_NO_SLOT;
-	}
+	clear(out_hit);
 	if (!packed || !ray_usable(ray))
 		return false;
-	struct rs_ray r = *ray;
+	struct rs_ray r;
+	local_copy(ray, packed->origin, &r);
 	struct rs__ray_pre pre;
 	rs__ray_prepare(&r, &pre);
 	bool found = false;
+	uint32_t best_id = RS_NO_SLOT;
 	for (uint32_t slot = 0; slot < packed->triangle_count; slot++) {
 		if (slot == r.skip_slot)
 			continue;
 		double v[3][3], t, u, w;
 		uint32_t id;
 		load_triangle(packed, slot, v, &id);
-		if (!rs__intersect_triangle_pre(test, v[0], v[1], v[2], &pre, &t, &u, &w))
+		if (!rs__intersect_triangle_pre(test, v[0], v[1], v[2], &pre, &t, &u, &w) ||
+		    !better(found, t, id, &r, best_id))
 			continue;
 		found = true;
+		best_id = id;
 		r.tmax = t;
-		if (out_hit) {
-			out_hit->t = t;
-			out_hit->u = u;
-			out_hit->v = w;
-			out_hit->slot = slot;
-			out_hit->triangle = id;
-		}
+		record(out_hit, t, u, w, slot, id);
 	}
 	return found;
 }

@@ -278,16 +278,16 @@ static int process(struct rs_proto_parser *p, struct rs_marker_sample *out)
 	}
 }
 
-int rs_proto_parser_feed(struct rs_proto_parser *parser, const uint8_t **data, size_t *len,
-                         struct rs_marker_sample *out_sample)
+bool rs_proto_parser_feed(struct rs_proto_parser *parser, const uint8_t **data, size_t *len,
+                          struct rs_marker_sample *out_sample)
 {
 	RS_ASSERT(parser && data && len && out_sample);
 	RS_ASSERT(*len == 0 || *data);
 	for (;;) {
 		if (process(parser, out_sample))
-			return 1;
+			return true;
 		if (*len == 0)
-			return 0;
+			return false;
 		/* process() returned for lack of bytes, so the buffer has room. */
 		size_t room = sizeof parser->buf - parser->len;
 		size_t n = *len < room ? *len : room;

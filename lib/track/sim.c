@@ -163,13 +163,14 @@ static void integrate(struct rs_sim *s, double t0, double dt)
 	}
 }
 
-enum rs_status rs_sim_next(struct rs_sim *s, struct rs_marker_sample *out, struct rs_pose *truth)
+enum rs_status rs_sim_next(struct rs_sim *s, struct rs_marker_sample *out, struct rs_pose *truth,
+                           struct rs_error *err)
 {
 	RS_ASSERT(s && out);
 	double dt = 1.0 / s->desc.rate_hz;
 	double t = (double)s->k * dt;
 	if (s->desc.duration_s > 0 && t >= s->desc.duration_s)
-		return RS_END;
+		return rs_error_set(err, RS_END, "simulation ended after %g s", s->desc.duration_s);
 	if (s->k > 0)
 		integrate(s, t - dt, dt);
 

@@ -38,7 +38,7 @@ static enum rs_status sim_read(void *impl, struct rs_marker_sample *out, int tim
 	struct sim_source *s = impl;
 	if (!s->have_pending) {
 		struct rs_marker_sample raw;
-		enum rs_status st = rs_sim_next(s->sim, &raw, NULL);
+		enum rs_status st = rs_sim_next(s->sim, &raw, NULL, NULL);
 		if (st == RS_END)
 			return rs_error_set(err, RS_END, "sim: end of the simulated run");
 		if (st != RS_OK)

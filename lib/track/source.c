@@ -40,13 +40,24 @@ enum rs_status rs_track_source_create(const struct rs_track_source_ops *ops, voi
 	return RS_OK;
 }
 
+/* The source keeps its last error; the caller's record (if any) gets a copy. */
+static enum rs_status report(const struct rs_track_source *s, enum rs_status st,
+                             struct rs_error *err)
+{
+	if (err && st != RS_OK && st != RS_TIMEOUT)
+		*err = s->err;
+	return st;
+}
+
 enum rs_status rs_track_source_read(struct rs_track_source *s, struct rs_marker_sample *out,
-                                    int timeout_ms)
+                                    int timeout_ms, struct rs_error *err)
 {
 	RS_ASSERT(s && out);
 	if (s->disconnected)
-		return rs_error_set(&s->err, RS_ERR_DISCONNECTED,
-		                    "track: device disconnected; reopen the source");
+		return report(s,
+		              rs_error_set(&s->err, RS_ERR_DISCONNECTED,
+		                           "track: device disconnected; reopen the source"),
+		              err);
 	enum rs_status st = s->ops->read(s->impl, out, timeout_ms, &s->err);
 	if (st == RS_OK) {
 		s->samples++;
@@ -54,22 +65,24 @@ enum rs_status rs_track_source_read(struct rs_track_source *s, struct rs_marker_
 		s->disconnected = 1;
 		s->disconnects++;
 	}
-	return st;
+	return report(s, st, err);
 }
 
-enum rs_status rs_track_source_reopen(struct rs_track_source *s)
+enum rs_status rs_track_source_reopen(struct rs_track_source *s, struct rs_error *err)
 {
 	RS_ASSERT(s);
 	if (!s->ops->reopen)
-		return rs_error_set(&s->err, RS_ERR_UNSUPPORTED,
-		                    "track: source cannot be reopened");
+		return report(
+		    s,
+		    rs_error_set(&s->err, RS_ERR_UNSUPPORTED, "track: source cannot be reopened"),
+		    err);
 	enum rs_status st = s->ops->reopen(s->impl, &s->err);
 	if (st == RS_OK) {
 		s->disconnected = 0;
 		s->reopens++;
 		rs_error_clear(&s->err);
 	}
-	return st;
+	return report(s, st, err);
 }
 
 void rs_track_source_get_stats(const struct rs_track_source *s, struct rs_track_source_stats *out)

@@ -22,19 +22,19 @@ static int hex16(const char *s, size_t n, uint16_t *out)
 	return 1;
 }
 
-int rs_track_parse_vid_pid(const char *text, uint16_t *out_vid, uint16_t *out_pid,
-                           const char **out_tail)
+enum rs_status rs_track_parse_vid_pid(const char *text, uint16_t *out_vid, uint16_t *out_pid,
+                                      const char **out_tail, struct rs_error *err)
 {
+	RS_ASSERT(text && out_vid && out_pid && out_tail);
 	size_t a = strcspn(text, ":");
-	if (text[a] != ':')
-		return 0;
 	const char *pid = text + a + 1;
-	size_t b = strcspn(pid, ":");
+	size_t b = text[a] == ':' ? strcspn(pid, ":") : 0;
 	uint16_t vid_value, pid_value;
-	if (!hex16(text, a, &vid_value) || !hex16(pid, b, &pid_value))
-		return 0;
+	if (text[a] != ':' || !hex16(text, a, &vid_value) || !hex16(pid, b, &pid_value))
+		return rs_error_set(err, RS_ERR_PARSE, "expected VID:PID in hex, got '%.60s'",
+		                    text);
 	*out_vid = vid_value;
 	*out_pid = pid_value;
 	*out_tail = pid + b;
-	return 1;
+	return RS_OK;
 }

@@ -22,8 +22,8 @@ int main(void)
 	    .positions = pos, .vertex_count = 3, .indices = idx, .triangle_count = 1};
 	struct rs_light light = {.position = {0, 0, 5}, .color = {1, 1, 1}};
 	struct rs_camera cam = {.eye = {0, 0, 5}, .up = {0, 1, 0}, .width = 8, .height = 8};
-	if (rs_scene_add_material(scene, &m, &id) || rs_scene_add_mesh(scene, &mesh) ||
-	    rs_scene_add_light(scene, &light) || rs_scene_set_camera(scene, &cam))
+	if (rs_scene_add_material(scene, &m, &id, NULL) || rs_scene_add_mesh(scene, &mesh, NULL) ||
+	    rs_scene_add_light(scene, &light, NULL) || rs_scene_set_camera(scene, &cam, NULL))
 		return 2;
 	struct rs_bvh_node nodes[8];
 	uint32_t order[1];

@@ -174,7 +174,7 @@ static int bench_filter(long iters, int runs, double *out_median)
 		for (long i = 0; i < iters; ++i) {
 			struct rs_pose in = pool[i % POOL], out;
 			in.time_s = 0.001 * (double)i;
-			rs_pose_filter_update(f, &in, &out);
+			rs_pose_filter_update(f, &in, &out, NULL);
 			sink += out.position[0];
 		}
 		rates[run] = (double)iters / (now_s() - t0);

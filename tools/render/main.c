@@ -27,12 +27,12 @@ static void usage(FILE *to)
 	fputs("usage: raystream-render --scene box|cow1|cow2|cow5|cow9|cow17|cowN|FILE\n"
 	      "         [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah] [--passes N]\n"
 	      "         [--lights N] [--size WxH] [--out FILE.png] [--stats FILE.json]\n"
-	      "         [--depth FILE.pfm] [--triangle-test mt|watertight] [--threads N]\n"
+	      "         [--depth FILE.pfm] [--triangle-test watertight|mt] [--threads N]\n"
 	      "         [--primary trace|raster] [--shadows rays|map[:RESOLUTION[:FILTER]]]\n"
 	      "Renders with the chosen backend (default cpu, the double-precision reference).\n"
-	      "FILE is an OBJ or PLY mesh;\n"
-	      "a FILE.json beside it (from raystream-scene) sets camera, lights and environment.\n"
-	      "--lights defaults to 1 (0 for a scene without lights).\n",
+	      "FILE is an OBJ or PLY mesh; a FILE.json beside it (from raystream-scene) sets\n"
+	      "camera, lights and environment. --triangle-test defaults to watertight; mt is the\n"
+	      "paper's Moller-Trumbore. --lights defaults to 1 (0 for a scene without lights).\n",
 	      to);
 }
 
@@ -97,7 +97,7 @@ static int parse_args(int argc, char **argv, struct options *o)
 		else if (!strcmp(a, "--depth"))
 			o->depth = v;
 		else if (!strcmp(a, "--bvh")) {
-			if (rs_bvh_builder_parse(v, &o->builder) != RS_OK)
+			if (rs_bvh_builder_parse(v, &o->builder, NULL) != RS_OK)
 				return fail_usage("unknown BVH builder '%s'", v);
 		} else if (!strcmp(a, "--passes")) {
 			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))

@@ -128,7 +128,8 @@ int main(int argc, char **argv)
 	}
 	if (out_obj != NULL) {
 		if (out_view == NULL) {
-			if (rs_load_sidecar_path(out_obj, view_buf, sizeof(view_buf)) != RS_OK) {
+			if (rs_load_sidecar_path(out_obj, view_buf, sizeof(view_buf), NULL) !=
+			    RS_OK) {
 				fprintf(stderr, "raystream-scene: path too long: %s\n", out_obj);
 				rs_scene_destroy(&scene);
 				return 1;

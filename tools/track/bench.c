@@ -70,7 +70,7 @@ static int parser_benchmarks(void)
 	size_t off = 0;
 	for (size_t i = 0; i < FRAMES; i++) {
 		struct rs_marker_sample s;
-		rs_sim_next(sim, &s, NULL);
+		rs_sim_next(sim, &s, NULL, NULL);
 		rs_proto_encode(&s, clean + i * RS_PROTO_FRAME_SIZE, NULL);
 		/* Noisy stream: each frame preceded by as many random bytes (50 % garbage). */
 		for (size_t k = 0; k < RS_PROTO_FRAME_SIZE; k++) {
@@ -116,11 +116,11 @@ static int latency_benchmark(int samples, const struct rs_pose_layout *layout)
 	for (int i = 0; i < samples; i++) {
 		struct rs_marker_sample s, got;
 		uint8_t frame[RS_PROTO_FRAME_SIZE];
-		rs_sim_next(sim, &s, NULL);
+		rs_sim_next(sim, &s, NULL, NULL);
 		rs_proto_encode(&s, frame, NULL);
 		double t0 = rs_track_now_s();
 		if (rs_serial_pty_write(pty, frame, sizeof frame, &err) != RS_OK ||
-		    rs_track_source_read(src, &got, 1000) != RS_OK) {
+		    rs_track_source_read(src, &got, 1000, NULL) != RS_OK) {
 			fprintf(stderr, "raystream-track: bench: sample %d lost: %s\n", i,
 			        rs_track_source_last_error(src));
 			goto out;
@@ -206,7 +206,7 @@ static int paced_latency(int samples, double rate_hz)
 		goto out;
 	while (n < samples) {
 		struct rs_marker_sample s;
-		if (rs_track_source_read(src, &s, 2000) != RS_OK)
+		if (rs_track_source_read(src, &s, 2000, NULL) != RS_OK)
 			break;
 		double now = rs_track_now_s(), written = (double)s.device_time_us * 1e-6;
 		arrive[n] = s.host_time_s - written;

@@ -247,7 +247,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 			next_stats = now + o->stats_every_s;
 		}
 		struct rs_marker_sample s;
-		enum rs_status st = rs_track_source_read(src, &s, 100);
+		enum rs_status st = rs_track_source_read(src, &s, 100, NULL);
 		if (st == RS_TIMEOUT) {
 			if (rs_track_now_s() - last_sample > o->timeout_s) {
 				fprintf(stderr, TOOL ": no sample for %g s from '%s'\n",
@@ -265,7 +265,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 			/* --duration still ends the run while the device stays away. */
 			while (!stop_requested &&
 			       !(o->duration_s > 0 && rs_track_now_s() - start >= o->duration_s) &&
-			       (rs = rs_track_source_reopen(src)) != RS_OK) {
+			       (rs = rs_track_source_reopen(src, NULL)) != RS_OK) {
 				/* Absent or busy devices come back; a source that cannot be
 				 * reopened at all never will. */
 				if (rs == RS_ERR_UNSUPPORTED || rs == RS_ERR_INVALID ||
@@ -296,10 +296,10 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 		struct rs_pose_quality q;
 		rs_pose_solver_update(solver, &s, &pose, &q);
 		if (filter && q.status != RS_POSE_NONE) {
-			rs_pose_filter_update(filter, &pose, &pose);
+			rs_pose_filter_update(filter, &pose, &pose, NULL);
 			if (o->predict_ms > 0)
 				rs_pose_filter_predict(filter, pose.time_s + o->predict_ms * 1e-3,
-				                       &pose);
+				                       &pose, NULL);
 		}
 		if (!o->quiet)
 			print_pose(&s, &pose, &q);

@@ -26,7 +26,7 @@ int track_serve_pty(struct rs_track_source *src, long long count, double duratio
 	while (!*stop && (!count || n < count) &&
 	       !(duration_s > 0 && rs_track_now_s() - start >= duration_s)) {
 		struct rs_marker_sample s;
-		enum rs_status st = rs_track_source_read(src, &s, 100);
+		enum rs_status st = rs_track_source_read(src, &s, 100, NULL);
 		if (st == RS_TIMEOUT)
 			continue;
 		if (st == RS_END)

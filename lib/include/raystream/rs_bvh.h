@@ -64,7 +64,8 @@ void rs_bvh_desc_resolve(const struct rs_bvh_desc *desc, struct rs_bvh_desc *out
 /** Short builder name ("sah", "none", "linear", "paper"). */
 const char *rs_bvh_builder_name(enum rs_bvh_builder builder);
 /** Parse a builder name; RS_ERR_INVALID if unknown. */
-enum rs_status rs_bvh_builder_parse(const char *name, enum rs_bvh_builder *out);
+enum rs_status rs_bvh_builder_parse(const char *name, enum rs_bvh_builder *out,
+                                    struct rs_error *err);
 
 /** Worst-case node count for `triangle_count` triangles with this descriptor. */
 size_t rs_bvh_node_bound(const struct rs_bvh_desc *desc, size_t triangle_count);

@@ -45,7 +45,7 @@ enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t w
 
 /**
  * Read an 8-bit PNG as RGB bytes. *out_pixels is allocated by the call (width*height*3,
- * row 0 = top) and freed by the caller with free().
+ * row 0 = top) and freed by the caller with rs_free().
  */
 enum rs_status rs_image_read_png(const char *path, uint8_t **out_pixels, uint32_t *out_width,
                                  uint32_t *out_height, struct rs_error *err);
@@ -60,7 +60,7 @@ enum rs_status rs_image_write_pfm(const char *path, const float *data, uint32_t 
 
 /**
  * Read a PFM of either byte order. *out_data is allocated (width*height*channels floats,
- * row 0 = top) and freed by the caller with free().
+ * row 0 = top) and freed by the caller with rs_free().
  */
 enum rs_status rs_image_read_pfm(const char *path, float **out_data, uint32_t *out_width,
                                  uint32_t *out_height, uint32_t *out_channels,

@@ -69,20 +69,17 @@ enum rs_status rs_load_view_file(const char *path, struct rs_scene *scene, struc
 /**
  * Format the scene's camera (resolved), lights, environment (resolved) and ambient as view
  * file text. On success *out_text is a NUL-terminated string the caller frees with
- * rs_load_free(); doubles are written so they read back bit-exactly.
+ * rs_free(); doubles are written so they read back bit-exactly.
  */
 enum rs_status rs_load_view_format(const struct rs_scene *scene, char **out_text,
                                    struct rs_error *err);
-
-/** Free memory returned by this module (NULL allowed). */
-void rs_load_free(void *ptr);
 
 /**
  * Path of the sidecar view file of a mesh file: `path` with its extension (if any, after
  * the last '/') replaced by ".json". Writes at most `size` bytes including the NUL.
  * @return RS_OK, or RS_ERR_LIMIT if it does not fit.
  */
-enum rs_status rs_load_sidecar_path(const char *path, char *out, size_t size);
+enum rs_status rs_load_sidecar_path(const char *path, char *out, size_t size, struct rs_error *err);
 
 /**
  * A whole scene from a mesh file: its meshes plus the sidecar view file if that exists;

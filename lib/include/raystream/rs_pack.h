@@ -19,6 +19,11 @@
  *                                          t1 = (shininess, reflectance, transmittance, ior)
  *                                          t2 = (flags, 0, 0, 0)
  * Material defaults (shininess 0 -> 1, ior 0 -> 1) are resolved when packing.
+ *
+ * Positions (vertices and node bounds) are stored relative to `origin`, the centre of the
+ * scene's bounds: world = origin + stored. The centre is subtracted in double before
+ * rounding, so a scene far from the world origin packs as it would at the origin. Backends
+ * move the camera, lights and environment into this frame (docs/tracer.md R1).
  */
 #ifndef RS_PACK_H
 #define RS_PACK_H
@@ -73,6 +78,7 @@ struct rs_packed {
 	uint32_t material_count;
 	uint32_t row_items;        /**< items per row of every texture (the kernels' row width) */
 	uint32_t max_texture_size; /**< the limit the layout was made for (resolved) */
+	double origin[3]; /**< world position of the packed frame's origin (set by packing) */
 };
 
 /** Texture size for `items` items of `texels_per_item` texels each, `row_items` (> 0) per row:
@@ -101,6 +107,8 @@ enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *er
 /**
  * Pack. `packed` must come from rs_pack_layout() with the same counts and have texel
  * buffers of width * height * 4 floats attached by the caller. Unused texels are zeroed.
+ * Sets packed->origin; node bounds are recomputed (tight) from the packed vertices, so only
+ * the BVH's topology and triangle order are used, not its float bounds.
  */
 enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
                              size_t node_count, const uint32_t *triangle_order,

@@ -128,7 +128,7 @@ void rs_pose_solver_destroy(struct rs_pose_solver **solver);
  * this sample's time (the last finite one if this one is not finite).
  * @param out_quality  may be NULL
  * @return RS_OK whenever a pose (possibly held) is written; the quality status says which.
- *         RS_ERR_INVALID for NULL solver/sample/out_pose.
+ *         NULL solver/sample/out_pose is a contract violation (RS_ASSERT).
  */
 enum rs_status rs_pose_solver_update(struct rs_pose_solver *solver,
                                      const struct rs_marker_sample *sample,
@@ -205,22 +205,22 @@ void rs_pose_filter_destroy(struct rs_pose_filter **filter);
  * canonical (w >= 0). A sample whose time is not after the previous one (dt <= 0) leaves the
  * state unchanged and returns it; a gap > reset_gap_s restarts the filter at the input.
  * @param out  may alias `in`
- * @return RS_OK; RS_ERR_INVALID (NULL); RS_ERR_BAD_DATA (non-finite input, |position|
+ * @return RS_OK; RS_ERR_BAD_DATA (non-finite input, |position|
  *         > RS_POSE_MAX_COORD_M or zero quaternion: state unchanged, *out = current state,
  *         or the identity at time 0 if the filter is empty).
  */
 enum rs_status rs_pose_filter_update(struct rs_pose_filter *filter, const struct rs_pose *in,
-                                     struct rs_pose *out);
+                                     struct rs_pose *out, struct rs_error *err);
 
 /**
  * Constant-velocity prediction from the filtered state to display_time_s; the horizon is
  * clamped to [0, max_prediction_s]. Velocities are the filter's smoothed derivatives.
  * out->time_s is the time the prediction is for: state time + clamped horizon.
- * @return RS_OK; RS_ERR_INVALID (NULL, non-finite time); RS_END when no sample was fed yet
+ * @return RS_OK; RS_ERR_INVALID (non-finite time); RS_END when no sample was fed yet
  *         (*out = identity at display_time_s).
  */
 enum rs_status rs_pose_filter_predict(const struct rs_pose_filter *filter, double display_time_s,
-                                      struct rs_pose *out);
+                                      struct rs_pose *out, struct rs_error *err);
 
 /** Forget all state; the next sample starts the filter afresh. Accepts NULL. */
 void rs_pose_filter_reset(struct rs_pose_filter *filter);

@@ -8,6 +8,7 @@
 #ifndef RS_PROTO_H
 #define RS_PROTO_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -71,13 +72,13 @@ void rs_proto_parser_reset(struct rs_proto_parser *parser);
 
 /**
  * Consume bytes from `*data` (advancing `*data` and decreasing `*len`) until one frame is
- * complete. Returns 1 and fills `out_sample` (marker_count = 3, host_time_s = 0; the
- * caller stamps it) when a frame was accepted, 0 when all input was consumed first.
+ * complete. Returns true and fills `out_sample` (marker_count = 3, host_time_s = 0; the
+ * caller stamps it) when a frame was accepted, false when all input was consumed first.
  * Call in a loop: `while (rs_proto_parser_feed(&p, &ptr, &n, &s)) use(&s);`.
- * Buffered bytes may complete a frame with `*len == 0`, so loop until it returns 0.
+ * Buffered bytes may complete a frame with `*len == 0`, so loop until it returns false.
  */
-int rs_proto_parser_feed(struct rs_proto_parser *parser, const uint8_t **data, size_t *len,
-                         struct rs_marker_sample *out_sample);
+bool rs_proto_parser_feed(struct rs_proto_parser *parser, const uint8_t **data, size_t *len,
+                          struct rs_marker_sample *out_sample);
 
 /** Counters since rs_proto_parser_init(). */
 const struct rs_proto_stats *rs_proto_parser_stats(const struct rs_proto_parser *parser);

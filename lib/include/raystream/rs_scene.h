@@ -38,10 +38,13 @@ struct rs_material {
 
 /**
  * A mesh to add: caller-owned arrays, read during rs_scene_add_mesh() only.
- * Strides are in bytes; 0 means tightly packed (3 floats, 3 uint32).
+ * Strides are in bytes; 0 means tightly packed (3 floats or 3 doubles, 3 uint32).
+ * Give exactly one of `positions` and `positions_f64`. Double positions are kept in double
+ * until packing subtracts the scene's centre (docs/tracer.md R1, R6), so a scene far from
+ * the origin loses no precision; float positions are already rounded where they lie.
  */
 struct rs_mesh_desc {
-	const float *positions; /**< vertex_count xyz triples */
+	const float *positions; /**< vertex_count xyz triples, or NULL with positions_f64 */
 	size_t vertex_count;
 	size_t position_stride;
 	const float *normals; /**< optional; NULL: angle-weighted normals are computed */
@@ -49,7 +52,8 @@ struct rs_mesh_desc {
 	const uint32_t *indices; /**< triangle_count index triples into this mesh's vertices */
 	size_t triangle_count;
 	size_t index_stride;
-	uint32_t material; /**< id returned by rs_scene_add_material() */
+	uint32_t material;           /**< id returned by rs_scene_add_material() */
+	const double *positions_f64; /**< instead of positions: double xyz triples */
 };
 
 /** Pinhole camera. fov_y_deg is the paper's projection angle 2*atan(b/a). */
@@ -111,35 +115,38 @@ enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene
 /** Free a scene and set *scene to NULL; NULL and *scene == NULL are allowed. */
 void rs_scene_destroy(struct rs_scene **scene);
 
-/** Last error message recorded on this scene (empty if none); owned by the scene. */
-const char *rs_scene_last_error(const struct rs_scene *scene);
-
 /** Add a material; its id (0, 1, ...) is written to out_id. Rejects NaN/negative values. */
 enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_material *material,
-                                     uint32_t *out_id);
+                                     uint32_t *out_id, struct rs_error *err);
 
 /**
  * Copy a mesh into the scene. Rejects (RS_ERR_BAD_DATA, nothing added) NaN or infinite
  * positions/normals, indices out of range, zero triangles, unknown material ids, and totals
  * beyond max_triangles. Zero-area triangles are kept (the tracers handle them).
  */
-enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh);
+enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                 struct rs_error *err);
 
 /** Set the camera (rejects eye == target, zero/parallel up, fov outside (0, 180)). */
-enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera);
+enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera,
+                                   struct rs_error *err);
 /** Add a point light (rejects non-finite values or negative colour). */
-enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light);
+enum rs_status rs_scene_add_light(struct rs_scene *scene, const struct rs_light *light,
+                                  struct rs_error *err);
 /** Set the environment cube (rejects non-finite values). */
 enum rs_status rs_scene_set_environment(struct rs_scene *scene,
-                                        const struct rs_environment *environment);
+                                        const struct rs_environment *environment,
+                                        struct rs_error *err);
 /** Ambient term added to every lit surface (scaled by its diffuse colour); default 0.1. */
-enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient);
+enum rs_status rs_scene_set_ambient(struct rs_scene *scene, double ambient, struct rs_error *err);
 
 /* Read access. Pointers stay valid until the scene is changed or destroyed. */
 size_t rs_scene_triangle_count(const struct rs_scene *scene);
 size_t rs_scene_vertex_count(const struct rs_scene *scene);
-/** xyz per vertex, tightly packed. */
+/** xyz per vertex, tightly packed (the double positions rounded to float). */
 const float *rs_scene_positions(const struct rs_scene *scene);
+/** xyz per vertex in double: as given (positions_f64) or widened from float, exactly. */
+const double *rs_scene_positions_f64(const struct rs_scene *scene);
 /** Unit xyz per vertex (computed or given, renormalised), tightly packed. */
 const float *rs_scene_normals(const struct rs_scene *scene);
 /** Three vertex indices per triangle. */
@@ -154,7 +161,7 @@ const struct rs_camera *rs_scene_camera(const struct rs_scene *scene);
 double rs_scene_ambient(const struct rs_scene *scene);
 /** The environment with defaults resolved (centre/half-size from the bounds if unset). */
 void rs_scene_environment(const struct rs_scene *scene, struct rs_environment *out);
-/** Bounds of all triangles (lo > hi when the scene is empty). */
+/** Bounds of all vertices, from the double positions (lo > hi when the scene is empty). */
 void rs_scene_bounds(const struct rs_scene *scene, struct rs_bounds *out);
 
 /**

@@ -46,7 +46,8 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
  * Canonical name of a scene ("box", "cow17") into out (at most size bytes, NUL included).
  * @return RS_OK, RS_ERR_INVALID (bad desc) or RS_ERR_LIMIT (does not fit).
  */
-enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size);
+enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size,
+                                struct rs_error *err);
 
 /**
  * Build a scene. Always adds all four lights L1..L4 (renderers use the first N). For COW

@@ -76,7 +76,7 @@ void rs_sim_destroy(struct rs_sim **sim);
  * Returns RS_OK, or RS_END once duration_s has passed.
  */
 enum rs_status rs_sim_next(struct rs_sim *sim, struct rs_marker_sample *out_sample,
-                           struct rs_pose *out_truth);
+                           struct rs_pose *out_truth, struct rs_error *err);
 
 /**
  * Parse `key=value&key=value` (the part after "sim:") into `out_desc` (zeroed first).

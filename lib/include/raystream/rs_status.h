@@ -1,11 +1,21 @@
 /**
  * @file rs_status.h
- * Status codes and error reporting shared by every raystream module.
+ * Status codes, error reporting and contract checks shared by every raystream module.
  *
- * Every fallible call returns an enum rs_status. Free functions take an optional
- * `struct rs_error *err` as their last parameter (NULL: no message wanted); stateful
- * objects also keep their last message, retrievable with their `*_last_error()` call.
- * The library never prints, never calls exit() and never touches errno for reporting.
+ * One error rule for the whole library:
+ * - Every fallible call returns an enum rs_status and takes an optional
+ *   `struct rs_error *err` as its LAST parameter (NULL: no message wanted). Stateful
+ *   objects (tracker sources, pose solver and filter) also keep their last message,
+ *   retrievable with their `*_last_error()` call.
+ * - Predicates return `bool` and read as questions (`rs_tracker_has_scheme()`).
+ * - Bad data (a malformed file, a NaN, an index out of range, a device that misbehaves) is
+ *   a status. A NULL handle or a NULL out-pointer is a programming error: it is caught by
+ *   RS_ASSERT, which is always on (also with NDEBUG) and calls the handler set with
+ *   rs_set_assert_handler() (default: one line on stderr, then abort()).
+ * - Memory the library allocates and hands to the caller (rs_image_read_png() pixels,
+ *   rs_load_view_format() text, ...) is released with rs_free().
+ * The library never prints (except the default assert handler), never calls exit() and
+ * never touches errno for reporting.
  */
 #ifndef RS_STATUS_H
 #define RS_STATUS_H
@@ -65,11 +75,44 @@ enum rs_status rs_error_setv(struct rs_error *err, enum rs_status status, const 
 /** Reset `err` (may be NULL) to RS_OK with an empty message. */
 void rs_error_clear(struct rs_error *err);
 
-/** Contract violations (programmer errors) go through RS_ASSERT; define it to override. */
-#ifndef RS_ASSERT
-#include <assert.h>
-#define RS_ASSERT(cond) assert(cond)
+/**
+ * Prepend "<printf-style context>: " to the message already in `err` (which may be NULL)
+ * and return `status`, so a caller adds where a failure happened:
+ * `return rs_error_prefix(err, st, "mesh %u", i);`. Truncated to fit like rs_error_set().
+ */
+enum rs_status rs_error_prefix(struct rs_error *err, enum rs_status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
 #endif
+    ;
+
+/** Release memory the library allocated for the caller; NULL is allowed. */
+void rs_free(void *ptr);
+
+/**
+ * Called when a contract check fails: `expr` is the failed condition as text. It must not
+ * return (it may longjmp() or abort()); if it returns, the library calls abort().
+ */
+typedef void (*rs_assert_handler)(const char *expr, const char *file, int line, void *user);
+
+/**
+ * Install the process-wide contract-violation handler (NULL restores the default: one
+ * line on stderr, then abort()). Not thread-safe: set it once, before other calls.
+ */
+void rs_set_assert_handler(rs_assert_handler handler, void *user);
+
+/** Report a failed contract check to the handler; never returns. Used by RS_ASSERT. */
+void rs_assert_fail(const char *expr, const char *file, int line)
+#if defined(__GNUC__)
+    __attribute__((noreturn))
+#endif
+    ;
+
+/**
+ * Contract check: always compiled in, whatever NDEBUG says (the checks are a pointer test
+ * on entry to a call, not on per-ray or per-sample inner loops).
+ */
+#define RS_ASSERT(cond) ((cond) ? (void)0 : rs_assert_fail(#cond, __FILE__, __LINE__))
 
 #ifdef __cplusplus
 }

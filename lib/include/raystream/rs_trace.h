@@ -25,11 +25,12 @@ extern "C" {
 
 /* ---- Part 1: building blocks ------------------------------------------------------ */
 
-/** Ray/triangle test. Zero (the default) is Moller-Trumbore, the paper's. */
+/** Ray/triangle test. Zero (the default) is the watertight test (docs/tracer.md R2). */
 enum rs_triangle_test {
-	RS_TRIANGLE_MOLLER_TRUMBORE = 0,
 	/** Woop, Benthin & Wald 2013: no ray slips through shared edges or vertices. */
-	RS_TRIANGLE_WATERTIGHT = 1,
+	RS_TRIANGLE_WATERTIGHT = 0,
+	/** Moller-Trumbore, the paper's: rays can slip through exact shared edges. */
+	RS_TRIANGLE_MOLLER_TRUMBORE = 1,
 };
 
 /** "No triangle" for rs_ray.skip_slot and rs_hit.slot. */
@@ -72,12 +73,17 @@ bool rs_intersect_triangle(enum rs_triangle_test test, const double v0[3], const
                            const double v2[3], const struct rs_ray *ray, double *out_t,
                            double *out_u, double *out_v);
 
-/** Closest hit through the packed BVH. counters may be NULL. */
+/**
+ * Closest hit through the packed BVH; `ray` in world coordinates (packed->origin is
+ * subtracted here). Ties in t go to the lower scene triangle id, so every BVH gives the
+ * same hit (docs/tracer.md R4). counters may be NULL.
+ */
 bool rs_trace_closest(const struct rs_packed *packed, enum rs_triangle_test test,
                       const struct rs_ray *ray, struct rs_hit *out_hit,
                       struct rs_trace_counters *counters);
 
-/** Any hit (shadow feelers): stops at the first triangle found. counters may be NULL. */
+/** Any hit (shadow feelers), world ray: stops at the first triangle found. counters may be
+ * NULL. */
 bool rs_trace_occluded(const struct rs_packed *packed, enum rs_triangle_test test,
                        const struct rs_ray *ray, struct rs_trace_counters *counters);
 
@@ -98,8 +104,9 @@ enum rs_ray_state {
 /**
  * Someone else's ray queries in place of the packed-BVH walk, under the reference's path
  * logic (to run a peer library on exactly the reference's rays: raystream-bench's Embree
- * peer). Both calls must honour ray->tmin < t < ray->tmax and ray->skip_slot, and hits
- * must name the packed slot (the triangle's index in BVH slot order: shading reads the
+ * peer). Rays arrive in the packed frame (relative to packed->origin, as the packed
+ * positions are). Both calls must honour ray->tmin < t < ray->tmax and ray->skip_slot, and
+ * hits must name the packed slot (the triangle's index in BVH slot order: shading reads the
  * packed textures there). Called from every render thread at once, so it must be
  * thread-safe. Box and triangle counts stay 0 under an intersector.
  */
@@ -112,14 +119,18 @@ struct rs_trace_intersector {
 	enum rs_status (*prepare)(void *user, const struct rs_packed *packed, struct rs_error *err);
 	void *user;
 };
+/** Default spawn offset scale S of docs/tracer.md R5: 2^-16 (128 fp32 ulps). */
+#define RS_TRACE_SPAWN_SCALE 0x1p-16
 
 /** Render options; zero-initialised means defaults. */
 struct rs_trace_desc {
-	uint32_t width, height; /**< 0: the camera's size */
-	uint32_t passes;        /**< ray segments per path; 0 -> 2 */
-	uint32_t lights;        /**< use the scene's first N lights; 0 -> all */
-	enum rs_triangle_test triangle_test;
-	double ray_epsilon; /**< self-hit offset relative to the scene's extent; 0 -> 1e-6 */
+	uint32_t width, height;              /**< 0: the camera's size */
+	uint32_t passes;                     /**< ray segments per path; 0 -> 2 */
+	uint32_t lights;                     /**< use the scene's first N lights; 0 -> all */
+	enum rs_triangle_test triangle_test; /**< 0: watertight */
+	/** Spawn offset relative to the largest coordinate of the hit triangle in the packed
+	 * frame (docs/tracer.md R5); 0 -> RS_TRACE_SPAWN_SCALE. */
+	double ray_epsilon;
 	uint32_t row_begin, row_end; /**< render only rows [begin, end); both 0 -> all */
 	/** Camera to render from instead of the scene's (its size is used when width or
 	 * height is 0, like the scene camera's); NULL: the scene's. */

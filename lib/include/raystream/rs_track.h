@@ -39,18 +39,19 @@ struct rs_track_source_stats {
  * `out_sample` (caller-owned). host_time_s is CLOCK_MONOTONIC when the bytes arrived
  * (replay: the recorded time). Returns RS_OK, RS_TIMEOUT, RS_END (replay/sim ran out),
  * RS_ERR_DISCONNECTED (device gone: every further read says so until
- * rs_track_source_reopen() succeeds) or another error; the message is in
- * rs_track_source_last_error().
+ * rs_track_source_reopen() succeeds) or another error; the message is in `err` (may be
+ * NULL) and in rs_track_source_last_error().
  */
 enum rs_status rs_track_source_read(struct rs_track_source *source,
-                                    struct rs_marker_sample *out_sample, int timeout_ms);
+                                    struct rs_marker_sample *out_sample, int timeout_ms,
+                                    struct rs_error *err);
 
 /**
  * Reopen the device after RS_ERR_DISCONNECTED (or at any time); clears the parser's
  * buffered bytes and sequence history, keeps the counters. RS_ERR_NOT_FOUND while the
  * device is still absent: try again later.
  */
-enum rs_status rs_track_source_reopen(struct rs_track_source *source);
+enum rs_status rs_track_source_reopen(struct rs_track_source *source, struct rs_error *err);
 
 /** Current counters into `out_stats`. */
 void rs_track_source_get_stats(const struct rs_track_source *source,
@@ -112,11 +113,11 @@ double rs_track_now_s(void);
 /**
  * Parse the "VID:PID" that starts a device URI's rest ("046d:c52b", "046d:c52b:SERIAL"):
  * two hex numbers of 1 to 4 digits. *out_tail points at what follows the PID (a ':' or
- * the terminating NUL). Returns 0 and leaves the outputs unset when the text is not of
- * that form.
+ * the terminating NUL). Returns RS_ERR_PARSE and leaves the outputs unset when the text is
+ * not of that form.
  */
-int rs_track_parse_vid_pid(const char *text, uint16_t *out_vid, uint16_t *out_pid,
-                           const char **out_tail);
+enum rs_status rs_track_parse_vid_pid(const char *text, uint16_t *out_vid, uint16_t *out_pid,
+                                      const char **out_tail, struct rs_error *err);
 
 /* ---- Replay files ---------------------------------------------------------------------- */
 
