@@ -49,7 +49,10 @@ for scene in box cow1; do
       else bad "$scene/$passes: replay hits differ: $row"; fi
       sum=$(echo "$row" | awk -F'|' '{split($4, n, " "); print n[1] + n[3]}')
       back=$(echo "$row" | awk -F'|' '{gsub(/ /, "", $9); print $9}')
-      if [ "$sum" = "$back" ]; then ok "$scene/$passes: same ray count as the backend"
+      # fp32 hits may send a rare path another way: the counts agree within 1%.
+      if [ -n "$sum" ] && [ -n "$back" ] && [ $(( (sum - back) * 100 )) -le "$back" ] &&
+          [ $(( (back - sum) * 100 )) -le "$back" ]; then
+        ok "$scene/$passes: the backend's rays ($back, peer $sum)"
       else bad "$scene/$passes: peer traced $sum rays, the backend $back"; fi
     done
   else

@@ -99,7 +99,7 @@ static void release(struct fixture *f)
 static void texture_size_follows_the_row_width(void **state)
 {
 	uint32_t w, h;
-	rs_pack_texture_size(1, 3, 682, &w, &h);
+	rs_pack_texture_size(1, 3, 512, &w, &h);
 	assert_int_equal(w, 3);
 	assert_int_equal(h, 1);
 	rs_pack_texture_size(682, 3, 682, &w, &h);
@@ -124,29 +124,35 @@ static void default_layout_fits_gles3_minimum(void **state)
 	struct rs_error err;
 	assert_int_equal(rs_pack_layout(NULL, 600000, 300000, 40, &p, &err), RS_OK);
 	assert_int_equal(p.max_texture_size, 2048);
-	assert_int_equal(p.row_items, 682);
+	assert_int_equal(p.row_items, 512); /* a power of two: kernels mask and shift */
 	const struct rs_texture *t[4] = {&p.nodes, &p.triangles, &p.normals, &p.materials};
 	for (int i = 0; i < 4; i++) {
 		assert_true(t[i]->width <= 2048);
 		assert_true(t[i]->height <= 2048);
 		assert_int_equal(t[i]->width % 3, 0);
 	}
-	assert_int_equal(p.nodes.height, (600000 + 681) / 682);
+	assert_int_equal(p.nodes.height, (600000 + 511) / 512);
+	struct rs_pack_desc odd = {.max_texture_size = 3000}; /* 1000 fit: 512 */
+	assert_int_equal(rs_pack_layout(&odd, 10, 10, 1, &p, &err), RS_OK);
+	assert_int_equal(p.row_items, 512);
+	struct rs_pack_desc exact = {.max_texture_size = 3072}; /* 1024 fit */
+	assert_int_equal(rs_pack_layout(&exact, 10, 10, 1, &p, &err), RS_OK);
+	assert_int_equal(p.row_items, 1024);
 	/* A larger device limit widens the rows. */
 	struct rs_pack_desc big = {.max_texture_size = 16384};
 	assert_int_equal(rs_pack_layout(&big, 600000, 300000, 40, &p, &err), RS_OK);
-	assert_int_equal(p.row_items, 5461);
-	assert_int_equal(p.nodes.width, 5461 * 3);
+	assert_int_equal(p.row_items, 4096);
+	assert_int_equal(p.nodes.width, 4096 * 3);
 }
 
 static void scene_over_the_texture_limit_is_refused_naming_it(void **state)
 {
 	struct rs_packed p;
 	struct rs_error err;
-	/* 682 x 2048 items fit exactly; one more triangle does not. */
-	assert_int_equal(rs_pack_layout(NULL, 10, 682u * 2048u, 1, &p, &err), RS_OK);
+	/* 512 x 2048 items fit exactly; one more triangle does not. */
+	assert_int_equal(rs_pack_layout(NULL, 10, 512u * 2048u, 1, &p, &err), RS_OK);
 	assert_int_equal(p.triangles.height, 2048);
-	assert_int_equal(rs_pack_layout(NULL, 10, 682u * 2048u + 1u, 1, &p, &err), RS_ERR_LIMIT);
+	assert_int_equal(rs_pack_layout(NULL, 10, 512u * 2048u + 1u, 1, &p, &err), RS_ERR_LIMIT);
 	assert_non_null(strstr(err.message, "texture size limit of 2048"));
 	assert_non_null(strstr(err.message, "triangles"));
 	assert_int_equal(p.triangle_count, 0); /* nothing half laid out */
@@ -183,7 +189,7 @@ static void layout_refuses_2_pow_24(void **state)
 	assert_int_equal(rs_pack_layout(&big, 1, RS_PACK_MAX_ITEMS, 1, &p, &err), RS_ERR_LIMIT);
 	assert_int_equal(
 	    rs_pack_layout(&big, RS_PACK_MAX_ITEMS - 1, RS_PACK_MAX_ITEMS - 1, 1, &p, &err), RS_OK);
-	assert_int_equal(p.nodes.height, (RS_PACK_MAX_ITEMS - 1 + 5460) / 5461);
+	assert_int_equal(p.nodes.height, (RS_PACK_MAX_ITEMS - 1 + 4095) / 4096);
 }
 
 /* Every field read back through rs_pack_texel() equals the source exactly: indices are
@@ -276,7 +282,7 @@ static void round_trip(enum rs_bvh_builder builder, size_t tris)
 
 static void round_trip_sah(void **state)
 {
-	round_trip(RS_BVH_SAH, 3000); /* > 682 items: crosses texture rows */
+	round_trip(RS_BVH_SAH, 3000); /* > 512 items: crosses texture rows */
 }
 static void round_trip_at_several_row_widths(void **state)
 {
@@ -310,15 +316,15 @@ static void materials_resolve_defaults(void **state)
 
 static void unused_texels_are_zero(void **state)
 {
-	/* 1500 triangles at 682 a row: the third texture row holds items 1364..1499; items
-	 * 1500..2045 of that row are unused and must come back zeroed even over a
+	/* 1500 triangles at 512 a row: the third texture row holds items 1024..1499; items
+	 * 1500..1535 of that row are unused and must come back zeroed even over a
 	 * garbage-filled buffer. */
 	struct fixture f = make(1500, RS_BVH_PAPER);
 	struct rs_texture *t = &f.packed.triangles;
 	memset(t->texels, 0x7f, (size_t)t->width * t->height * 4 * sizeof(float));
 	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, NULL),
 	                 RS_OK);
-	for (uint32_t item = 1500; item < 3 * 682; item++)
+	for (uint32_t item = 1500; item < 3 * 512; item++)
 		for (uint32_t j = 0; j < RS_PACK_TRIANGLE_TEXELS; j++)
 			for (int c = 0; c < 4; c++)
 				assert_true(rs_pack_texel(t, RS_PACK_TRIANGLE_TEXELS, item, j)[c] ==

@@ -92,7 +92,7 @@ static void accel_packs_with_the_given_row_width(void **state)
 	assert_int_equal(a.packed.triangles.height, (62 + 6) / 7);
 	rs_render_accel_free(&a);
 	assert_int_equal(rs_render_accel_build(scene, NULL, NULL, &a, NULL), RS_OK);
-	assert_int_equal(a.packed.row_items, 682); /* GLES 3.0's 2048 texels / 3 */
+	assert_int_equal(a.packed.row_items, 512); /* GLES 3.0's 2048 texels / 3, a power of 2 */
 	rs_render_accel_free(&a);
 	rs_scene_destroy(&scene);
 }

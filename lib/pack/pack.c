@@ -22,6 +22,16 @@ static const char *const texture_names[4] = {"node", "triangle", "normal", "mate
 static const uint32_t texture_texels[4] = {RS_PACK_NODE_TEXELS, RS_PACK_TRIANGLE_TEXELS,
                                            RS_PACK_NORMAL_TEXELS, RS_PACK_MATERIAL_TEXELS};
 
+/* The default row: the most items a row holds, rounded down to a power of two, so that
+ * kernels address an item with a mask and a shift instead of an integer division. */
+static uint32_t widest_power_of_two(uint32_t max_side)
+{
+	uint32_t fit = max_side / RS_PACK_MAX_ITEM_TEXELS, p = 1;
+	while (p <= fit / 2)
+		p *= 2;
+	return p;
+}
+
 enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count,
                               size_t triangle_count, size_t material_count, struct rs_packed *out,
                               struct rs_error *err)
@@ -38,7 +48,7 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 		    "item",
 		    max_side, RS_PACK_MAX_ITEM_TEXELS);
 	uint32_t row_items =
-	    desc && desc->row_items ? desc->row_items : max_side / RS_PACK_MAX_ITEM_TEXELS;
+	    desc && desc->row_items ? desc->row_items : widest_power_of_two(max_side);
 	if ((uint64_t)row_items * RS_PACK_MAX_ITEM_TEXELS > max_side)
 		return rs_error_set(
 		    err, RS_ERR_INVALID,

@@ -63,7 +63,8 @@ struct rs_pack_desc {
 	/** Largest texture side in texels, as the device reports it (GL_MAX_TEXTURE_SIZE);
 	 * 0 -> RS_PACK_DEFAULT_MAX_TEXTURE_SIZE (2048). Rows and row width stay within it. */
 	uint32_t max_texture_size;
-	/** Items per texture row; 0 -> as many as fit: max_texture_size / 3. */
+	/** Items per texture row; 0 -> the largest power of two that fits (max_texture_size / 3
+	 * rounded down: 512 at 2048), so kernels address items by mask and shift. */
 	uint32_t row_items;
 };
 
