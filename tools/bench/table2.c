@@ -64,7 +64,7 @@ struct rs_render_desc t2_desc(const struct bench_options *o, enum rs_primary_mod
 
 /* The CPU double reference of one pass count (what every image is compared with). */
 static int reference(const struct bench_options *o, const struct rs_scene *scene, uint32_t passes,
-                     float *rgb)
+                     float *rgb, struct rs_render_stats *out_stats)
 {
 	struct rs_render_desc d = t2_desc(o, RS_PRIMARY_TRACE, passes);
 	struct rs_renderer *r = NULL;
@@ -77,8 +77,34 @@ static int reference(const struct bench_options *o, const struct rs_scene *scene
 		rs_renderer_destroy(&r);
 		return 1;
 	}
+	*out_stats = *rs_renderer_stats(r);
 	rs_renderer_destroy(&r);
 	return 0;
+}
+
+static uint64_t rays_of(const struct rs_render_stats *s)
+{
+	return s->primary_rays + s->secondary_rays + s->shadow_rays;
+}
+
+/* Rays per frame for Mrays/s: the backend's own counts, unless it reports no secondary or
+ * shadow rays where the reference (the same work when the images agree) has some; then
+ * the counting frame's, else the reference's, and the table says which. */
+static void choose_rays(struct t2_result *r, const struct rs_render_stats *counted,
+                        const struct rs_render_stats *ref)
+{
+	r->rays_stats = r->stats;
+	r->rays_from = "";
+	bool partial = r->stats.secondary_rays + r->stats.shadow_rays == 0 &&
+	               ref->secondary_rays + ref->shadow_rays > 0;
+	if (partial && counted && counted->secondary_rays + counted->shadow_rays > 0) {
+		r->rays_stats = *counted;
+		r->rays_from = " (counting frame's)";
+	} else if (partial) {
+		r->rays_stats = *ref;
+		r->rays_from = " (reference's: the backend reports none)";
+	}
+	r->rays = rays_of(&r->rays_stats);
 }
 
 /* Open `backend` with `d` and upload the scene; RS_ERR_UNSUPPORTED means "refused". */
@@ -109,7 +135,8 @@ static void keep_kernels(struct t2_result *r, const struct rs_render_stats *s, u
 
 /* Hit numbers of one counting frame, when the backend can count. */
 static int count_hits(const struct bench_options *o, const struct rs_scene *scene,
-                      const struct t2_setting *set, struct t2_result *r)
+                      const struct t2_setting *set, struct t2_result *r,
+                      struct rs_render_stats *out_counted)
 {
 	struct rs_render_desc d = t2_desc(o, set->primary, set->passes);
 	d.counters = true;
@@ -122,6 +149,7 @@ static int count_hits(const struct bench_options *o, const struct rs_scene *scen
 	if (s == RS_OK && rs_renderer_stats(rn)->counters_valid) {
 		r->hits = rs_renderer_stats(rn)->total_per_pixel;
 		r->hits_valid = true;
+		*out_counted = *rs_renderer_stats(rn);
 	}
 	rs_renderer_destroy(&rn);
 	if (s != RS_OK && s != RS_ERR_UNSUPPORTED) {
@@ -133,8 +161,9 @@ static int count_hits(const struct bench_options *o, const struct rs_scene *scen
 }
 
 static int run_setting(const struct bench_options *o, const struct rs_scene *scene,
-                       const struct t2_setting *set, const float *ref, struct t2_result *r,
-                       char *renderer, size_t renderer_cap)
+                       const struct t2_setting *set, const float *ref,
+                       const struct rs_render_stats *ref_stats, struct t2_result *r, char *renderer,
+                       size_t renderer_cap)
 {
 	struct rs_render_desc d = t2_desc(o, set->primary, set->passes);
 	struct rs_renderer *rn = NULL;
@@ -172,12 +201,14 @@ static int run_setting(const struct bench_options *o, const struct rs_scene *sce
 	rs_renderer_destroy(&rn);
 	r->hits = r->stats.total_per_pixel;
 	r->hits_valid = r->stats.counters_valid;
-	r->rays = r->stats.primary_rays + r->stats.secondary_rays + r->stats.shadow_rays;
 	double ms[T2_MAX_REPEATS];
 	memcpy(ms, r->ms, o->repeats * sizeof *ms);
 	r->ms_median = bench_median(ms, o->repeats);
 	bench_min_max(r->ms, o->repeats, &r->ms_min, &r->ms_max);
-	return r->hits_valid ? 0 : count_hits(o, scene, set, r);
+	struct rs_render_stats counted = {0};
+	int code = r->hits_valid ? 0 : count_hits(o, scene, set, r, &counted);
+	choose_rays(r, counted.pixels ? &counted : NULL, ref_stats);
+	return code;
 }
 
 static void print_row(const struct bench_options *o, const struct t2_scene *sc, int si)
@@ -198,13 +229,13 @@ static void print_row(const struct bench_options *o, const struct t2_scene *sc, 
 	if (r->hits_valid)
 		snprintf(hits, sizeof hits, "%.3f", r->hits);
 	double mrays = (double)r->rays / (r->ms_median * 1e3);
-	printf("| %-5s | %s | %.1f (%.1f–%.1f) | %.2f | %s | %.2f | %llu + %llu + %llu | %.1f dB, "
-	       "%.3f%%, %s | %s |\n",
+	printf("| %-5s | %s | %.1f (%.1f–%.1f) | %.2f | %s | %.2f | %llu + %llu + %llu%s | %.1f "
+	       "dB, %.3f%%, %s | %s |\n",
 	       sc->name, set->name, r->ms_median, r->ms_min, r->ms_max, 1e3 / r->ms_median, hits,
-	       mrays, (unsigned long long)r->stats.primary_rays,
-	       (unsigned long long)r->stats.secondary_rays,
-	       (unsigned long long)r->stats.shadow_rays, r->diff.psnr_db, 100.0 * r->diff.bad_share,
-	       t2_verdict(&r->diff), paper);
+	       mrays, (unsigned long long)r->rays_stats.primary_rays,
+	       (unsigned long long)r->rays_stats.secondary_rays,
+	       (unsigned long long)r->rays_stats.shadow_rays, r->rays_from, r->diff.psnr_db,
+	       100.0 * r->diff.bad_share, t2_verdict(&r->diff), paper);
 	(void)o;
 }
 
@@ -288,14 +319,15 @@ int bench_table2(const struct bench_options *o)
 			break;
 		}
 		sc->triangles = rs_scene_triangle_count(sc->scene);
-		code = reference(o, sc->scene, 1, ref[1]) || reference(o, sc->scene, 2, ref[2]);
+		code = reference(o, sc->scene, 1, ref[1], &sc->reference[1]) ||
+		       reference(o, sc->scene, 2, ref[2], &sc->reference[2]);
 		for (int si = 0; si < T2_SETTINGS && code == 0; ++si) {
 			struct t2_result *r = &sc->settings[si];
 			r->rgb = rgb;
 			r->rgba8 = rgba8;
-			code =
-			    run_setting(o, sc->scene, &t2_settings[si], ref[t2_settings[si].passes],
-			                r, renderer, sizeof renderer);
+			code = run_setting(
+			    o, sc->scene, &t2_settings[si], ref[t2_settings[si].passes],
+			    &sc->reference[t2_settings[si].passes], r, renderer, sizeof renderer);
 			if (code == 0)
 				print_row(o, sc, si);
 			fflush(stdout);

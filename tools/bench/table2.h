@@ -32,8 +32,11 @@ struct t2_result {
 	double render_ms[T2_MAX_REPEATS], readback_ms[T2_MAX_REPEATS];
 	uint32_t kernel_count;
 	struct t2_kernel kernels[RS_RENDER_MAX_KERNELS];
-	struct rs_render_stats stats; /* of the last timed frame */
-	uint64_t rays;                /* primary + secondary + shadow */
+	struct rs_render_stats stats;      /* of the last timed frame */
+	struct rs_render_stats rays_stats; /* where the ray counts come from (see rays_from) */
+	uint64_t rays;                     /* primary + secondary + shadow */
+	const char *rays_from; /* "" (the timed frames), or the source used when the backend
+	                          reports no secondary or shadow rays where the reference has */
 	double hits;
 	bool hits_valid;
 	struct rs_image_diff diff; /* against the CPU reference of the same pass count */
@@ -56,7 +59,8 @@ struct t2_scene {
 	size_t triangles;
 	struct rs_scene *scene;
 	struct t2_result settings[T2_SETTINGS];
-	struct t2_peer peer[3]; /* by pass count (1, 2) */
+	struct rs_render_stats reference[3]; /* the CPU reference's frame, by pass count */
+	struct t2_peer peer[3];              /* by pass count (1, 2) */
 };
 
 /* Whether an image agrees with the reference well enough to call it the same work: the
