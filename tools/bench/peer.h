@@ -31,9 +31,11 @@ enum rs_status bench_peer_recorded(const struct bench_peer *peer, uint64_t *out_
                                    uint64_t *out_occluded, uint64_t *out_hits,
                                    struct rs_error *err);
 
-/* Trace the recorded rays again with Embree alone on `threads` threads: the wall time, and
- * the hits found (equal to the recorded hits when the replay did the same work). */
-enum rs_status bench_peer_replay(struct bench_peer *peer, double *out_ms, uint64_t *out_hits,
-                                 struct rs_error *err);
+/* Trace the recorded rays again with Embree alone on `threads` threads, one ray at a time
+ * (rtcIntersect1 / rtcOccluded1) or as streams of 256 rays of one kind (rtcIntersect1M /
+ * rtcOccluded1M, which Embree packs into SIMD packets): the wall time, and the hits found
+ * (equal to the recorded hits when the replay did the same work). */
+enum rs_status bench_peer_replay(struct bench_peer *peer, bool stream, double *out_ms,
+                                 uint64_t *out_hits, struct rs_error *err);
 
 #endif

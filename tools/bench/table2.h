@@ -47,8 +47,9 @@ struct t2_result {
 /* The peer on one pass count of one scene. */
 struct t2_peer {
 	bool done;
-	uint64_t closest, occluded, hits, replay_hits;
-	double trace_median, trace_min, trace_max; /* Embree alone over the recorded rays */
+	uint64_t closest, occluded, hits, replay_hits[2];
+	/* Embree alone over the recorded rays: [0] one ray at a time, [1] streams */
+	double trace_median[2], trace_min[2], trace_max[2];
 	double frame_median, frame_min, frame_max; /* whole frames: Embree under the reference */
 	struct rs_image_diff diff;                 /* frame image against the reference */
 };

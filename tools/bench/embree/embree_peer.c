@@ -29,6 +29,9 @@ struct skip_context {
 struct bench_peer {
 	RTCDevice device;
 	RTCScene scene;
+	struct RTCRay *stream[2]; /* recorded closest / shadow rays for rtc*1M, id = slot to skip */
+	uint64_t stream_count[2];
+	bool stream_ready;
 	const struct rs_packed *packed;
 	struct rs_trace_intersector isect;
 	uint32_t threads;
@@ -54,6 +57,17 @@ static void skip_filter(const struct RTCFilterFunctionNArguments *args)
 			args->valid[i] = 0;
 }
 
+/* The same rule for rtcIntersect1M / rtcOccluded1M, whose packets mix rays: each ray's id
+ * carries its slot to skip (RTCRayN is structure-of-arrays too: ..., tfar, mask, id). */
+static void skip_id_filter(const struct RTCFilterFunctionNArguments *args)
+{
+	const unsigned *prim = (const unsigned *)args->hit + 5u * args->N;
+	const unsigned *id = (const unsigned *)args->ray + 10u * args->N;
+	for (unsigned i = 0; i < args->N; ++i)
+		if (args->valid[i] && prim[i] == id[i])
+			args->valid[i] = 0;
+}
+
 static void to_embree(const struct rs_ray *ray, struct RTCRay *out)
 {
 	out->org_x = (float)ray->origin[0];
@@ -66,7 +80,7 @@ static void to_embree(const struct rs_ray *ray, struct RTCRay *out)
 	out->tfar = (float)ray->tmax; /* +INFINITY stays infinite */
 	out->time = 0.0f;
 	out->mask = 0xffffffffu;
-	out->id = 0;
+	out->id = ray->skip_slot; /* RS_NO_SLOT never equals a primitive id */
 	out->flags = 0;
 }
 
@@ -235,6 +249,8 @@ void bench_peer_destroy(struct bench_peer **peer)
 	if (p->scene)
 		rtcReleaseScene(p->scene);
 	rtcReleaseDevice(p->device);
+	free(p->stream[0]);
+	free(p->stream[1]);
 	free(p->rec);
 	free(p);
 	*peer = NULL;
@@ -247,8 +263,10 @@ const struct rs_trace_intersector *bench_peer_intersector(struct bench_peer *pee
 
 void bench_peer_record(struct bench_peer *peer, bool on)
 {
-	if (on)
+	if (on) {
 		atomic_store(&peer->count, 0);
+		peer->stream_ready = false;
+	}
 	atomic_store(&peer->recording, on);
 }
 
@@ -274,8 +292,8 @@ struct replay_job {
 	uint64_t hits;
 };
 
-/* Chunks from a shared counter, as the CPU renderer hands out rows. */
-static void *replay(void *arg)
+/* One ray at a time, chunks from a shared counter as the CPU renderer hands out rows. */
+static void *replay_single(void *arg)
 {
 	struct replay_job *job = arg;
 	const uint64_t chunk = 1024;
@@ -296,12 +314,89 @@ static void *replay(void *arg)
 	return NULL;
 }
 
-enum rs_status bench_peer_replay(struct bench_peer *peer, double *out_ms, uint64_t *out_hits,
-                                 struct rs_error *err)
+enum { STREAM_CHUNK = 256 };
+
+/* Streams of STREAM_CHUNK rays of one kind, in recorded order, Embree packing them into
+ * packets (coherent: neighbouring pixels' rays come together). Chunk c < the closest-ray
+ * chunk count is a closest-hit chunk, the rest shadow chunks. */
+static void *replay_stream(void *arg)
+{
+	struct replay_job *job = arg;
+	struct bench_peer *p = job->peer;
+	uint64_t closest_chunks = (p->stream_count[0] + STREAM_CHUNK - 1) / STREAM_CHUNK;
+	struct RTCRayHit hits[STREAM_CHUNK];
+	struct RTCRay shadow[STREAM_CHUNK];
+	struct RTCIntersectContext ctx;
+	rtcInitIntersectContext(&ctx);
+	ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+	ctx.filter = skip_id_filter;
+	for (;;) {
+		uint64_t c = atomic_fetch_add(job->next, 1);
+		if (c >= job->end)
+			break;
+		int kind = c >= closest_chunks;
+		uint64_t begin = (kind ? c - closest_chunks : c) * STREAM_CHUNK;
+		uint64_t left = p->stream_count[kind] - begin;
+		unsigned n = left < STREAM_CHUNK ? (unsigned)left : STREAM_CHUNK;
+		const struct RTCRay *src = p->stream[kind] + begin;
+		if (kind) {
+			memcpy(shadow, src, n * sizeof *shadow);
+			rtcOccluded1M(p->scene, &ctx, shadow, n, sizeof *shadow);
+			for (unsigned i = 0; i < n; ++i)
+				job->hits += shadow[i].tfar < 0.0f;
+		} else {
+			for (unsigned i = 0; i < n; ++i) {
+				hits[i].ray = src[i];
+				hits[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+				hits[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+			}
+			rtcIntersect1M(p->scene, &ctx, hits, n, sizeof *hits);
+			for (unsigned i = 0; i < n; ++i)
+				job->hits += hits[i].hit.geomID != RTC_INVALID_GEOMETRY_ID;
+		}
+	}
+	return NULL;
+}
+
+/* The recorded rays split by kind for the stream replay (once per recording, not timed). */
+static enum rs_status split_streams(struct bench_peer *p, uint64_t n, struct rs_error *err)
+{
+	if (p->stream_ready)
+		return RS_OK;
+	uint64_t count[2] = {0, 0};
+	for (uint64_t i = 0; i < n; ++i)
+		count[p->rec[i].occluded_query]++;
+	for (int k = 0; k < 2; ++k) {
+		free(p->stream[k]);
+		p->stream[k] = malloc((count[k] ? count[k] : 1) * sizeof *p->stream[k]);
+		if (!p->stream[k])
+			return rs_error_set(err, RS_ERR_NO_MEMORY,
+			                    "embree: out of memory for streams");
+		p->stream_count[k] = 0;
+	}
+	for (uint64_t i = 0; i < n; ++i) {
+		int k = p->rec[i].occluded_query;
+		p->stream[k][p->stream_count[k]++] = p->rec[i].ray;
+	}
+	p->stream_ready = true;
+	return RS_OK;
+}
+
+enum rs_status bench_peer_replay(struct bench_peer *peer, bool stream, double *out_ms,
+                                 uint64_t *out_hits, struct rs_error *err)
 {
 	uint64_t n = atomic_load(&peer->count);
 	if (!peer->scene || n > peer->cap)
 		return rs_error_set(err, RS_ERR_INVALID, "embree: nothing recorded to replay");
+	if (stream) {
+		enum rs_status s = split_streams(peer, n, err);
+		if (s != RS_OK)
+			return s;
+	}
+	uint64_t end = stream ? (peer->stream_count[0] + STREAM_CHUNK - 1) / STREAM_CHUNK +
+	                            (peer->stream_count[1] + STREAM_CHUNK - 1) / STREAM_CHUNK
+	                      : n;
+	void *(*run)(void *) = stream ? replay_stream : replay_single;
 	enum { MAX_THREADS = 256 };
 	struct replay_job jobs[MAX_THREADS];
 	pthread_t ids[MAX_THREADS];
@@ -312,13 +407,13 @@ enum rs_status bench_peer_replay(struct bench_peer *peer, double *out_ms, uint64
 	clock_gettime(CLOCK_MONOTONIC, &t0);
 	uint32_t started = 1;
 	for (uint32_t t = 0; t < threads; ++t) {
-		jobs[t] = (struct replay_job){.peer = peer, .next = &next, .end = n};
-		if (t > 0 && pthread_create(&ids[t], NULL, replay, &jobs[t]) == 0)
+		jobs[t] = (struct replay_job){.peer = peer, .next = &next, .end = end};
+		if (t > 0 && pthread_create(&ids[t], NULL, run, &jobs[t]) == 0)
 			started = t + 1;
 		else if (t > 0)
 			break;
 	}
-	replay(&jobs[0]);
+	run(&jobs[0]);
 	for (uint32_t t = 1; t < started; ++t)
 		pthread_join(ids[t], NULL);
 	clock_gettime(CLOCK_MONOTONIC, &t1);
