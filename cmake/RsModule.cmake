@@ -20,6 +20,58 @@ function(rs_add_module name)
   set_property(GLOBAL APPEND PROPERTY RS_PC_REQUIRES ${M_PC_REQUIRES})
 endfunction()
 
+# rs_add_backend(NAME [DISPATCHER] [DEPS ...] [PRIVATE_DEPS ...] [PC_REQUIRES ...])
+# A backend folder (backends/<name>/): rs_add_module() plus its public headers, kept in
+# backends/<name>/include/raystream/ so they read <raystream/rs_x.h> in the tree exactly as
+# when installed. Private headers (test seams) stay beside the sources, never installed.
+# Device backends are listed in the configure summary; DISPATCHER ones (rs_tracker) are not.
+function(rs_add_backend name)
+  cmake_parse_arguments(B "DISPATCHER" "" "" ${ARGN})
+  rs_add_module(${name} ${B_UNPARSED_ARGUMENTS})
+  if(NOT TARGET ${name})
+    return()
+  endif()
+  target_include_directories(${name} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+  file(GLOB hdrs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/include/raystream/*.h)
+  install(FILES ${hdrs} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/raystream)
+  set_property(GLOBAL APPEND PROPERTY RS_BACKEND_LIBS ${name})
+  if(NOT B_DISPATCHER)
+    string(REGEX REPLACE "^rs_" "" short ${name})
+    set_property(GLOBAL APPEND PROPERTY RS_BACKENDS ${short})
+  endif()
+endfunction()
+
+# rs_link_order(OUT modules...) : the modules ordered so each comes before every module it
+# links (depth-first over their link interfaces): the order a static link line needs.
+function(rs_link_order out)
+  set(rs_all ${ARGN})
+  set(rs_done "")
+  set(rs_order "")
+  foreach(m IN LISTS rs_all)
+    rs__visit(${m})
+  endforeach()
+  list(REVERSE rs_order)
+  set(${out} ${rs_order} PARENT_SCOPE)
+endfunction()
+
+macro(rs__visit m)
+  if(NOT "${m}" IN_LIST rs_done)
+    list(APPEND rs_done ${m})
+    get_target_property(rs__deps_${m} ${m} INTERFACE_LINK_LIBRARIES)
+    if(rs__deps_${m})
+      foreach(d IN LISTS rs__deps_${m})
+        # Private deps of a static library appear as $<LINK_ONLY:x>.
+        string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" d "${d}")
+        if("${d}" IN_LIST rs_all)
+          rs__visit(${d})
+        endif()
+      endforeach()
+    endif()
+    list(APPEND rs_order ${m})
+  endif()
+endmacro()
+
 # rs_add_tool(NAME) : an executable from every .c in the calling directory, linked to raystream.
 function(rs_add_tool name)
   file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.c)

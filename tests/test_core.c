@@ -3,9 +3,11 @@
 #ifndef NDEBUG
 #define NDEBUG 1
 #endif
+#include <math.h>
 #include <setjmp.h>
 #include <signal.h>
 #include <stdio.h>
+#include <dirent.h>
 #include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -16,6 +18,8 @@
 #include <cmocka.h>
 
 #include "contract.h"
+#include "private/rs_atomic_file.h"
+#include "private/rs_vec.h"
 #include "raystream/rs_status.h"
 
 static void error_set_returns_status_and_formats(void **state)
@@ -119,6 +123,69 @@ static void assert_calls_installed_handler(void **state)
 	RS_ASSERT(g_calls == 1); /* a passing check does nothing */
 }
 
+/* Entries in `dir` other than . and .. */
+static int entries(const char *dir)
+{
+	DIR *d = opendir(dir);
+	assert_non_null(d);
+	int n = 0;
+	for (struct dirent *e; (e = readdir(d)) != NULL;)
+		n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+	closedir(d);
+	return n;
+}
+
+/* The file appears under its name only on a good commit; a failed one leaves nothing, and
+ * a target that is not a regular file is refused and kept. */
+static void atomic_file_is_all_or_nothing(void **state)
+{
+	char dir[] = "/tmp/rs_core_XXXXXX", path[64], text[16] = {0};
+	assert_non_null(mkdtemp(dir));
+	snprintf(path, sizeof path, "%s/out.txt", dir);
+	struct rs_atomic_file af;
+	struct rs_error err = {0};
+	assert_int_equal(rs_atomic_open(&af, path, &err), RS_OK);
+	fputs("half", af.f);
+	assert_int_equal(access(path, F_OK), -1); /* not there while being written */
+	rs_error_set(&err, RS_ERR_BAD_DATA, "caller gave up");
+	assert_int_equal(rs_atomic_commit(&af, false, &err), RS_ERR_BAD_DATA);
+	assert_int_equal(entries(dir), 0);
+	assert_int_equal(rs_atomic_open(&af, path, &err), RS_OK);
+	fputs("whole", af.f);
+	assert_int_equal(rs_atomic_finish(&af, true, &err), RS_OK);
+	assert_int_equal(rs_atomic_commit(&af, true, &err), RS_OK);
+	FILE *f = fopen(path, "r");
+	assert_non_null(f);
+	assert_non_null(fgets(text, sizeof text, f));
+	fclose(f);
+	assert_string_equal(text, "whole");
+	assert_int_equal(entries(dir), 1);
+	assert_int_equal(rs_atomic_open(&af, dir, &err), RS_ERR_IO); /* a directory */
+	assert_non_null(strstr(err.message, "not a regular file"));
+	assert_int_equal(unlink(path), 0);
+	assert_int_equal(rmdir(dir), 0);
+}
+
+/* The shared quaternion helpers: a quarter turn about z maps x to y, composes to a half
+ * turn, and log/exp are inverse (tolerance 1e-12). */
+static void vector_helpers_rotate_and_compose(void **state)
+{
+	const double v[3] = {0, 0, M_PI / 2}, x[3] = {1, 0, 0};
+	double q[4], qq[4], r[3], back[3];
+	rs_q_exp(v, q);
+	rs_q_rotate(q, x, r);
+	assert_true(fabs(r[0]) < 1e-12 && fabs(r[1] - 1.0) < 1e-12 && fabs(r[2]) < 1e-12);
+	rs_q_mul(q, q, qq);
+	rs_q_rotate(qq, x, r);
+	assert_true(fabs(r[0] + 1.0) < 1e-12 && fabs(r[1]) < 1e-12);
+	rs_q_log(q, back);
+	assert_true(fabs(back[2] - M_PI / 2) < 1e-12 && fabs(back[0]) < 1e-12);
+	double w[3] = {3, 4, 0};
+	assert_true(rs_v3_normalize(w) == 5.0 && w[0] == 0.6);
+	double zero[3] = {0, 0, 0};
+	assert_true(rs_v3_normalize(zero) == 0.0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -130,6 +197,8 @@ int main(void)
 	    cmocka_unit_test(error_prefix_adds_context),
 	    cmocka_unit_test(assert_aborts_with_ndebug),
 	    cmocka_unit_test(assert_calls_installed_handler),
+	    cmocka_unit_test(atomic_file_is_all_or_nothing),
+	    cmocka_unit_test(vector_helpers_rotate_and_compose),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

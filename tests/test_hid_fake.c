@@ -8,7 +8,7 @@
 #include <cmocka.h>
 
 #ifdef RS_HAVE_HID
-#include "rs_hid.h"
+#include "hid/hid_api.h"
 
 /* A fake HID tracker: a queue of reports, plug state, and call counters. */
 struct fake_hid {
@@ -90,9 +90,9 @@ static void push_report(uint32_t seq, int len)
 
 static struct rs_track_source *open_fake(const char *serial)
 {
-	struct rs_hid_desc d = {.vid = 0x1234, .pid = 0xabcd, .serial = serial, .api = &api};
+	struct rs_hid_desc d = {.vid = 0x1234, .pid = 0xabcd, .serial = serial};
 	struct rs_track_source *src = NULL;
-	assert_int_equal(rs_hid_open(&d, &src, NULL), RS_OK);
+	assert_int_equal(rs_hid_open_api(&d, &api, &src, NULL), RS_OK);
 	return src;
 }
 
@@ -150,11 +150,10 @@ static void unusable_serial_is_invalid(void **state)
 	longer[sizeof longer - 1] = '\0';
 	const char *bad[] = {longer, "caf\xc3\xa9"};
 	for (int i = 0; i < 2; i++) {
-		struct rs_hid_desc d = {
-		    .vid = 0x1234, .pid = 0xabcd, .serial = bad[i], .api = &api};
+		struct rs_hid_desc d = {.vid = 0x1234, .pid = 0xabcd, .serial = bad[i]};
 		struct rs_track_source *src = NULL;
 		struct rs_error err;
-		assert_int_equal(rs_hid_open(&d, &src, &err), RS_ERR_INVALID);
+		assert_int_equal(rs_hid_open_api(&d, &api, &src, &err), RS_ERR_INVALID);
 		assert_null(src);
 		assert_non_null(strstr(err.message, "serial"));
 	}
@@ -185,10 +184,10 @@ static void unplug_and_replug(void **state)
 static void missing_device_is_not_found(void **state)
 {
 	fake.plugged = 0;
-	struct rs_hid_desc d = {.vid = 0x1234, .pid = 0xabcd, .api = &api};
+	struct rs_hid_desc d = {.vid = 0x1234, .pid = 0xabcd};
 	struct rs_track_source *src = NULL;
 	struct rs_error err;
-	assert_int_equal(rs_hid_open(&d, &src, &err), RS_ERR_NOT_FOUND);
+	assert_int_equal(rs_hid_open_api(&d, &api, &src, &err), RS_ERR_NOT_FOUND);
 	assert_non_null(strstr(err.message, "1234:abcd"));
 	assert_null(src);
 }

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "contract.h"
+#include "private/rs_vec.h"
 #include "raystream/rs_pose.h"
 #include "test_pose_fixture.h"
 
@@ -28,16 +29,9 @@ static struct rs_pose pose_z(double t, double px, double angle)
 /* Small rotation vector v applied to q (world frame), for orientation noise. */
 static void perturb(double q[4], const double v[3])
 {
-	double a = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-	double s = a > 0 ? sin(0.5 * a) / a : 0.5,
-	       d[4] = {v[0] * s, v[1] * s, v[2] * s, cos(0.5 * a)};
-	double r[4] = {
-	    d[3] * q[0] + d[0] * q[3] + d[1] * q[2] - d[2] * q[1],
-	    d[3] * q[1] - d[0] * q[2] + d[1] * q[3] + d[2] * q[0],
-	    d[3] * q[2] + d[0] * q[1] - d[1] * q[0] + d[2] * q[3],
-	    d[3] * q[3] - d[0] * q[0] - d[1] * q[1] - d[2] * q[2],
-	};
-	memcpy(q, r, sizeof r);
+	double d[4];
+	rs_q_exp(v, d);
+	rs_q_mul(d, q, q);
 }
 
 static struct rs_pose_filter *make(const struct rs_pose_filter_desc *d)

@@ -8,7 +8,7 @@
 #include <cmocka.h>
 #include <math.h>
 
-#include "rs_serial.h"
+#include "raystream/rs_serial.h"
 
 struct rig {
 	struct rs_serial_pty *pty;

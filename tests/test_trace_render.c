@@ -8,6 +8,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "contract.h"
 #include "test_trace_render_fixture.h"
 
 static const struct rs_material grey = {.diffuse = {0.5f, 0.5f, 0.5f}};
@@ -348,8 +349,8 @@ static void bad_descriptors_are_rejected_with_a_message(void **state)
 	fx_pack(&other, RS_BVH_NONE);
 	assert_int_equal(rs_trace_render(fx.scene, &other.packed, NULL, NULL, NULL, NULL, &err),
 	                 RS_ERR_INVALID);
-	assert_int_equal(rs_trace_render(NULL, &other.packed, NULL, NULL, NULL, NULL, &err),
-	                 RS_ERR_INVALID);
+	RS_EXPECT_CONTRACT_VIOLATION(
+	    rs_trace_render(NULL, &other.packed, NULL, NULL, NULL, NULL, &err));
 	struct rs_ray zero = {.tmax = INFINITY};
 	struct rs_trace_path p;
 	assert_int_equal(rs_trace_ray_path(fx.scene, &fx.packed, NULL, &zero, &p, NULL, &err),

@@ -8,8 +8,9 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "rs_serial.h"
-#include "rs_tracker.h"
+#include "contract.h"
+#include "raystream/rs_serial.h"
+#include "raystream/rs_tracker.h"
 
 static void expect(const char *uri, enum rs_status want)
 {
@@ -54,9 +55,12 @@ static void malformed_device_uris(void **state)
 	}
 }
 
-static void null_uri_is_invalid(void **state)
+/* A NULL URI is a programming error, not bad input. */
+static void null_uri_is_a_contract_violation(void **state)
 {
-	expect(NULL, RS_ERR_INVALID);
+	struct rs_track_source *src = NULL;
+	RS_EXPECT_CONTRACT_VIOLATION(rs_tracker_open(NULL, &src, NULL));
+	assert_null(src);
 }
 
 static void missing_things_are_not_found(void **state)
@@ -150,7 +154,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(malformed_uris_are_parse_errors),
 	    cmocka_unit_test(malformed_device_uris),
-	    cmocka_unit_test(null_uri_is_invalid),
+	    cmocka_unit_test(null_uri_is_a_contract_violation),
 	    cmocka_unit_test(missing_things_are_not_found),
 	    cmocka_unit_test(devices_absent_here_fail_cleanly),
 	    cmocka_unit_test(sim_uri_opens_and_ends),

@@ -7,9 +7,7 @@
 #include <cmocka.h>
 
 #ifdef RS_HAVE_USB
-#include <libusb.h>
-
-#include "rs_usb.h"
+#include "usb/usb_api.h"
 
 /* A fake bulk-endpoint tracker: a byte stream handed out in transfers of `chunk`. */
 struct fake_usb {
@@ -47,7 +45,7 @@ static void *f_open(void *ctx, void *usb, uint16_t vid, uint16_t pid)
 static int f_find(void *ctx, void *h, int *itf, uint8_t *ep, int *interrupt)
 {
 	if (!fake.has_endpoint)
-		return LIBUSB_ERROR_NOT_FOUND;
+		return RS_USB_NOT_FOUND;
 	*itf = 1;
 	*ep = 0x81;
 	*interrupt = 0;
@@ -70,10 +68,10 @@ static int f_transfer(void *ctx, void *h, uint8_t ep, int interrupt, unsigned ch
 	fake.last_len = len;
 	*out = 0;
 	if (!fake.plugged)
-		return LIBUSB_ERROR_NO_DEVICE;
+		return RS_USB_NO_DEVICE;
 	size_t n = fake.len - fake.pos;
 	if (n == 0)
-		return LIBUSB_ERROR_TIMEOUT;
+		return RS_USB_TIMEOUT;
 	if (n > fake.chunk)
 		n = fake.chunk;
 	if (n > (size_t)len)
@@ -94,14 +92,9 @@ static void f_close(void *ctx, void *h)
 	fake.handles--;
 }
 
-static const char *f_name(void *ctx, int code)
-{
-	return code == LIBUSB_ERROR_NO_DEVICE ? "LIBUSB_ERROR_NO_DEVICE" : "LIBUSB_ERROR_OTHER";
-}
-
 /* No max_packet_size: the backend falls back to 512-byte reads. */
-static const struct rs_usb_api api = {NULL,       f_init,    f_exit,  f_open, f_find, f_claim,
-                                      f_transfer, f_release, f_close, f_name, NULL};
+static const struct rs_usb_api api = {NULL,    f_init,     f_exit,    f_open,  f_find,
+                                      f_claim, f_transfer, f_release, f_close, NULL};
 
 static int setup(void **state)
 {
@@ -121,9 +114,9 @@ static void push(uint32_t seq)
 
 static struct rs_track_source *open_fake(void)
 {
-	struct rs_usb_desc d = {.vid = 0x0483, .pid = 0x5740, .api = &api};
+	struct rs_usb_desc d = {.vid = 0x0483, .pid = 0x5740};
 	struct rs_track_source *src = NULL;
-	assert_int_equal(rs_usb_open(&d, &src, NULL), RS_OK);
+	assert_int_equal(rs_usb_open_api(&d, &api, &src, NULL), RS_OK);
 	return src;
 }
 
@@ -148,7 +141,7 @@ static void bulk_stream_becomes_samples(void **state)
 
 static int f_mps(void *ctx, void *h, uint8_t ep)
 {
-	return ep == 0x81 ? 64 : LIBUSB_ERROR_NOT_FOUND;
+	return ep == 0x81 ? 64 : RS_USB_NOT_FOUND;
 }
 
 /* Reads are one max-size packet long: a 512-byte read of a full-speed device that fills
@@ -157,9 +150,9 @@ static void reads_are_one_packet_long(void **state)
 {
 	struct rs_usb_api with_mps = api;
 	with_mps.max_packet_size = f_mps;
-	struct rs_usb_desc d = {.vid = 0x0483, .pid = 0x5740, .api = &with_mps};
+	struct rs_usb_desc d = {.vid = 0x0483, .pid = 0x5740};
 	struct rs_track_source *src = NULL;
-	assert_int_equal(rs_usb_open(&d, &src, NULL), RS_OK);
+	assert_int_equal(rs_usb_open_api(&d, &with_mps, &src, NULL), RS_OK);
 	struct rs_marker_sample s;
 	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_TIMEOUT);
 	assert_int_equal(fake.last_len, 64);
@@ -203,18 +196,18 @@ static void unplug_and_replug(void **state)
 
 static void open_failures(void **state)
 {
-	struct rs_usb_desc d = {.vid = 0x0483, .pid = 0x5740, .api = &api};
+	struct rs_usb_desc d = {.vid = 0x0483, .pid = 0x5740};
 	struct rs_track_source *src = NULL;
 	struct rs_error err;
 	fake.has_endpoint = 0;
-	assert_int_equal(rs_usb_open(&d, &src, &err), RS_ERR_UNSUPPORTED);
+	assert_int_equal(rs_usb_open_api(&d, &api, &src, &err), RS_ERR_UNSUPPORTED);
 	fake.has_endpoint = 1;
-	fake.claim_error = LIBUSB_ERROR_BUSY;
-	assert_int_equal(rs_usb_open(&d, &src, &err), RS_ERR_DEVICE);
+	fake.claim_error = RS_USB_BUSY;
+	assert_int_equal(rs_usb_open_api(&d, &api, &src, &err), RS_ERR_DEVICE);
 	assert_non_null(strstr(err.message, "claim"));
 	fake.claim_error = 0;
 	d.pid = 1;
-	assert_int_equal(rs_usb_open(&d, &src, &err), RS_ERR_NOT_FOUND);
+	assert_int_equal(rs_usb_open_api(&d, &api, &src, &err), RS_ERR_NOT_FOUND);
 	assert_null(src);
 	assert_int_equal(fake.handles, 0);
 	assert_int_equal(fake.inits, fake.exits);

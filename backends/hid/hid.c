@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rs_hid.h"
+#include "hid_api.h"
 
 struct hid {
 	const struct rs_hid_api *api;
@@ -104,9 +104,16 @@ static const struct rs_track_transport hid_transport = {
 enum rs_status rs_hid_open(const struct rs_hid_desc *desc, struct rs_track_source **out_source,
                            struct rs_error *err)
 {
+	return rs_hid_open_api(desc, rs_hid_api_default(), out_source, err);
+}
+
+enum rs_status rs_hid_open_api(const struct rs_hid_desc *desc, const struct rs_hid_api *api,
+                               struct rs_track_source **out_source, struct rs_error *err)
+{
 	RS_ASSERT(out_source);
 	*out_source = NULL;
-	if (!desc || (desc->vid == 0 && desc->pid == 0))
+	RS_ASSERT(desc && api);
+	if (desc->vid == 0 && desc->pid == 0)
 		return rs_error_set(err, RS_ERR_INVALID, "hid: vendor and product id required");
 	/* Widened byte by byte below: a longer (silently cut) or non-ASCII serial could
 	 * never match the device's, so say so instead of "not found". */
@@ -124,7 +131,7 @@ enum rs_status rs_hid_open(const struct rs_hid_desc *desc, struct rs_track_sourc
 	struct hid *h = calloc(1, sizeof *h);
 	if (!h)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "hid: out of memory");
-	h->api = desc->api ? desc->api : rs_hid_api_default();
+	h->api = api;
 	h->vid = desc->vid;
 	h->pid = desc->pid;
 	if (desc->serial && desc->serial[0]) {

@@ -3,7 +3,7 @@
  */
 #include <hidapi.h>
 
-#include "rs_hid.h"
+#include "hid_api.h"
 
 static int real_init(void *ctx)
 {

@@ -13,7 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "rs_serial.h"
+#include "raystream/rs_serial.h"
 
 struct rs_serial_pty {
 	int master;

@@ -11,7 +11,7 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include "rs_serial.h"
+#include "raystream/rs_serial.h"
 
 static const struct {
 	int baud;
@@ -155,7 +155,8 @@ enum rs_status rs_serial_open(const struct rs_serial_desc *desc,
 {
 	RS_ASSERT(out_source);
 	*out_source = NULL;
-	if (!desc || !desc->path || !desc->path[0])
+	RS_ASSERT(desc);
+	if (!desc->path || !desc->path[0])
 		return rs_error_set(err, RS_ERR_INVALID, "serial: no device path");
 	int baud = desc->baud ? desc->baud : 115200;
 	speed_t speed;

@@ -3,15 +3,15 @@
  */
 #include <string.h>
 
-#include "rs_tracker.h"
+#include "raystream/rs_tracker.h"
 #ifdef RS_TRACKER_HAVE_SERIAL
-#include "rs_serial.h"
+#include "raystream/rs_serial.h"
 #endif
 #ifdef RS_TRACKER_HAVE_HID
-#include "rs_hid.h"
+#include "raystream/rs_hid.h"
 #endif
 #ifdef RS_TRACKER_HAVE_USB
-#include "rs_usb.h"
+#include "raystream/rs_usb.h"
 #endif
 
 #define PATH_CAP 512
@@ -73,10 +73,8 @@ static enum rs_status open_sim(const char *rest, struct rs_track_source **out, s
 
 enum rs_status rs_tracker_open(const char *uri, struct rs_track_source **out, struct rs_error *err)
 {
-	RS_ASSERT(out);
+	RS_ASSERT(uri && out);
 	*out = NULL;
-	if (!uri)
-		return rs_error_set(err, RS_ERR_INVALID, "tracker: no URI");
 	size_t sl = strcspn(uri, ":");
 	if (!uri[sl] || sl == 0 || sl > 16)
 		return rs_error_set(

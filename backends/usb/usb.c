@@ -1,13 +1,13 @@
 /*
  * USB transport: reads from one bulk/interrupt IN endpoint; bytes go to the stream
- * parser, so frames may span transfers. libusb is reached only through rs_usb_api.
+ * parser, so frames may span transfers. libusb is reached only through rs_usb_api, whose
+ * codes usb_api.c has already translated.
  */
-#include <libusb.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "rs_usb.h"
+#include "usb_api.h"
 
 /* Read length when the endpoint's max packet size is unknown: a multiple of every
  * full/high-speed bulk packet size, so a read cannot overflow on those. */
@@ -24,10 +24,31 @@ struct usb {
 	int packet; /* bytes per read: the endpoint's max packet size, else USB_READ */
 };
 
+const char *rs_usb_code_name(int code)
+{
+	switch (code) {
+	case RS_USB_OK:
+		return "RS_USB_OK";
+	case RS_USB_TIMEOUT:
+		return "RS_USB_TIMEOUT";
+	case RS_USB_NOT_FOUND:
+		return "RS_USB_NOT_FOUND";
+	case RS_USB_NO_DEVICE:
+		return "RS_USB_NO_DEVICE";
+	case RS_USB_IO:
+		return "RS_USB_IO";
+	case RS_USB_BUSY:
+		return "RS_USB_BUSY";
+	case RS_USB_ACCESS:
+		return "RS_USB_ACCESS";
+	}
+	return "RS_USB_OTHER";
+}
+
 static const char *ename(const struct usb *u, int code)
 {
-	const char *s = u->api->error_name ? u->api->error_name(u->api->ctx, code) : NULL;
-	return s ? s : "libusb error";
+	(void)u;
+	return rs_usb_code_name(code);
 }
 
 static void usb_close_handle(struct usb *u)
@@ -47,12 +68,12 @@ static enum rs_status usb_open_dev(struct usb *u, struct rs_error *err)
 		                    "usb: no device %04x:%04x (or no access)", u->vid, u->pid);
 	int r = u->api->find_in_endpoint(u->api->ctx, u->handle, &u->interface, &u->endpoint,
 	                                 &u->interrupt);
-	if (r != LIBUSB_SUCCESS) {
+	if (r != RS_USB_OK) {
 		u->api->close(u->api->ctx, u->handle);
 		u->handle = NULL;
-		return rs_error_set(
-		    err, r == LIBUSB_ERROR_NOT_FOUND ? RS_ERR_UNSUPPORTED : RS_ERR_DEVICE,
-		    "usb: %04x:%04x has no usable IN endpoint (%s)", u->vid, u->pid, ename(u, r));
+		return rs_error_set(err, r == RS_USB_NOT_FOUND ? RS_ERR_UNSUPPORTED : RS_ERR_DEVICE,
+		                    "usb: %04x:%04x has no usable IN endpoint (%s)", u->vid, u->pid,
+		                    ename(u, r));
 	}
 	/* One packet per read: a larger read of a device that fills its packets would wait
 	 * for several (8 ms for 512 bytes of 64-byte packets at 1 kHz), a smaller one could
@@ -62,7 +83,7 @@ static enum rs_status usb_open_dev(struct usb *u, struct rs_error *err)
 	              : 0;
 	u->packet = mps > 0 && mps <= 4096 ? mps : USB_READ;
 	r = u->api->claim_interface(u->api->ctx, u->handle, u->interface);
-	if (r != LIBUSB_SUCCESS) {
+	if (r != RS_USB_OK) {
 		u->api->close(u->api->ctx, u->handle);
 		u->handle = NULL;
 		return rs_error_set(err, RS_ERR_DEVICE, "usb: cannot claim interface %d: %s",
@@ -86,13 +107,13 @@ static enum rs_status usb_read(void *impl, uint8_t *buf, size_t cap, int timeout
 	    u->api->transfer(u->api->ctx, u->handle, u->endpoint, u->interrupt, buf, len, &got, t);
 	if (got < 0 || got > len)
 		got = 0;
-	if ((r == LIBUSB_SUCCESS || r == LIBUSB_ERROR_TIMEOUT) && got > 0) {
+	if ((r == RS_USB_OK || r == RS_USB_TIMEOUT) && got > 0) {
 		*out_n = (size_t)got;
 		return RS_OK;
 	}
-	if (r == LIBUSB_SUCCESS || r == LIBUSB_ERROR_TIMEOUT)
+	if (r == RS_USB_OK || r == RS_USB_TIMEOUT)
 		return rs_error_set(err, RS_TIMEOUT, "usb: timeout");
-	if (r == LIBUSB_ERROR_NO_DEVICE || r == LIBUSB_ERROR_IO) {
+	if (r == RS_USB_NO_DEVICE || r == RS_USB_IO) {
 		usb_close_handle(u); /* release fails harmlessly on a vanished device */
 		return rs_error_set(err, RS_ERR_DISCONNECTED, "usb: %04x:%04x disconnected (%s)",
 		                    u->vid, u->pid, ename(u, r));
@@ -127,20 +148,28 @@ static const struct rs_track_transport usb_transport = {
 enum rs_status rs_usb_open(const struct rs_usb_desc *desc, struct rs_track_source **out_source,
                            struct rs_error *err)
 {
+	return rs_usb_open_api(desc, rs_usb_api_default(), out_source, err);
+}
+
+enum rs_status rs_usb_open_api(const struct rs_usb_desc *desc, const struct rs_usb_api *api,
+                               struct rs_track_source **out_source, struct rs_error *err)
+{
 	RS_ASSERT(out_source);
 	*out_source = NULL;
-	if (!desc || (desc->vid == 0 && desc->pid == 0))
+	RS_ASSERT(desc && api);
+	if (desc->vid == 0 && desc->pid == 0)
 		return rs_error_set(err, RS_ERR_INVALID, "usb: vendor and product id required");
 	struct usb *u = calloc(1, sizeof *u);
 	if (!u)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "usb: out of memory");
-	u->api = desc->api ? desc->api : rs_usb_api_default();
+	u->api = api;
 	u->vid = desc->vid;
 	u->pid = desc->pid;
 	int r = u->api->init(u->api->ctx, &u->usb);
-	if (r != LIBUSB_SUCCESS) {
+	if (r != RS_USB_OK) {
+		rs_error_set(err, RS_ERR_DEVICE, "usb: cannot initialise libusb (%s)", ename(u, r));
 		free(u);
-		return rs_error_set(err, RS_ERR_DEVICE, "usb: cannot initialise libusb (%d)", r);
+		return RS_ERR_DEVICE;
 	}
 	enum rs_status st = usb_open_dev(u, err);
 	if (st != RS_OK) {

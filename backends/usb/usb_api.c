@@ -1,10 +1,33 @@
 /*
  * The real rs_usb_api: each entry is the libusb call it is named after (the endpoint
- * search walks the active configuration descriptor, the one place with some logic).
+ * search walks the active configuration descriptor, the one place with some logic), its
+ * return code translated into enum rs_usb_code: the only file that includes libusb.h.
  */
 #include <libusb.h>
 
-#include "rs_usb.h"
+#include "usb_api.h"
+
+static int code(int r)
+{
+	if (r >= 0)
+		return r; /* success, or a count (max packet size) */
+	switch (r) {
+	case LIBUSB_ERROR_TIMEOUT:
+		return RS_USB_TIMEOUT;
+	case LIBUSB_ERROR_NOT_FOUND:
+		return RS_USB_NOT_FOUND;
+	case LIBUSB_ERROR_NO_DEVICE:
+		return RS_USB_NO_DEVICE;
+	case LIBUSB_ERROR_IO:
+		return RS_USB_IO;
+	case LIBUSB_ERROR_BUSY:
+		return RS_USB_BUSY;
+	case LIBUSB_ERROR_ACCESS:
+		return RS_USB_ACCESS;
+	default:
+		return RS_USB_OTHER;
+	}
+}
 
 static int real_init(void *ctx, void **out_usb)
 {
@@ -12,7 +35,7 @@ static int real_init(void *ctx, void **out_usb)
 	libusb_context *c = NULL;
 	int r = libusb_init(&c);
 	*out_usb = c;
-	return r;
+	return code(r);
 }
 
 static void real_exit(void *ctx, void *usb)
@@ -34,7 +57,7 @@ static int real_find(void *ctx, void *handle, int *out_interface, uint8_t *out_e
 	struct libusb_config_descriptor *cfg = NULL;
 	int r = libusb_get_active_config_descriptor(libusb_get_device(handle), &cfg);
 	if (r != LIBUSB_SUCCESS)
-		return r;
+		return code(r);
 	r = LIBUSB_ERROR_NOT_FOUND;
 	for (int i = 0; i < cfg->bNumInterfaces && r != LIBUSB_SUCCESS; i++) {
 		const struct libusb_interface *itf = &cfg->interface[i];
@@ -56,24 +79,24 @@ static int real_find(void *ctx, void *handle, int *out_interface, uint8_t *out_e
 		}
 	}
 	libusb_free_config_descriptor(cfg);
-	return r;
+	return code(r);
 }
 
 static int real_claim(void *ctx, void *handle, int interface)
 {
 	(void)ctx;
 	libusb_set_auto_detach_kernel_driver(handle, 1); /* unsupported on some OSes: fine */
-	return libusb_claim_interface(handle, interface);
+	return code(libusb_claim_interface(handle, interface));
 }
 
 static int real_transfer(void *ctx, void *handle, uint8_t endpoint, int interrupt,
                          unsigned char *data, int len, int *out_transferred, unsigned timeout_ms)
 {
 	(void)ctx;
-	return interrupt
-	           ? libusb_interrupt_transfer(handle, endpoint, data, len, out_transferred,
-	                                       timeout_ms)
-	           : libusb_bulk_transfer(handle, endpoint, data, len, out_transferred, timeout_ms);
+	return code(interrupt ? libusb_interrupt_transfer(handle, endpoint, data, len,
+	                                                  out_transferred, timeout_ms)
+	                      : libusb_bulk_transfer(handle, endpoint, data, len, out_transferred,
+	                                             timeout_ms));
 }
 
 static void real_release(void *ctx, void *handle, int interface)
@@ -88,16 +111,10 @@ static void real_close(void *ctx, void *handle)
 	libusb_close(handle);
 }
 
-static const char *real_error_name(void *ctx, int code)
-{
-	(void)ctx;
-	return libusb_error_name(code);
-}
-
 static int real_max_packet_size(void *ctx, void *handle, uint8_t endpoint)
 {
 	(void)ctx;
-	return libusb_get_max_packet_size(libusb_get_device(handle), endpoint);
+	return code(libusb_get_max_packet_size(libusb_get_device(handle), endpoint));
 }
 
 const struct rs_usb_api *rs_usb_api_default(void)
@@ -111,7 +128,6 @@ const struct rs_usb_api *rs_usb_api_default(void)
 	    .transfer = real_transfer,
 	    .release_interface = real_release,
 	    .close = real_close,
-	    .error_name = real_error_name,
 	    .max_packet_size = real_max_packet_size,
 	};
 	return &api;

@@ -13,7 +13,6 @@
 #define DEFAULT_LINEAR_LEAF 8u
 #define DEFAULT_BINS 16u
 #define MAX_LEAF 1024u
-#define MAX_BINS 256u
 
 void rs_bvh_desc_resolve(const struct rs_bvh_desc *desc, struct rs_bvh_desc *out)
 {
@@ -90,9 +89,9 @@ static enum rs_status validate(const struct rs_bvh_desc *d, const float *positio
 	if (d->leaf_size > MAX_LEAF && d->builder == RS_BVH_SAH)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: leaf_size %u above %u", d->leaf_size,
 		                    MAX_LEAF);
-	if (d->sah_bins < 2 || d->sah_bins > MAX_BINS)
+	if (d->sah_bins < 2 || d->sah_bins > RS_BVH_MAX_BINS)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: sah_bins %u outside 2..%u",
-		                    d->sah_bins, MAX_BINS);
+		                    d->sah_bins, RS_BVH_MAX_BINS);
 	if (!(d->traversal_cost > 0.0f) || !isfinite(d->traversal_cost))
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: traversal_cost must be positive");
 	if (triangle_count == 0)
@@ -122,15 +121,14 @@ enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positio
                             uint32_t *out_triangle_order, size_t *out_node_count,
                             struct rs_error *err)
 {
+	RS_ASSERT(out_node_count);
+	RS_ASSERT(triangle_count == 0 || (positions && indices && out_nodes && out_triangle_order));
 	struct rs_bvh_desc d;
 	rs_bvh_desc_resolve(desc, &d);
-	if (out_node_count)
-		*out_node_count = 0;
+	*out_node_count = 0;
 	enum rs_status s = validate(&d, positions, vertex_count, indices, triangle_count, err);
 	if (s != RS_OK)
 		return s;
-	if (!out_node_count || (triangle_count && (!out_nodes || !out_triangle_order)))
-		return rs_error_set(err, RS_ERR_INVALID, "bvh: output arrays missing");
 	size_t bound = rs_bvh_node_bound(&d, triangle_count);
 	if (node_capacity < bound)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: node capacity %zu below bound %zu",

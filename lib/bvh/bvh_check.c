@@ -170,8 +170,7 @@ enum rs_status rs_bvh_check(const struct rs_bvh_node *nodes, size_t node_count,
 	if ((node_count == 0) != (triangle_count == 0))
 		return rs_error_set(err, RS_ERR_BAD_DATA, "bvh: %zu nodes for %zu triangles",
 		                    node_count, triangle_count);
-	if (triangle_count && (!nodes || !positions || !indices || !triangle_order))
-		return rs_error_set(err, RS_ERR_INVALID, "bvh: check inputs missing");
+	RS_ASSERT(triangle_count == 0 || (nodes && positions && indices && triangle_order));
 	enum rs_status s = check_structure(nodes, node_count, err);
 	if (s == RS_OK)
 		s = check_order(nodes, node_count, err);

@@ -9,6 +9,9 @@
 
 #include "raystream/rs_bvh.h"
 
+/** Most SAH bins (rs_bvh_desc.sah_bins): the SAH sweep keeps per-bin arrays this long. */
+#define RS_BVH_MAX_BINS 256u
+
 /** Parent of a top-level node (a flat list is a forest of top-level leaves). */
 #define RS_BVH_NO_PARENT UINT32_MAX
 

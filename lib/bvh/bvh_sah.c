@@ -15,15 +15,6 @@
 
 #include "bvh_internal.h"
 
-/* Which child comes first in the pre-order (the walk meets it first: for closest hit its
- * hits shrink tmax before the sibling's box is tested, for any hit it may end the walk).
- * 0 = lower side of the split plane, 1 = larger surface area, 2 = more triangles,
- * 3 = fewer triangles, 4 = smaller surface area. Hit numbers in docs/bvh.md: 4 is best
- * on Box, Cow9 and Cow17, 2 on Cow1; 0 is worst (it depends on the view direction). */
-#ifndef RS_BVH_SAH_CHILD_ORDER
-#define RS_BVH_SAH_CHILD_ORDER 4
-#endif
-
 struct item {
 	float lo[3], hi[3];
 	float c[3]; /* centroid */
@@ -91,19 +82,40 @@ static void inverse_extent(const struct task *t, float inv_ext[3])
 	}
 }
 
-struct split {
-	int axis;
-	uint32_t bin;
-	float llo[3], lhi[3], rlo[3], rhi[3];
+/* What find_split() chose for a node. */
+enum split_kind {
+	SPLIT_LEAF,   /* no split: a leaf is cheaper (or required) */
+	SPLIT_PLANE,  /* centroid plane: items in bins below `bin` on `axis` go left */
+	SPLIT_MEDIAN, /* all centroids coincide: halves of the list, bounds from the items */
+	SPLIT_SIZE,   /* the large triangles (left) against the rest (right) */
 };
 
-/* Best binned plane of task t, or axis -1 when making a leaf is better (or required). */
-static void find_split(struct sah_ctx *s, const struct task *t, float k[3], struct split *out)
+struct split {
+	enum split_kind kind;
+	int axis;     /* SPLIT_PLANE only */
+	uint32_t bin; /* SPLIT_PLANE only */
+	float llo[3], lhi[3], rlo[3], rhi[3];
+	double cost; /* unnormalised (times the node area), DBL_MAX when none priced yet */
+};
+
+static void take(struct split *out, enum split_kind kind, int axis, uint32_t bin, double cost,
+                 const float llo[3], const float lhi[3], const float rlo[3], const float rhi[3])
 {
-	uint32_t n = t->end - t->begin, nb = s->nbins;
-	out->axis = -1;
-	if (n == 1)
-		return;
+	out->kind = kind;
+	out->axis = axis;
+	out->bin = bin;
+	out->cost = cost;
+	memcpy(out->llo, llo, sizeof out->llo);
+	memcpy(out->lhi, lhi, sizeof out->lhi);
+	memcpy(out->rlo, rlo, sizeof out->rlo);
+	memcpy(out->rhi, rhi, sizeof out->rhi);
+}
+
+/* Bin scale per axis (0 for an axis whose centroids coincide); empties the bins. Returns
+ * how many axes can be split. */
+static int prepare_bins(struct sah_ctx *s, const struct task *t, float k[3])
+{
+	uint32_t nb = s->nbins;
 	int axes = 0;
 	for (int a = 0; a < 3; a++) {
 		float extent = t->chi[a] - t->clo[a];
@@ -117,15 +129,12 @@ static void find_split(struct sah_ctx *s, const struct task *t, float k[3], stru
 			bn->count = 0;
 		}
 	}
-	if (axes == 0) {
-		/* All centroids coincide: no plane separates them; split by position in the
-		 * list if the leaf would be too big (marked by bin 0 on axis 3). */
-		if (n > s->leaf_size) {
-			out->axis = 3;
-			out->bin = 0;
-		}
-		return;
-	}
+	return axes;
+}
+
+static void fill_bins(struct sah_ctx *s, const struct task *t, const float k[3])
+{
+	uint32_t nb = s->nbins;
 	for (uint32_t i = t->begin; i < t->end; i++) {
 		const struct item *it = &s->items[i];
 		for (int a = 0; a < 3; a++) {
@@ -135,62 +144,56 @@ static void find_split(struct sah_ctx *s, const struct task *t, float k[3], stru
 			bn->count++;
 		}
 	}
-	/* Unnormalised costs (times the node area) so flat or point-like nodes (area 0)
-	 * still compare. */
-	double area = rs_bvh__box_area(t->lo, t->hi);
-	double best = DBL_MAX;
-	for (int a = 0; a < 3; a++) {
-		if (k[a] == 0.0f)
-			continue;
-		struct bin *bins = &s->bins[a * nb];
-		/* Only planes between non-empty bins are distinct splits. */
-		uint32_t ne[256], m = 0;
-		for (uint32_t j = 0; j < nb; j++)
-			if (bins[j].count)
-				ne[m++] = j;
-		float rlo[3], rhi[3];
-		rs_bvh__box_empty(rlo, rhi);
-		uint32_t rn = 0;
-		double right_cost[256];
-		for (uint32_t i = m; i-- > 1;) {
-			const struct bin *bn = &bins[ne[i]];
-			grow(rlo, rhi, bn->lo, bn->hi);
-			rn += bn->count;
-			right_cost[i] = box_area(rlo, rhi) * rn;
-			memcpy(s->right[i].lo, rlo, sizeof rlo);
-			memcpy(s->right[i].hi, rhi, sizeof rhi);
-		}
-		float llo[3], lhi[3];
-		rs_bvh__box_empty(llo, lhi);
-		uint32_t ln = 0;
-		for (uint32_t i = 1; i < m; i++) {
-			const struct bin *bn = &bins[ne[i - 1]];
-			grow(llo, lhi, bn->lo, bn->hi);
-			ln += bn->count;
-			double c = 2.0 * s->ct * area + box_area(llo, lhi) * ln + right_cost[i];
-			if (c < best) {
-				best = c;
-				out->axis = a;
-				out->bin = ne[i];
-				memcpy(out->llo, llo, sizeof llo);
-				memcpy(out->lhi, lhi, sizeof lhi);
-				memcpy(out->rlo, s->right[i].lo, sizeof rlo);
-				memcpy(out->rhi, s->right[i].hi, sizeof rhi);
-			}
-		}
+}
+
+/* Price every plane between non-empty bins of axis a; keep the cheapest in *out. */
+static void sweep_axis(struct sah_ctx *s, int a, double area, struct split *out)
+{
+	struct bin *bins = &s->bins[a * s->nbins];
+	uint32_t ne[RS_BVH_MAX_BINS], m = 0;
+	for (uint32_t j = 0; j < s->nbins; j++)
+		if (bins[j].count)
+			ne[m++] = j;
+	float rlo[3], rhi[3];
+	rs_bvh__box_empty(rlo, rhi);
+	uint32_t rn = 0;
+	double right_cost[RS_BVH_MAX_BINS];
+	for (uint32_t i = m; i-- > 1;) {
+		const struct bin *bn = &bins[ne[i]];
+		grow(rlo, rhi, bn->lo, bn->hi);
+		rn += bn->count;
+		right_cost[i] = box_area(rlo, rhi) * rn;
+		memcpy(s->right[i].lo, rlo, sizeof rlo);
+		memcpy(s->right[i].hi, rhi, sizeof rhi);
 	}
-	/* Size split (axis 4): the few large triangles (floor, walls) against the rest.
-	 * Centroid planes leave such triangles in children whose boxes then overlap
-	 * everything; one more pass prices putting them aside. Only when they are at most a
-	 * quarter of the node: a node made mostly of large triangles is a room, whose rays
-	 * start inside it, where the SAH's outside-ray model misleads (measured on Box,
-	 * docs/bvh.md). */
+	float llo[3], lhi[3];
+	rs_bvh__box_empty(llo, lhi);
+	uint32_t ln = 0;
+	for (uint32_t i = 1; i < m; i++) {
+		const struct bin *bn = &bins[ne[i - 1]];
+		grow(llo, lhi, bn->lo, bn->hi);
+		ln += bn->count;
+		double c = 2.0 * s->ct * area + box_area(llo, lhi) * ln + right_cost[i];
+		if (c < out->cost)
+			take(out, SPLIT_PLANE, a, ne[i], c, llo, lhi, s->right[i].lo,
+			     s->right[i].hi);
+	}
+}
+
+/* Size split: the few large triangles (floor, walls) against the rest. Centroid planes
+ * leave such triangles in children whose boxes then overlap everything; one more pass
+ * prices putting them aside. Only when they are at most a quarter of the node: a node
+ * made mostly of large triangles is a room, whose rays start inside it, where the SAH's
+ * outside-ray model misleads (measured on Box, docs/bvh.md). */
+static void price_size_split(struct sah_ctx *s, const struct task *t, double area,
+                             struct split *out)
+{
+	uint32_t n = t->end - t->begin, large = 0;
 	float inv_ext[3];
 	inverse_extent(t, inv_ext);
 	float blo[3], bhi[3], slo[3], shi[3];
 	rs_bvh__box_empty(blo, bhi);
 	rs_bvh__box_empty(slo, shi);
-	uint32_t large = 0;
 	for (uint32_t i = t->begin; i < t->end; i++) {
 		const struct item *it = &s->items[i];
 		if (is_large(it, inv_ext)) {
@@ -200,21 +203,40 @@ static void find_split(struct sah_ctx *s, const struct task *t, float k[3], stru
 			grow(slo, shi, it->lo, it->hi);
 		}
 	}
-	if (large > 0 && large < n && (size_t)large * 4 <= n) {
-		double cost = 2.0 * s->ct * area + box_area(blo, bhi) * large +
-		              box_area(slo, shi) * (n - large);
-		if (cost < best) {
-			best = cost;
-			out->axis = 4;
-			out->bin = 0;
-			memcpy(out->llo, blo, sizeof blo);
-			memcpy(out->lhi, bhi, sizeof bhi);
-			memcpy(out->rlo, slo, sizeof slo);
-			memcpy(out->rhi, shi, sizeof shi);
-		}
+	if (large == 0 || large == n || (size_t)large * 4 > n)
+		return;
+	double cost =
+	    2.0 * s->ct * area + box_area(blo, bhi) * large + box_area(slo, shi) * (n - large);
+	if (cost < out->cost)
+		take(out, SPLIT_SIZE, -1, 0, cost, blo, bhi, slo, shi);
+}
+
+/* Best split of task t, or SPLIT_LEAF when making a leaf is better (or required). */
+static void find_split(struct sah_ctx *s, const struct task *t, float k[3], struct split *out)
+{
+	uint32_t n = t->end - t->begin;
+	memset(out, 0, sizeof *out);
+	out->kind = SPLIT_LEAF;
+	out->cost = DBL_MAX;
+	if (n == 1)
+		return;
+	if (prepare_bins(s, t, k) == 0) {
+		/* All centroids coincide: no plane separates them; split the list in halves if
+		 * the leaf would be too big. */
+		if (n > s->leaf_size)
+			out->kind = SPLIT_MEDIAN;
+		return;
 	}
-	if (n <= s->leaf_size && (double)n * area <= best)
-		out->axis = -1;
+	fill_bins(s, t, k);
+	/* Unnormalised costs (times the node area) so flat or point-like nodes (area 0)
+	 * still compare. */
+	double area = rs_bvh__box_area(t->lo, t->hi);
+	for (int a = 0; a < 3; a++)
+		if (k[a] != 0.0f)
+			sweep_axis(s, a, area, out);
+	price_size_split(s, t, area, out);
+	if (n <= s->leaf_size && (double)n * area <= out->cost)
+		out->kind = SPLIT_LEAF;
 }
 
 /* Partition t's items by the split; fills the two child tasks (bounds and centroid
@@ -227,9 +249,9 @@ static void partition(struct sah_ctx *s, const struct task *t, const float k[3],
 	rs_bvh__box_empty(left->clo, left->chi);
 	rs_bvh__box_empty(right->clo, right->chi);
 	uint32_t i = t->begin, j = t->end;
-	if (sp->axis == 3) {
+	if (sp->kind == SPLIT_MEDIAN) {
 		i = t->begin + (t->end - t->begin) / 2;
-	} else if (sp->axis == 4) {
+	} else if (sp->kind == SPLIT_SIZE) {
 		float inv_ext[3];
 		inverse_extent(t, inv_ext);
 		while (i < j) {
@@ -262,10 +284,10 @@ static void partition(struct sah_ctx *s, const struct task *t, const float k[3],
 		const struct item *it = &s->items[m];
 		struct task *side = m < i ? left : right;
 		grow(side->clo, side->chi, it->c, it->c);
-		if (sp->axis == 3)
+		if (sp->kind == SPLIT_MEDIAN)
 			grow(side->lo, side->hi, it->lo, it->hi);
 	}
-	if (sp->axis != 3) {
+	if (sp->kind != SPLIT_MEDIAN) {
 		memcpy(left->lo, sp->llo, sizeof left->lo);
 		memcpy(left->hi, sp->lhi, sizeof left->hi);
 		memcpy(right->lo, sp->rlo, sizeof right->lo);
@@ -273,21 +295,14 @@ static void partition(struct sah_ctx *s, const struct task *t, const float k[3],
 	}
 }
 
+/* Which child comes first in the pre-order (the walk meets it first: for closest hit its
+ * hits shrink tmax before the sibling's box is tested, for any hit it may end the walk):
+ * the one with the smaller surface area. Of the orders measured (docs/bvh.md: lower side
+ * of the plane, larger area, more or fewer triangles, smaller area) it gave the lowest hit
+ * numbers on Box, Cow9 and Cow17. */
 static int second_first(const struct task *l, const struct task *r)
 {
-#if RS_BVH_SAH_CHILD_ORDER == 1
-	return rs_bvh__box_area(r->lo, r->hi) > rs_bvh__box_area(l->lo, l->hi);
-#elif RS_BVH_SAH_CHILD_ORDER == 2
-	return r->end - r->begin > l->end - l->begin;
-#elif RS_BVH_SAH_CHILD_ORDER == 3
-	return r->end - r->begin < l->end - l->begin;
-#elif RS_BVH_SAH_CHILD_ORDER == 4
 	return rs_bvh__box_area(r->lo, r->hi) < rs_bvh__box_area(l->lo, l->hi);
-#else
-	(void)l;
-	(void)r;
-	return 0;
-#endif
 }
 
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
@@ -338,7 +353,7 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		find_split(&s, &t, kk, &sp);
 		node->first = 0;
 		node->count = 0;
-		if (sp.axis < 0) {
+		if (sp.kind == SPLIT_LEAF) {
 			memcpy(node->lo, t.lo, sizeof t.lo);
 			memcpy(node->hi, t.hi, sizeof t.hi);
 			node->first = t.begin;

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic_file.h"
+#include "private/rs_atomic_file.h"
 #include "raystream/rs_image.h"
 
 static int host_is_little_endian(void)
@@ -24,6 +24,7 @@ static void swap_bytes(float *v)
 enum rs_status rs_image_write_pfm(const char *path, const float *data, uint32_t width,
                                   uint32_t height, uint32_t channels, struct rs_error *err)
 {
+	RS_ASSERT(path && data);
 	if (width == 0 || height == 0 || width > RS_IMAGE_MAX_SIDE || height > RS_IMAGE_MAX_SIDE)
 		return rs_error_set(err, RS_ERR_INVALID, "image size %ux%u is out of range", width,
 		                    height);
@@ -35,23 +36,24 @@ enum rs_status rs_image_write_pfm(const char *path, const float *data, uint32_t 
 		if (isnan(data[i]))
 			return rs_error_set(err, RS_ERR_BAD_DATA,
 			                    "refusing to write NaN at pixel %zu", i / channels);
-	char tmp[4096];
-	FILE *f;
-	enum rs_status status = rs_atomic_open(path, tmp, sizeof tmp, &f, err);
+	struct rs_atomic_file af;
+	enum rs_status status = rs_atomic_open(&af, path, err);
 	if (status != RS_OK)
 		return status;
+	FILE *f = af.f;
 	int little = host_is_little_endian();
 	fprintf(f, "%s\n%u %u\n%s\n", channels == 3 ? "PF" : "Pf", width, height,
 	        little ? "-1.0" : "1.0");
 	for (uint32_t row = height; row-- > 0;)
 		fwrite(data + (size_t)row * width * channels, sizeof(float),
 		       (size_t)width * channels, f);
-	return rs_atomic_commit(f, tmp, path, 1, err);
+	return rs_atomic_commit(&af, true, err);
 }
 
 enum rs_status rs_image_read_pfm(const char *path, float **out_data, uint32_t *out_width,
                                  uint32_t *out_height, uint32_t *out_channels, struct rs_error *err)
 {
+	RS_ASSERT(path && out_data && out_width && out_height && out_channels);
 	*out_data = NULL;
 	FILE *f = fopen(path, "rb");
 	if (!f)

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic_file.h"
+#include "private/rs_atomic_file.h"
 #include "raystream/rs_image.h"
 
 void rs_image_quantize(const float *rgb, uint32_t width, uint32_t height, uint8_t *out)
@@ -25,6 +25,7 @@ static enum rs_status check_size(uint32_t width, uint32_t height, struct rs_erro
 enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t width,
                                   uint32_t height, struct rs_error *err)
 {
+	RS_ASSERT(path && rgb);
 	enum rs_status status = check_size(width, height, err);
 	if (status != RS_OK)
 		return status;
@@ -33,9 +34,8 @@ enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t w
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory writing %s", path);
 	rs_image_quantize(rgb, width, height, bytes);
 
-	char tmp[4096];
-	FILE *f;
-	status = rs_atomic_open(path, tmp, sizeof tmp, &f, err);
+	struct rs_atomic_file af;
+	status = rs_atomic_open(&af, path, err);
 	if (status != RS_OK) {
 		free(bytes);
 		return status;
@@ -46,17 +46,18 @@ enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t w
 	image.width = width;
 	image.height = height;
 	image.format = PNG_FORMAT_RGB;
-	int ok = png_image_write_to_stdio(&image, f, 0, bytes, (png_int_32)(width * 3), NULL);
+	int ok = png_image_write_to_stdio(&image, af.f, 0, bytes, (png_int_32)(width * 3), NULL);
 	if (!ok)
 		rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path, image.message);
 	png_image_free(&image);
 	free(bytes);
-	return rs_atomic_commit(f, tmp, path, ok, err);
+	return rs_atomic_commit(&af, ok, err);
 }
 
 enum rs_status rs_image_read_png(const char *path, uint8_t **out_pixels, uint32_t *out_width,
                                  uint32_t *out_height, struct rs_error *err)
 {
+	RS_ASSERT(path && out_pixels && out_width && out_height);
 	*out_pixels = NULL;
 	png_image image;
 	memset(&image, 0, sizeof image);

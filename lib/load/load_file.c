@@ -15,7 +15,8 @@ enum rs_status rs_load_check_file(const char *path, size_t max_bytes, size_t *ou
 {
 	struct stat st;
 
-	if (path == NULL || path[0] == '\0')
+	RS_ASSERT(path);
+	if (path[0] == '\0')
 		return rs_error_set(err, RS_ERR_INVALID, "no file name given");
 	if (max_bytes == 0)
 		max_bytes = RS_LOAD_DEFAULT_MAX_FILE_BYTES;

@@ -304,12 +304,12 @@ enum rs_status rs_load_mesh_file(const struct rs_load_desc *desc, const char *pa
 
 	if (desc == NULL)
 		desc = &defaults;
-	if (scene == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no scene given");
+	RS_ASSERT(scene && path);
+	bool done = false;
 	st = rs_load_check_file(path, desc->max_file_bytes, &file_size, err);
 	if (st == RS_OK)
-		st = rs_load_check_ply_header(path, file_size, err);
-	if (st != RS_OK)
+		st = rs_load_ply_front(desc, path, file_size, scene, &done, err);
+	if (st != RS_OK || done)
 		return st;
 	ai = aiImportFile(path, 0);
 	if (ai == NULL)

@@ -61,11 +61,8 @@ enum rs_status rs_load_scene(const struct rs_load_desc *desc, const char *path,
 	size_t len;
 	enum rs_status st;
 
-	if (out == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no output pointer given");
+	RS_ASSERT(out && path);
 	*out = NULL;
-	if (path == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no file name given");
 	len = strlen(path) + sizeof(".json");
 	sidecar = malloc(len);
 	if (sidecar == NULL)

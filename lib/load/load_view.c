@@ -242,8 +242,7 @@ enum rs_status rs_load_view_file(const char *path, struct rs_scene *scene, struc
 	enum rs_status st;
 	struct rs_error inner;
 
-	if (scene == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no scene given");
+	RS_ASSERT(path && scene);
 	st = rs_load_read_text(path, VIEW_MAX_BYTES, &text, &size, err);
 	if (st != RS_OK)
 		return st;

@@ -36,8 +36,7 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
                               size_t triangle_count, size_t material_count, struct rs_packed *out,
                               struct rs_error *err)
 {
-	if (!out)
-		return rs_error_set(err, RS_ERR_INVALID, "pack: no output");
+	RS_ASSERT(out);
 	memset(out, 0, sizeof *out);
 	uint32_t max_side = desc && desc->max_texture_size ? desc->max_texture_size
 	                                                   : RS_PACK_DEFAULT_MAX_TEXTURE_SIZE;
@@ -86,8 +85,7 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 
 enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *err)
 {
-	if (!packed)
-		return rs_error_set(err, RS_ERR_INVALID, "pack: no packed struct");
+	RS_ASSERT(packed);
 	if (packed->row_items == 0)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: not laid out (row width 0)");
 	const struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
@@ -113,8 +111,7 @@ static size_t texture_floats(const struct rs_texture *t)
 
 enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err)
 {
-	if (!packed)
-		return rs_error_set(err, RS_ERR_INVALID, "pack: no packed struct");
+	RS_ASSERT(packed);
 	struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
 	                             &packed->materials};
 	for (int i = 0; i < 4; i++) {
@@ -248,8 +245,7 @@ enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_n
                              size_t node_count, const uint32_t *triangle_order,
                              struct rs_packed *packed, struct rs_error *err)
 {
-	if (!scene || !packed)
-		return rs_error_set(err, RS_ERR_INVALID, "pack: scene or packed struct missing");
+	RS_ASSERT(scene && packed);
 	enum rs_status s = check_packed(scene, nodes, node_count, triangle_order, packed, err);
 	if (s != RS_OK)
 		return s;

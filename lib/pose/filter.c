@@ -9,7 +9,7 @@
  * converges to the true speed and the lag is speed / (2 pi (min_cutoff + beta * speed)). */
 #include "raystream/rs_pose.h"
 
-#include "pose_math.h"
+#include "private/rs_vec.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -61,8 +61,7 @@ static int positive(double v)
 enum rs_status rs_pose_filter_create(const struct rs_pose_filter_desc *desc,
                                      struct rs_pose_filter **out, struct rs_error *err)
 {
-	if (!out)
-		return rs_error_set(err, RS_ERR_INVALID, "pose filter: NULL out");
+	RS_ASSERT(out);
 	*out = NULL;
 	struct rs_pose_filter_desc d;
 	rs_pose_filter_desc_resolve(desc, &d);
@@ -116,7 +115,7 @@ static void state_out(const struct rs_pose_filter *f, struct rs_pose *out)
 	out->time_s = f->t;
 	memcpy(out->position, f->x_hat, sizeof f->x_hat);
 	memcpy(out->orientation, f->q_hat, sizeof f->q_hat);
-	pm_qcanonical(out->orientation);
+	rs_q_canonical(out->orientation);
 }
 
 /* Smoothing factor of a first-order low-pass with cutoff fc sampled after dt. */
@@ -148,7 +147,7 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 	 * differences could overflow and turn the state into NaN. */
 	int ok = isfinite(t) && fabs(x[0]) <= RS_POSE_MAX_COORD_M &&
 	         fabs(x[1]) <= RS_POSE_MAX_COORD_M && fabs(x[2]) <= RS_POSE_MAX_COORD_M &&
-	         pm_qnormalize(in->orientation, q);
+	         rs_q_normalize(in->orientation, q);
 	if (!ok) {
 		snprintf(
 		    f->message, sizeof f->message,
@@ -191,13 +190,13 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 
 	/* q and -q are the same rotation: keep the input in the state's hemisphere so a sign
 	 * flip between samples is not a 360-degree jump. */
-	if (pm_qdot(q, f->q_hat) < 0.0)
+	if (rs_q_dot(q, f->q_hat) < 0.0)
 		for (int k = 0; k < 4; ++k)
 			q[k] = -q[k];
 	double rc[4], rel[4], w[3];
-	pm_qconj(f->q_raw, rc);
-	pm_qmul(q, rc, rel);
-	pm_qlog(rel, w);
+	rs_q_conj(f->q_raw, rc);
+	rs_q_mul(q, rc, rel);
+	rs_q_log(rel, w);
 	tau_d = 1.0 / (2.0 * RS_POSE_PI * d->orientation_d_cutoff_hz);
 	inv = 1.0 / (dt + tau_d);
 	keep = tau_d * inv;
@@ -210,7 +209,7 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 	if (d->disable_filter)
 		memcpy(f->q_hat, q, sizeof q);
 	else
-		pm_qslerp(f->q_hat, q, a, f->q_hat);
+		rs_q_slerp(f->q_hat, q, a, f->q_hat);
 	memcpy(f->q_raw, q, sizeof q);
 	f->t = t;
 	state_out(f, out);
@@ -239,15 +238,15 @@ enum rs_status rs_pose_filter_predict(const struct rs_pose_filter *f, double dis
 		out->position[k] = f->x_hat[k] + f->dx_hat[k] * h;
 		rv[k] = f->w_hat[k] * h;
 	}
-	pm_qexp(rv, dq);
-	pm_qmul(dq, f->q_hat, q);
-	pm_qnormalize(q, q);
-	pm_qcanonical(q);
+	rs_q_exp(rv, dq);
+	rs_q_mul(dq, f->q_hat, q);
+	rs_q_normalize(q, q);
+	rs_q_canonical(q);
 	memcpy(out->orientation, q, sizeof q);
 	out->time_s = f->t + h;
 	/* Only an absurd max_prediction_s can push this past the double range; then the
 	 * unextrapolated state is the one defined answer. */
-	if (!pm_finite3(out->position) || !isfinite(out->time_s))
+	if (!rs_v3_finite(out->position) || !isfinite(out->time_s))
 		state_out(f, out);
 	return RS_OK;
 }

@@ -4,7 +4,7 @@
  * quaternion is a proper rotation by construction and needs no such rule. */
 #include "raystream/rs_pose.h"
 
-#include "pose_math.h"
+#include "private/rs_vec.h"
 
 #include <float.h>
 
@@ -73,8 +73,7 @@ static enum rs_status fit_fail(struct rs_pose *out_T, double *out_rms, struct rs
 enum rs_status rs_pose_fit(const double (*model)[3], const double (*measured)[3], size_t n,
                            struct rs_pose *out_T, double *out_rms, struct rs_error *err)
 {
-	if (!model || !measured || !out_T)
-		return fit_fail(out_T, out_rms, err, RS_ERR_INVALID, "NULL argument");
+	RS_ASSERT(model && measured && out_T);
 	if (n < 3)
 		return fit_fail(out_T, out_rms, err, RS_ERR_INVALID, "need at least 3 points");
 	for (size_t i = 0; i < n; ++i) {
@@ -100,10 +99,10 @@ enum rs_status rs_pose_fit(const double (*model)[3], const double (*measured)[3]
 	double S[3][3] = {{0}}, ssm = 0.0, ssd = 0.0;
 	for (size_t i = 0; i < n; ++i) {
 		double m[3], d[3];
-		pm_sub3(model[i], cm, m);
-		pm_sub3(measured[i], cd, d);
-		ssm += pm_dot3(m, m);
-		ssd += pm_dot3(d, d);
+		rs_v3_sub(model[i], cm, m);
+		rs_v3_sub(measured[i], cd, d);
+		ssm += rs_v3_dot(m, m);
+		ssd += rs_v3_dot(d, d);
 		for (int a = 0; a < 3; ++a)
 			for (int b = 0; b < 3; ++b)
 				S[a][b] += m[a] * d[b];
@@ -137,11 +136,11 @@ enum rs_status rs_pose_fit(const double (*model)[3], const double (*measured)[3]
 		return fit_fail(out_T, out_rms, err, RS_ERR_DEGENERATE,
 		                "points (nearly) collinear: rotation undetermined");
 	double q[4] = {V[1][best], V[2][best], V[3][best], V[0][best]};
-	if (!pm_qnormalize(q, q))
+	if (!rs_q_normalize(q, q))
 		return fit_fail(out_T, out_rms, err, RS_ERR_DEGENERATE, "no rotation found");
-	pm_qcanonical(q);
+	rs_q_canonical(q);
 	double rcm[3];
-	pm_qrotate(q, cm, rcm);
+	rs_q_rotate(q, cm, rcm);
 	out_T->time_s = 0.0;
 	for (int k = 0; k < 3; ++k)
 		out_T->position[k] = cd[k] - rcm[k];
@@ -151,11 +150,11 @@ enum rs_status rs_pose_fit(const double (*model)[3], const double (*measured)[3]
 		double sum = 0.0;
 		for (size_t i = 0; i < n; ++i) {
 			double m[3], d[3], rm[3], r[3];
-			pm_sub3(model[i], cm, m);
-			pm_sub3(measured[i], cd, d);
-			pm_qrotate(q, m, rm);
-			pm_sub3(rm, d, r);
-			sum += pm_dot3(r, r);
+			rs_v3_sub(model[i], cm, m);
+			rs_v3_sub(measured[i], cd, d);
+			rs_q_rotate(q, m, rm);
+			rs_v3_sub(rm, d, r);
+			sum += rs_v3_dot(r, r);
 		}
 		*out_rms = sqrt(sum / (double)n);
 	}
@@ -166,12 +165,12 @@ void rs_pose_compose(const struct rs_pose *T_a_b, const struct rs_pose *T_b_c, s
 {
 	double p[3], q[4];
 	double t = T_b_c->time_s;
-	pm_qrotate(T_a_b->orientation, T_b_c->position, p);
+	rs_q_rotate(T_a_b->orientation, T_b_c->position, p);
 	for (int k = 0; k < 3; ++k)
 		p[k] += T_a_b->position[k];
-	pm_qmul(T_a_b->orientation, T_b_c->orientation, q);
-	pm_qnormalize(q, q);
-	pm_qcanonical(q);
+	rs_q_mul(T_a_b->orientation, T_b_c->orientation, q);
+	rs_q_normalize(q, q);
+	rs_q_canonical(q);
 	out->time_s = t;
 	memcpy(out->position, p, sizeof p);
 	memcpy(out->orientation, q, sizeof q);
@@ -180,7 +179,7 @@ void rs_pose_compose(const struct rs_pose *T_a_b, const struct rs_pose *T_b_c, s
 void rs_pose_transform_point(const struct rs_pose *T, const double p[3], double out[3])
 {
 	double r[3];
-	pm_qrotate(T->orientation, p, r);
+	rs_q_rotate(T->orientation, p, r);
 	for (int k = 0; k < 3; ++k)
 		out[k] = r[k] + T->position[k];
 }
@@ -188,8 +187,8 @@ void rs_pose_transform_point(const struct rs_pose *T, const double p[3], double 
 double rs_pose_angle_between(const struct rs_pose *a, const struct rs_pose *b)
 {
 	double ac[4], d[4], v[3];
-	pm_qconj(a->orientation, ac);
-	pm_qmul(b->orientation, ac, d);
-	pm_qlog(d, v);
-	return pm_norm3(v);
+	rs_q_conj(a->orientation, ac);
+	rs_q_mul(b->orientation, ac, d);
+	rs_q_log(d, v);
+	return rs_v3_norm(v);
 }

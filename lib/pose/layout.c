@@ -3,7 +3,7 @@
 #include "raystream/rs_pose.h"
 
 #include "pose_internal.h"
-#include "pose_math.h"
+#include "private/rs_vec.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -23,29 +23,28 @@ void rs_pose_triangle_metrics(const double p[3][3], double sides[3], double *out
 {
 	/* sides[k] is the side opposite vertex k, i.e. between the other two. */
 	double e[3][3];
-	pm_sub3(p[2], p[1], e[0]);
-	pm_sub3(p[0], p[2], e[1]);
-	pm_sub3(p[1], p[0], e[2]);
+	rs_v3_sub(p[2], p[1], e[0]);
+	rs_v3_sub(p[0], p[2], e[1]);
+	rs_v3_sub(p[1], p[0], e[2]);
 	double longest = 0.0;
 	for (int k = 0; k < 3; ++k) {
-		sides[k] = pm_norm3(e[k]);
+		sides[k] = rs_v3_norm(e[k]);
 		if (sides[k] > longest)
 			longest = sides[k];
 	}
 	/* The smallest height stands on the longest side; use the cross product of the two
 	 * shorter edges' vectors, which is the same for any pair (twice the area). */
 	double c[3];
-	pm_cross3(e[1], e[2], c);
-	double twice_area = pm_norm3(c);
+	rs_v3_cross(e[1], e[2], c);
+	double twice_area = rs_v3_norm(c);
 	*out_min_height = longest > 0.0 && isfinite(twice_area) ? twice_area / longest : 0.0;
 }
 
 enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct rs_error *err)
 {
-	if (!layout)
-		return rs_error_set(err, RS_ERR_INVALID, "layout: NULL");
+	RS_ASSERT(layout);
 	for (int i = 0; i < RS_TRACK_MARKERS; ++i)
-		if (!pm_finite3(layout->markers[i]) ||
+		if (!rs_v3_finite(layout->markers[i]) ||
 		    !(fabs(layout->markers[i][0]) <= RS_POSE_MAX_COORD_M &&
 		      fabs(layout->markers[i][1]) <= RS_POSE_MAX_COORD_M &&
 		      fabs(layout->markers[i][2]) <= RS_POSE_MAX_COORD_M))
@@ -53,14 +52,14 @@ enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct 
 			                    "layout: marker %d has a non-finite or huge coordinate",
 			                    i);
 	const struct rs_pose *T = &layout->T_markers_display;
-	if (!pm_finite3(T->position) || fabs(T->position[0]) > RS_POSE_MAX_COORD_M ||
+	if (!rs_v3_finite(T->position) || fabs(T->position[0]) > RS_POSE_MAX_COORD_M ||
 	    fabs(T->position[1]) > RS_POSE_MAX_COORD_M ||
 	    fabs(T->position[2]) > RS_POSE_MAX_COORD_M || !isfinite(T->orientation[0]) ||
 	    !isfinite(T->orientation[1]) || !isfinite(T->orientation[2]) ||
 	    !isfinite(T->orientation[3]))
 		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "layout: non-finite or huge T_markers_display");
-	double qn = sqrt(pm_qdot(T->orientation, T->orientation));
+	double qn = sqrt(rs_q_dot(T->orientation, T->orientation));
 	/* All zero is a zero-initialised struct: identity, like every zero default. */
 	if (qn != 0.0 && fabs(qn - 1.0) > 1e-6)
 		return rs_error_set(err, RS_ERR_BAD_DATA,
@@ -130,8 +129,7 @@ static enum rs_status read_file(const char *path, char **out_text, struct rs_err
 enum rs_status rs_pose_layout_load(const char *path, struct rs_pose_layout *out_layout,
                                    struct rs_error *err)
 {
-	if (!path || !out_layout)
-		return rs_error_set(err, RS_ERR_INVALID, "layout: NULL argument");
+	RS_ASSERT(path && out_layout);
 	char *text = NULL;
 	enum rs_status st = read_file(path, &text, err);
 	if (st != RS_OK)
@@ -172,11 +170,11 @@ enum rs_status rs_pose_layout_load(const char *path, struct rs_pose_layout *out_
 	}
 	cJSON_Delete(root);
 	double *q = l.T_markers_display.orientation;
-	if (!pm_qnormalize(q, q))
+	if (!rs_q_normalize(q, q))
 		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "layout: '%s': zero or non-finite calibration quaternion",
 		                    path);
-	pm_qcanonical(q);
+	rs_q_canonical(q);
 	st = rs_pose_layout_check(&l, err);
 	if (st != RS_OK)
 		return st;

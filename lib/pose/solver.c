@@ -4,7 +4,7 @@
 #include "raystream/rs_pose.h"
 
 #include "pose_internal.h"
-#include "pose_math.h"
+#include "private/rs_vec.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -74,8 +74,7 @@ enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
                                      const struct rs_pose_layout *layout,
                                      struct rs_pose_solver **out, struct rs_error *err)
 {
-	if (!out)
-		return rs_error_set(err, RS_ERR_INVALID, "pose solver: NULL out");
+	RS_ASSERT(out);
 	*out = NULL;
 	struct rs_pose_solver_desc d;
 	rs_pose_solver_desc_resolve(desc, &d);
@@ -95,8 +94,8 @@ enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
 	double *q = s->layout.T_markers_display.orientation;
 	if (q[0] == 0.0 && q[1] == 0.0 && q[2] == 0.0 && q[3] == 0.0)
 		q[3] = 1.0;
-	pm_qnormalize(q, q);
-	pm_qcanonical(q);
+	rs_q_normalize(q, q);
+	rs_q_canonical(q);
 	double h;
 	rs_pose_triangle_metrics(layout->markers, s->layout_sides, &h);
 	double dmin = rs_pose_min_side_difference(s->layout_sides);
@@ -168,14 +167,15 @@ static void lost(struct rs_pose_solver *s, double t, struct rs_pose *out, struct
 		out->position[k] += s->velocity[k] * h;
 		rv[k] = s->angular_velocity[k] * h;
 	}
-	pm_qexp(rv, dq);
-	pm_qmul(dq, s->last_good.orientation, out->orientation);
-	pm_qnormalize(out->orientation, out->orientation);
-	pm_qcanonical(out->orientation);
+	rs_q_exp(rv, dq);
+	rs_q_mul(dq, s->last_good.orientation, out->orientation);
+	rs_q_normalize(out->orientation, out->orientation);
+	rs_q_canonical(out->orientation);
 	q->status = RS_POSE_PREDICTED;
 	/* An absurd configuration (max_prediction_s and hold_timeout_s near DBL_MAX) could
 	 * extrapolate past the double range: never hand that out, hold instead. */
-	if (!pm_finite3(out->position) || !isfinite(pm_qdot(out->orientation, out->orientation))) {
+	if (!rs_v3_finite(out->position) ||
+	    !isfinite(rs_q_dot(out->orientation, out->orientation))) {
 		*out = s->last_good;
 		out->time_s = t;
 		q->status = RS_POSE_HELD;
@@ -197,9 +197,9 @@ static void update_velocity(struct rs_pose_solver *s, const struct rs_pose *p)
 	double inv = 1.0 / (dt + s->desc.velocity_time_constant_s);
 	double keep = s->desc.velocity_time_constant_s * inv;
 	double qc[4], dq[4], w[3];
-	pm_qconj(s->last_good.orientation, qc);
-	pm_qmul(p->orientation, qc, dq);
-	pm_qlog(dq, w);
+	rs_q_conj(s->last_good.orientation, qc);
+	rs_q_mul(p->orientation, qc, dq);
+	rs_q_log(dq, w);
 	for (int k = 0; k < 3; ++k) {
 		double d = p->position[k] - s->last_good.position[k];
 		s->velocity[k] = keep * s->velocity[k] + d * inv;

@@ -19,8 +19,7 @@ static const float rs_default_face_colors[6][3] = {
 enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene **out,
                                struct rs_error *err)
 {
-	if (!out)
-		return rs_error_set(err, RS_ERR_INVALID, "rs_scene_create: out is NULL");
+	RS_ASSERT(out);
 	*out = NULL;
 	struct rs_scene *scene = calloc(1, sizeof *scene);
 	if (!scene)
@@ -181,9 +180,7 @@ static enum rs_status validate_mesh(const struct rs_scene *scene, const struct r
 enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
                                  struct rs_error *err)
 {
-	RS_ASSERT(scene);
-	if (!mesh)
-		return rs_error_set(err, RS_ERR_INVALID, "mesh descriptor is NULL");
+	RS_ASSERT(scene && mesh);
 	enum rs_status status = validate_mesh(scene, mesh, err);
 	if (status != RS_OK)
 		return status;

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "private/rs_vec.h"
 #include "scene_internal.h"
 
 static int finite_n(const double *v, int n)
@@ -11,18 +12,6 @@ static int finite_n(const double *v, int n)
 		if (!isfinite(v[i]))
 			return 0;
 	return 1;
-}
-
-static double dot3(const double *a, const double *b)
-{
-	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double *a, const double *b, double *out)
-{
-	out[0] = a[1] * b[2] - a[2] * b[1];
-	out[1] = a[2] * b[0] - a[0] * b[2];
-	out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 enum rs_status rs_camera_check(const struct rs_camera *camera, struct rs_error *err)
@@ -34,16 +23,17 @@ enum rs_status rs_camera_check(const struct rs_camera *camera, struct rs_error *
 	double view[3] = {camera->target[0] - camera->eye[0], camera->target[1] - camera->eye[1],
 	                  camera->target[2] - camera->eye[2]};
 	double side[3];
-	cross3(view, camera->up, side);
+	rs_v3_cross(view, camera->up, side);
 	/* Finite ends can still be infinitely far apart (eye 1e308, target -1e308); then the
 	 * checks below compare NaN and would pass. */
-	if (!finite_n(view, 3) || !isfinite(dot3(view, view)) ||
-	    !isfinite(dot3(camera->up, camera->up)))
+	if (!finite_n(view, 3) || !isfinite(rs_v3_dot(view, view)) ||
+	    !isfinite(rs_v3_dot(camera->up, camera->up)))
 		return rs_error_set(err, RS_ERR_BAD_DATA, "camera eye, target or up is too large");
-	if (dot3(view, view) == 0.0)
+	if (rs_v3_dot(view, view) == 0.0)
 		return rs_error_set(err, RS_ERR_BAD_DATA, "camera eye equals its target");
-	if (dot3(side, side) <= 1e-12 * dot3(view, view) * dot3(camera->up, camera->up) ||
-	    dot3(camera->up, camera->up) == 0.0)
+	if (rs_v3_dot(side, side) <=
+	        1e-12 * rs_v3_dot(view, view) * rs_v3_dot(camera->up, camera->up) ||
+	    rs_v3_dot(camera->up, camera->up) == 0.0)
 		return rs_error_set(err, RS_ERR_BAD_DATA,
 		                    "camera up is zero or parallel to the view direction");
 	if (camera->fov_y_deg < 0.0 || camera->fov_y_deg >= 180.0)

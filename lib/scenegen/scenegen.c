@@ -11,11 +11,8 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 	unsigned long n = 0;
 	const char *p;
 
-	if (out == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no output given");
+	RS_ASSERT(name && out);
 	memset(out, 0, sizeof(*out));
-	if (name == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no scene name given");
 	if (strcmp(name, "box") == 0) {
 		out->kind = RS_SCENEGEN_BOX;
 		return RS_OK;
@@ -64,11 +61,8 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 	struct rs_scene *scene = NULL;
 	enum rs_status st;
 
-	if (out == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no output pointer given");
+	RS_ASSERT(desc && out);
 	*out = NULL;
-	if (desc == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "no scene description given");
 	if (desc->kind == RS_SCENEGEN_COW && desc->cows > RS_SCENEGEN_MAX_COWS)
 		return rs_error_set(err, RS_ERR_INVALID, "cow scene: %u cows (limit %u)",
 		                    (unsigned)desc->cows, RS_SCENEGEN_MAX_COWS);

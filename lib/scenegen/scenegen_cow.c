@@ -31,7 +31,7 @@ static void grid_shape(uint32_t n, uint32_t *cols, uint32_t *rows)
 
 /* Adds copy i of the cow (positions/normals from `cow`) with material `mat`. */
 static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *cow, uint32_t i,
-                               uint32_t n, uint32_t mat, float *pos, float *nrm,
+                               uint32_t n, uint32_t mat, double *pos, float *nrm,
                                struct rs_error *err)
 {
 	const float *p = rs_scene_positions(cow), *q = rs_scene_normals(cow);
@@ -52,15 +52,16 @@ static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *co
 		double x = p[3 * v] - c[0], z = p[3 * v + 2] - c[2];
 
 		/* Right-handed turn about +y (+x towards -z), pivot on the grid point. */
-		pos[3 * v] = (float)(gx + x * cs + z * sn);
-		pos[3 * v + 1] = (float)(p[3 * v + 1] + COW_LIFT);
-		pos[3 * v + 2] = (float)(gz - x * sn + z * cs);
+		/* kept in double: packing subtracts the scene centre before rounding */
+		pos[3 * v] = gx + x * cs + z * sn;
+		pos[3 * v + 1] = p[3 * v + 1] + COW_LIFT;
+		pos[3 * v + 2] = gz - x * sn + z * cs;
 		nrm[3 * v] = (float)(q[3 * v] * cs + q[3 * v + 2] * sn);
 		nrm[3 * v + 1] = q[3 * v + 1];
 		nrm[3 * v + 2] = (float)(-q[3 * v] * sn + q[3 * v + 2] * cs);
 	}
 	memset(&d, 0, sizeof(d));
-	d.positions = pos;
+	d.positions_f64 = pos;
 	d.vertex_count = verts;
 	d.normals = nrm;
 	d.indices = rs_scene_indices(cow);
@@ -81,6 +82,7 @@ static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uin
 	                                           .reflectance = 0.25f};
 	struct rs_scene *cow = NULL;
 	float *buf = NULL;
+	double *pos = NULL;
 	uint32_t mat;
 	enum rs_status st;
 
@@ -92,13 +94,14 @@ static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uin
 	if (st == RS_OK)
 		st = sg_material(scene, &cow_mat, &mat, err);
 	if (st == RS_OK) {
-		buf = malloc(rs_scene_vertex_count(cow) * 6 * sizeof(*buf));
-		if (buf == NULL)
+		pos = malloc(rs_scene_vertex_count(cow) * 3 * sizeof(*pos));
+		buf = malloc(rs_scene_vertex_count(cow) * 3 * sizeof(*buf));
+		if (buf == NULL || pos == NULL)
 			st = rs_error_set(err, RS_ERR_NO_MEMORY, "cow scene: out of memory");
 	}
 	for (uint32_t i = 0; st == RS_OK && i < n; i++)
-		st =
-		    add_copy(scene, cow, i, n, mat, buf, buf + 3 * rs_scene_vertex_count(cow), err);
+		st = add_copy(scene, cow, i, n, mat, pos, buf, err);
+	free(pos);
 	free(buf);
 	rs_scene_destroy(&cow);
 	return st;

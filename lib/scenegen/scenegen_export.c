@@ -15,94 +15,7 @@
 
 #include "raystream/rs_load.h"
 #include "raystream/rs_scenegen.h"
-
-struct out_file {
-	const char *path;
-	char *tmp;
-	FILE *f;
-};
-
-static enum rs_status out_open(struct out_file *o, const char *path, struct rs_error *err)
-{
-	size_t len = strlen(path) + sizeof(".tmpXXXXXX");
-	int fd;
-	struct stat sb;
-
-	o->path = path;
-	o->f = NULL;
-	o->tmp = NULL;
-	/* rename() over a device or FIFO (say /dev/null, run as root) would replace the node
-	 * itself; only regular files (or nothing) are replaced. */
-	if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
-		return rs_error_set(err, RS_ERR_IO, "%s: not a regular file", path);
-	o->tmp = malloc(len);
-	if (o->tmp == NULL)
-		return rs_error_set(err, RS_ERR_NO_MEMORY, "%s: out of memory", path);
-	snprintf(o->tmp, len, "%s.tmpXXXXXX", path);
-	fd = mkstemp(o->tmp);
-	if (fd < 0) {
-		int e = errno;
-
-		free(o->tmp);
-		o->tmp = NULL;
-		return rs_error_set(err, RS_ERR_IO, "%s: cannot create: %s", path, strerror(e));
-	}
-	/* mkstemp makes 0600 files; exported scenes are meant to be shared. */
-	(void)fchmod(fd, 0644);
-	o->f = fdopen(fd, "w");
-	if (o->f == NULL) {
-		close(fd);
-		unlink(o->tmp);
-		free(o->tmp);
-		o->tmp = NULL;
-		return rs_error_set(err, RS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-	}
-	return RS_OK;
-}
-
-/* Flush, sync and close the temporary file (ok != 0) or close and remove it; the rename
- * into place is out_commit()'s, once every file of the export has been written. */
-static enum rs_status out_finish(struct out_file *o, int ok, struct rs_error *err)
-{
-	enum rs_status st = RS_OK;
-
-	if (o->f == NULL)
-		return RS_OK;
-	if (ok && (fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0)) {
-		ok = 0;
-		st = rs_error_set(err, RS_ERR_IO, "%s: write failed: %s", o->path, strerror(errno));
-	}
-	if (fclose(o->f) != 0 && ok) {
-		ok = 0;
-		st = rs_error_set(err, RS_ERR_IO, "%s: write failed: %s", o->path, strerror(errno));
-	}
-	o->f = NULL;
-	if (!ok) {
-		unlink(o->tmp);
-		free(o->tmp);
-		o->tmp = NULL;
-	}
-	return st;
-}
-
-/* Rename a finished file into place (ok != 0) or remove it; frees o. */
-static enum rs_status out_commit(struct out_file *o, int ok, struct rs_error *err)
-{
-	enum rs_status st = RS_OK;
-
-	if (o->tmp == NULL)
-		return RS_OK;
-	if (ok && rename(o->tmp, o->path) != 0) {
-		ok = 0;
-		st = rs_error_set(err, RS_ERR_IO, "%s: cannot replace: %s", o->path,
-		                  strerror(errno));
-	}
-	if (!ok)
-		unlink(o->tmp);
-	free(o->tmp);
-	o->tmp = NULL;
-	return st;
-}
+#include "private/rs_atomic_file.h"
 
 static void mtl_name(char *out, size_t size, uint32_t id)
 {
@@ -181,13 +94,14 @@ static char *mtl_path_for(const char *obj_path, const char **out_base)
 enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_path,
                                const char *view_path, struct rs_error *err)
 {
-	struct out_file o[3] = {{NULL, NULL, NULL}, {NULL, NULL, NULL}, {NULL, NULL, NULL}};
+	struct rs_atomic_file o[3] = {{NULL, NULL, NULL}, {NULL, NULL, NULL}, {NULL, NULL, NULL}};
 	const char *mtl_base = NULL;
 	char *mtl_path, *view = NULL;
 	enum rs_status st;
 
-	if (scene == NULL || obj_path == NULL || obj_path[0] == '\0')
-		return rs_error_set(err, RS_ERR_INVALID, "export: no scene or file name given");
+	RS_ASSERT(scene && obj_path);
+	if (obj_path[0] == '\0')
+		return rs_error_set(err, RS_ERR_INVALID, "export: empty file name");
 	if (rs_scene_triangle_count(scene) == 0)
 		return rs_error_set(err, RS_ERR_INVALID, "export: the scene has no triangles");
 	if (view_path != NULL && (st = rs_load_view_format(scene, &view, err)) != RS_OK)
@@ -215,7 +129,7 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 	for (int i = 0; i < 3 && st == RS_OK; i++) {
 		if (paths[i] == NULL)
 			continue;
-		st = out_open(&o[i], paths[i], err);
+		st = rs_atomic_open(&o[i], paths[i], err);
 		if (st != RS_OK)
 			break;
 		if (i == 0)
@@ -224,10 +138,10 @@ enum rs_status rs_scene_export(const struct rs_scene *scene, const char *obj_pat
 			write_obj(o[i].f, scene, mtl_base);
 		else if (fputs(view, o[i].f) >= 0)
 			fputc('\n', o[i].f);
-		st = out_finish(&o[i], 1, err);
+		st = rs_atomic_finish(&o[i], true, err);
 	}
 	for (int i = 0; i < 3; i++) {
-		enum rs_status c = out_commit(&o[i], st == RS_OK, err);
+		enum rs_status c = rs_atomic_commit(&o[i], st == RS_OK, err);
 		st = st == RS_OK ? c : st;
 	}
 	rs_free(view);

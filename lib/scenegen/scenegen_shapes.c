@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "raystream/rs_scene.h"
+#include "private/rs_vec.h"
 #include "scenegen_internal.h"
 
 #define SG_MAX_VERTS 24
@@ -14,18 +15,11 @@
 
 /* A small fixed-size mesh under construction. */
 struct sg_mesh {
-	float pos[SG_MAX_VERTS][3];
+	double pos[SG_MAX_VERTS][3]; /* double: packing subtracts the centre before rounding */
 	float nrm[SG_MAX_VERTS][3];
 	uint32_t idx[SG_MAX_TRIS][3];
 	size_t verts, tris;
 };
-
-static void cross(const double a[3], const double b[3], double out[3])
-{
-	out[0] = a[1] * b[2] - a[2] * b[1];
-	out[1] = a[2] * b[0] - a[0] * b[2];
-	out[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 /* A convex planar polygon (3 or 4 corners), wound so its normal faces `outward`. */
 static void add_poly(struct sg_mesh *m, const double (*p)[3], size_t n, const double outward[3])
@@ -38,14 +32,14 @@ static void add_poly(struct sg_mesh *m, const double (*p)[3], size_t n, const do
 		e1[k] = p[1][k] - p[0][k];
 		e2[k] = p[2][k] - p[0][k];
 	}
-	cross(e1, e2, nrm);
+	rs_v3_cross(e1, e2, nrm);
 	flip = nrm[0] * outward[0] + nrm[1] * outward[1] + nrm[2] * outward[2] < 0.0;
 	len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
 	for (size_t i = 0; i < n; i++) {
 		size_t src = flip ? n - 1 - i : i;
 
 		for (int k = 0; k < 3; k++) {
-			m->pos[m->verts + i][k] = (float)p[src][k];
+			m->pos[m->verts + i][k] = p[src][k];
 			m->nrm[m->verts + i][k] = (float)((flip ? -nrm[k] : nrm[k]) / len);
 		}
 	}
@@ -65,7 +59,7 @@ static enum rs_status flush(struct rs_scene *scene, const struct sg_mesh *m, uin
 	enum rs_status st;
 
 	memset(&d, 0, sizeof(d));
-	d.positions = &m->pos[0][0];
+	d.positions_f64 = &m->pos[0][0];
 	d.vertex_count = m->verts;
 	d.normals = &m->nrm[0][0];
 	d.indices = &m->idx[0][0];
@@ -173,7 +167,7 @@ enum rs_status sg_add_triangle(struct rs_scene *scene, const double a[3], const 
 		e1[k] = b[k] - a[k];
 		e2[k] = c[k] - a[k];
 	}
-	cross(e1, e2, n);
+	rs_v3_cross(e1, e2, n);
 	add_poly(&m, (const double(*)[3])p, 3, n);
 	return flush(scene, &m, material, err);
 }

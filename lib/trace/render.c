@@ -11,8 +11,7 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	static const struct rs_trace_desc zero_desc;
 	if (!desc)
 		desc = &zero_desc;
-	if (!scene || !packed)
-		return rs_error_set(err, RS_ERR_INVALID, "trace: scene or packed arrays missing");
+	RS_ASSERT(scene && packed);
 	size_t tris = rs_scene_triangle_count(scene);
 	if (packed->triangle_count != tris)
 		return rs_error_set(err, RS_ERR_INVALID,
@@ -57,6 +56,13 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 
 	/* R5: the offset scales with the hit triangle's coordinates in the packed frame. */
 	out->spawn_scale = desc->ray_epsilon > 0.0 ? desc->ray_epsilon : RS_TRACE_SPAWN_SCALE;
+	struct rs_bounds b;
+	rs_scene_bounds(scene, &b);
+	double half = 0.0;
+	for (int a = 0; a < 3; ++a)
+		if (b.hi[a] >= b.lo[a])
+			half = fmax(half, 0.5 * (b.hi[a] - b.lo[a]));
+	out->spawn_floor = fmax(half / 16.0, 0x1p-64);
 	/* R1: everything is traced in the packed frame. */
 	for (int a = 0; a < 3; ++a) {
 		out->origin[a] = packed->origin[a];

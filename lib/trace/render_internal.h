@@ -1,5 +1,5 @@
 /* Shared pieces of the reference renderer (Part 2 of rs_trace.h): small double-precision
- * vector helpers and the per-frame constants every path reads. Not installed. */
+ * vector helpers (rs_vec.h) and the per-frame constants every path reads. Not installed. */
 #ifndef RS_TRACE_RENDER_INTERNAL_H
 #define RS_TRACE_RENDER_INTERNAL_H
 
@@ -7,44 +7,9 @@
 
 #include "accel_internal.h"
 #include "raystream/rs_trace.h"
+#include "private/rs_vec.h"
 
 #define RS_TRACE_PI 3.14159265358979323846
-
-static inline double rs_v3_dot(const double a[3], const double b[3])
-{
-	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void rs_v3_cross(const double a[3], const double b[3], double out[3])
-{
-	double x = a[1] * b[2] - a[2] * b[1];
-	double y = a[2] * b[0] - a[0] * b[2];
-	double z = a[0] * b[1] - a[1] * b[0];
-	out[0] = x;
-	out[1] = y;
-	out[2] = z;
-}
-
-/* out = a + s * b (out may alias a or b) */
-static inline void rs_v3_madd(const double a[3], double s, const double b[3], double out[3])
-{
-	out[0] = a[0] + s * b[0];
-	out[1] = a[1] + s * b[1];
-	out[2] = a[2] + s * b[2];
-}
-
-/* Normalise in place; returns the old length. Zero, tiny or non-finite vectors are left as
- * they are and 0 is returned, so callers pick a fallback instead of dividing by zero. */
-static inline double rs_v3_normalize(double v[3])
-{
-	double len = sqrt(rs_v3_dot(v, v));
-	if (!(len > 1e-300) || !isfinite(len))
-		return 0.0;
-	v[0] /= len;
-	v[1] /= len;
-	v[2] /= len;
-	return len;
-}
 
 /* Constants of one frame, resolved once by rs_trace_frame_init(). */
 struct rs_trace_frame {
@@ -55,6 +20,7 @@ struct rs_trace_frame {
 	const struct rs_light *lights;
 	double ambient;
 	double spawn_scale;        /* R5's S: offset relative to the hit triangle's magnitude */
+	double spawn_floor;        /* R5's floor on that magnitude: the frame's half-size / 16 */
 	double origin[3];          /* the packed frame's origin (R1): lights are moved by it */
 	bool has_geometry;         /* false: every ray misses (empty scene) */
 	struct rs_environment env; /* centre already in the packed frame */

@@ -28,11 +28,16 @@ void rs_trace_spawn(const struct rs_surface *s, const double dir[3], uint32_t sl
 	out->skip_slot = slot;
 }
 
+static double max2(double a, double b)
+{
+	return a > b ? a : b; /* no NaN here: the packed vertices are finite */
+}
+
 static double maxabs9(const double v0[3], const double v1[3], const double v2[3])
 {
 	double m = 0.0;
 	for (int a = 0; a < 3; ++a)
-		m = fmax(m, fmax(fabs(v0[a]), fmax(fabs(v1[a]), fabs(v2[a]))));
+		m = max2(m, max2(fabs(v0[a]), max2(fabs(v1[a]), fabs(v2[a]))));
 	return m;
 }
 
@@ -46,7 +51,7 @@ static double dist3(const double a[3], const double b[3])
  * every edge (small triangles: to the centroid), so that it lies inside the triangle by
  * more than rounding and thus in front of every neighbour's plane at a concave edge. */
 static void spawn_point(const double v0[3], const double v1[3], const double v2[3], double u,
-                        double v, double scale, struct rs_surface *out)
+                        double v, const struct rs_trace_frame *frame, struct rs_surface *out)
 {
 	double e1[3], e2[3], c[3];
 	for (int a = 0; a < 3; ++a) {
@@ -55,13 +60,15 @@ static void spawn_point(const double v0[3], const double v1[3], const double v2[
 	}
 	rs_v3_cross(e1, e2, c);
 	double a2 = sqrt(rs_v3_dot(c, c));
-	double delta = scale * fmax(maxabs9(v0, v1, v2), 0x1p-64);
+	/* The floor: near the frame's centre a triangle's own coordinates are small, but its
+	 * neighbours' planes are only known to the rounding of theirs (fp32 kernels). */
+	double delta = frame->spawn_scale * max2(maxabs9(v0, v1, v2), frame->spawn_floor);
 	double edge[3] = {dist3(v2, v1), dist3(v0, v2), dist3(v1, v0)};
 	double b[3] = {1.0 - u - v, u, v}, sum = 0.0;
 	for (int i = 0; i < 3; ++i) {
 		double h = edge[i] > 0.0 ? a2 / edge[i] : 0.0;
 		double floor_i = h > 12.0 * delta ? 4.0 * delta / h : 1.0 / 3.0;
-		b[i] = fmax(b[i], floor_i);
+		b[i] = max2(b[i], floor_i);
 		sum += b[i];
 	}
 	for (int a = 0; a < 3; ++a)
@@ -79,7 +86,7 @@ void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *r
 	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 2), v2);
 	float material_f = rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 1)[3];
 
-	spawn_point(v0, v1, v2, hit->u, hit->v, frame->spawn_scale, out);
+	spawn_point(v0, v1, v2, hit->u, hit->v, frame, out);
 	for (int a = 0; a < 3; ++a) {
 		e1[a] = v1[a] - v0[a];
 		e2[a] = v2[a] - v0[a];

@@ -40,10 +40,11 @@ static void load_triangle(const struct rs_packed *packed, uint32_t slot, double 
 
 /* The closest-hit rule (docs/tracer.md R4): nearer wins; on exactly equal t the lower scene
  * triangle id wins, so the answer does not depend on the order the BVH visits triangles.
- * The triangle tests accept t == r->tmax, which is the current best t once one is found. */
+ * The triangle tests accept t == r->tmax: the caller's tmax before a hit (kept exclusive
+ * here), the best t after. */
 static bool better(bool found, double t, uint32_t id, const struct rs_ray *r, uint32_t best_id)
 {
-	return !found || t < r->tmax || id < best_id;
+	return t < r->tmax || (found && id < best_id);
 }
 
 static void record(struct rs_hit *out_hit, double t, double u, double v, uint32_t slot, uint32_t id)
@@ -62,16 +63,6 @@ static void clear(struct rs_hit *out_hit)
 	record(out_hit, INFINITY, 0.0, 0.0, RS_NO_SLOT, RS_NO_SLOT);
 }
 
-/* The user's tmax is exclusive; the tests' closed bound is moved one ulp in to keep it so. */
-static void local_copy(const struct rs_ray *ray, const double *origin, struct rs_ray *out)
-{
-	*out = *ray;
-	if (origin)
-		for (int a = 0; a < 3; a++)
-			out->origin[a] = ray->origin[a] - origin[a];
-	out->tmax = nextafter(ray->tmax, -INFINITY);
-}
-
 /* One walk for both queries: `any` stops at the first hit. The ray is in the packed frame. */
 static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
                      const struct rs_ray *ray, bool any, struct rs_hit *out_hit,
@@ -83,8 +74,7 @@ static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
 	double inv[3];
 	for (int a = 0; a < 3; a++)
 		inv[a] = 1.0 / ray->dir[a]; /* IEEE: 1/+-0 = +-inf, handled by the slab test */
-	struct rs_ray r;
-	local_copy(ray, NULL, &r);
+	struct rs_ray r = *ray;
 	struct rs__ray_pre pre;
 	rs__ray_prepare(&r, &pre);
 	uint64_t boxes = 0, tris = 0;
@@ -185,7 +175,7 @@ bool rs_trace_closest_brute(const struct rs_packed *packed, enum rs_triangle_tes
 	if (!packed || !ray_usable(ray))
 		return false;
 	struct rs_ray r;
-	local_copy(ray, packed->origin, &r);
+	to_packed_frame(packed, ray, &r);
 	struct rs__ray_pre pre;
 	rs__ray_prepare(&r, &pre);
 	bool found = false;

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "raystream/rs_track.h"
+#include "private/rs_atomic_file.h"
 
 #define MAGIC "RSTRKREC"
 #define HEADER_SIZE 16
@@ -39,8 +40,7 @@ static void sleep_s(double s)
  * the recorder is finished without a write error, so a failed run never leaves a partial
  * or half-overwritten file under the real name. */
 struct rs_track_recorder {
-	FILE *f;
-	char *path, *tmp;
+	struct rs_atomic_file af;
 };
 
 static void put_le(uint8_t *p, uint64_t v, int n)
@@ -57,13 +57,6 @@ static uint64_t get_le(const uint8_t *p, int n)
 	return v;
 }
 
-static void recorder_free(struct rs_track_recorder *r)
-{
-	free(r->path);
-	free(r->tmp);
-	free(r);
-}
-
 enum rs_status rs_track_recorder_create(const char *path, struct rs_track_recorder **out,
                                         struct rs_error *err)
 {
@@ -76,44 +69,21 @@ enum rs_status rs_track_recorder_create(const char *path, struct rs_track_record
 		return rs_error_set(err, RS_ERR_IO, "record: cannot create %s: Is a directory",
 		                    path);
 	struct rs_track_recorder *r = calloc(1, sizeof *r);
-	size_t n = strlen(path);
-	if (r) {
-		r->path = malloc(n + 1);
-		r->tmp = malloc(n + sizeof ".tmp-XXXXXX");
-	}
-	if (!r || !r->path || !r->tmp) {
-		if (r)
-			recorder_free(r);
+	if (!r)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "record: out of memory");
-	}
-	memcpy(r->path, path, n + 1);
-	memcpy(r->tmp, path, n);
-	memcpy(r->tmp + n, ".tmp-XXXXXX", sizeof ".tmp-XXXXXX");
-	int fd = mkstemp(r->tmp);
-	if (fd < 0) {
-		enum rs_status st = rs_error_set(err, RS_ERR_IO, "record: cannot create %s: %s",
-		                                 path, strerror(errno));
-		recorder_free(r);
-		return st;
-	}
-	/* mkstemp makes the file private; a recording is an ordinary output file. */
-	(void)fchmod(fd, 0644);
-	r->f = fdopen(fd, "wb");
-	if (!r->f) {
-		close(fd);
-		unlink(r->tmp);
-		recorder_free(r);
-		return rs_error_set(err, RS_ERR_IO, "record: cannot create %s", path);
+	enum rs_status st = rs_atomic_open(&r->af, path, err);
+	if (st != RS_OK) {
+		free(r);
+		return rs_error_prefix(err, st, "record");
 	}
 	uint8_t h[HEADER_SIZE];
 	memcpy(h, MAGIC, 8);
 	put_le(h + 8, 1, 4);                    /* file format version */
 	put_le(h + 12, RS_PROTO_FRAME_SIZE, 4); /* record payload size */
-	if (fwrite(h, 1, sizeof h, r->f) != sizeof h) {
-		fclose(r->f);
-		unlink(r->tmp);
-		enum rs_status st = rs_error_set(err, RS_ERR_IO, "record: cannot write %s", path);
-		recorder_free(r);
+	if (fwrite(h, 1, sizeof h, r->af.f) != sizeof h) {
+		st = rs_error_set(err, RS_ERR_IO, "record: cannot write %s", path);
+		rs_atomic_commit(&r->af, false, NULL);
+		free(r);
 		return st;
 	}
 	*out = r;
@@ -131,8 +101,8 @@ enum rs_status rs_track_recorder_write(struct rs_track_recorder *r,
 	uint64_t bits;
 	memcpy(&bits, &sample->host_time_s, sizeof bits);
 	put_le(rec, bits, 8);
-	if (fwrite(rec, 1, sizeof rec, r->f) != sizeof rec)
-		return rs_error_set(err, RS_ERR_IO, "record: cannot write %s", r->path);
+	if (fwrite(rec, 1, sizeof rec, r->af.f) != sizeof rec)
+		return rs_error_set(err, RS_ERR_IO, "record: cannot write %s", r->af.path);
 	return RS_OK;
 }
 
@@ -140,22 +110,11 @@ enum rs_status rs_track_recorder_destroy(struct rs_track_recorder **rec, struct 
 {
 	if (!rec || !*rec)
 		return RS_OK;
-	struct rs_track_recorder *r = *rec;
-	enum rs_status st = RS_OK;
-	/* A write that failed earlier left ferror() set: the file is incomplete, drop it. */
-	int write_error = ferror(r->f);
-	if (fclose(r->f) != 0 || write_error) {
-		unlink(r->tmp);
-		st = rs_error_set(err, RS_ERR_IO, "record: cannot finish %s", r->path);
-	} else if (rename(r->tmp, r->path) != 0) {
-		int e = errno;
-		unlink(r->tmp);
-		st = rs_error_set(err, RS_ERR_IO, "record: cannot finish %s: %s", r->path,
-		                  strerror(e));
-	}
-	recorder_free(r);
+	/* A write that failed earlier left ferror() set: the file is incomplete, dropped. */
+	enum rs_status st = rs_atomic_commit(&(*rec)->af, true, err);
+	free(*rec);
 	*rec = NULL;
-	return st;
+	return st == RS_OK ? RS_OK : rs_error_prefix(err, st, "record");
 }
 
 /* ---- Replay source ----------------------------------------------------------------------- */
@@ -304,9 +263,9 @@ static const struct rs_track_source_ops replay_ops = {
 enum rs_status rs_track_replay_open(const char *path, const struct rs_track_replay_desc *desc,
                                     struct rs_track_source **out_source, struct rs_error *err)
 {
-	RS_ASSERT(out_source);
+	RS_ASSERT(path && out_source);
 	*out_source = NULL;
-	if (!path || !path[0])
+	if (!path[0])
 		return rs_error_set(err, RS_ERR_INVALID, "replay: empty file name");
 	struct replay *r = calloc(1, sizeof *r);
 	if (!r)

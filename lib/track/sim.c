@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "raystream/rs_sim.h"
+#include "private/rs_vec.h"
 #include "sim_internal.h"
 
 #define PI 3.14159265358979323846
@@ -201,7 +202,7 @@ enum rs_status rs_sim_next(struct rs_sim *s, struct rs_marker_sample *out, struc
 		struct rs_marker *mk = &out->markers[m];
 		mk->id = (uint32_t)m;
 		double w[3];
-		sim_quat_rotate(s->q, s->layout[m], w);
+		rs_q_rotate(s->q, s->layout[m], w);
 		for (int a = 0; a < 3; a++) {
 			double n = s->desc.noise_sigma_m > 0
 			               ? rng_gauss(&s->rng) * s->desc.noise_sigma_m

@@ -28,7 +28,6 @@ enum rs_status sim_parse_script(const char *script, struct sim_segment *out, siz
 void sim_segment_motion(const struct sim_segment *seg, double t, const double q[4],
                         struct sim_motion *out);
 
-void sim_quat_rotate(const double q[4], const double v[3], double out[3]);
 /* q <- exp(w_world h / 2) * q * exp(w_body h / 2), renormalised. */
 void sim_quat_integrate(double q[4], const double w_world[3], const double w_body[3], double h);
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "private/rs_vec.h"
 #include "sim_internal.h"
 
 #define PI 3.14159265358979323846
@@ -70,49 +71,16 @@ enum rs_status sim_parse_script(const char *script, struct sim_segment *out, siz
 	return RS_OK;
 }
 
-void sim_quat_rotate(const double q[4], const double v[3], double out[3])
-{
-	/* v' = v + 2w (u x v) + 2 u x (u x v), u = q.xyz */
-	double u[3] = {q[0], q[1], q[2]}, w = q[3];
-	double c[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-	               u[0] * v[1] - u[1] * v[0]};
-	double cc[3] = {u[1] * c[2] - u[2] * c[1], u[2] * c[0] - u[0] * c[2],
-	                u[0] * c[1] - u[1] * c[0]};
-	for (int i = 0; i < 3; i++)
-		out[i] = v[i] + 2.0 * w * c[i] + 2.0 * cc[i];
-}
-
-static void quat_mul(const double a[4], const double b[4], double out[4])
-{
-	double r[4] = {
-	    a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],
-	    a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
-	    a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3],
-	    a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2],
-	};
-	memcpy(out, r, sizeof r);
-}
-
-static void quat_exp(const double w[3], double h, double out[4])
-{
-	double a = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) * h;
-	double s = a > 1e-12 ? sin(a / 2) / (a / h) : h / 2;
-	out[0] = w[0] * s;
-	out[1] = w[1] * s;
-	out[2] = w[2] * s;
-	out[3] = cos(a / 2);
-}
-
 void sim_quat_integrate(double q[4], const double w_world[3], const double w_body[3], double h)
 {
-	double e[4];
-	quat_exp(w_world, h, e);
-	quat_mul(e, q, q);
-	quat_exp(w_body, h, e);
-	quat_mul(q, e, q);
-	double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-	for (int i = 0; i < 4; i++)
-		q[i] /= n;
+	double e[4], v[3];
+	rs_v3_scale(w_world, h, v);
+	rs_q_exp(v, e);
+	rs_q_mul(e, q, q);
+	rs_v3_scale(w_body, h, v);
+	rs_q_exp(v, e);
+	rs_q_mul(q, e, q);
+	rs_q_normalize(q, q);
 }
 
 void sim_segment_motion(const struct sim_segment *seg, double t, const double q[4],
@@ -129,7 +97,7 @@ void sim_segment_motion(const struct sim_segment *seg, double t, const double q[
 		/* Forward along the body's heading at up to 0.6 m/s, with a 1.8 Hz, 3 cm bob. */
 		static const double x_axis[3] = {1, 0, 0};
 		double f[3];
-		sim_quat_rotate(q, x_axis, f);
+		rs_q_rotate(q, x_axis, f);
 		double n = sqrt(f[0] * f[0] + f[1] * f[1]);
 		if (n < 1e-6) {
 			f[0] = 1;

@@ -9,6 +9,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "private/rs_atomic_file.h"
+
 double rs_tool_now_ms(void)
 {
 	struct timespec ts;
@@ -88,28 +90,13 @@ enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_
 	char *text = cJSON_Print(doc);
 	if (!text)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory formatting %s", path);
-	char tmp[4096];
-	int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
-	enum rs_status status = RS_OK;
-	int fd = -1;
-	struct stat st;
-	/* rename() over a device or FIFO would replace the node itself (as root). */
-	if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
-		status = rs_error_set(err, RS_ERR_IO, "cannot write %s: not a regular file", path);
-	else if (n < 0 || (size_t)n >= sizeof tmp)
-		status = rs_error_set(err, RS_ERR_INVALID, "path too long: %s", path);
-	else if ((fd = mkstemp(tmp)) < 0)
-		status = rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path, strerror(errno));
+	struct rs_atomic_file af;
+	enum rs_status status = rs_atomic_open(&af, path, err);
 	if (status == RS_OK) {
-		(void)fchmod(fd, 0644);
-		size_t len = strlen(text);
-		int ok = write(fd, text, len) == (ssize_t)len && write(fd, "\n", 1) == 1;
-		ok = (close(fd) == 0) && ok;
-		if (!ok || rename(tmp, path) != 0) {
-			status = rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path,
-			                      strerror(errno));
-			unlink(tmp);
-		}
+		/* A failed write sets the stream's error flag, which the commit checks. */
+		fputs(text, af.f);
+		fputc('\n', af.f);
+		status = rs_atomic_commit(&af, true, err);
 	}
 	cJSON_free(text);
 	return status;

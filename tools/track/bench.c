@@ -11,7 +11,7 @@
 
 #include "raystream/rs_pose.h"
 #include "raystream/rs_track.h"
-#include "rs_serial.h"
+#include "raystream/rs_serial.h"
 #include "track_tool.h"
 
 static int cmp_double(const void *a, const void *b)

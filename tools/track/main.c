@@ -13,7 +13,7 @@
 
 #include "raystream/rs_pose.h"
 #include "raystream/rs_track.h"
-#include "rs_tracker.h"
+#include "raystream/rs_tracker.h"
 #include "track_tool.h"
 
 #define TOOL "raystream-track"

@@ -6,7 +6,7 @@
 #include <stdio.h>
 
 #include "raystream/rs_track.h"
-#include "rs_serial.h"
+#include "raystream/rs_serial.h"
 #include "track_tool.h"
 
 int track_serve_pty(struct rs_track_source *src, long long count, double duration_s,

@@ -12,8 +12,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "rs_status.h"
-#include "rs_track_types.h"
+#include "raystream/rs_status.h"
+#include "raystream/rs_track_types.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -87,7 +87,8 @@ bool rs_trace_closest(const struct rs_packed *packed, enum rs_triangle_test test
 bool rs_trace_occluded(const struct rs_packed *packed, enum rs_triangle_test test,
                        const struct rs_ray *ray, struct rs_trace_counters *counters);
 
-/** Closest hit by testing every triangle of the packed scene (for checking traversal). */
+/** Closest hit by testing every triangle of the packed scene, in slot order, with the
+ * same tie-break (for checking traversal); world ray. */
 bool rs_trace_closest_brute(const struct rs_packed *packed, enum rs_triangle_test test,
                             const struct rs_ray *ray, struct rs_hit *out_hit);
 
@@ -200,7 +201,8 @@ double rs_trace_fresnel_schlick(double cos_i, double n_from, double n_to);
 
 /** One traced segment of a path (for tests and for comparing backends pass by pass). */
 struct rs_trace_segment {
-	struct rs_ray ray;       /**< as traced (origin already offset, skip slot set) */
+	struct rs_ray ray;       /**< as traced (origin already offset, skip slot set), in world
+	                              coordinates (traced in the packed frame, docs/tracer.md R1) */
 	struct rs_hit hit;       /**< slot RS_NO_SLOT on a miss */
 	double throughput;       /**< weight its contribution was scaled by */
 	enum rs_ray_state state; /**< after this segment: ACTIVE (a next ray was made),

@@ -14,10 +14,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "rs_proto.h"
-#include "rs_sim.h"
-#include "rs_status.h"
-#include "rs_track_types.h"
+#include "raystream/rs_proto.h"
+#include "raystream/rs_sim.h"
+#include "raystream/rs_status.h"
+#include "raystream/rs_track_types.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,21 +1,28 @@
-/**
- * @file rs_usb.h
- * Raw USB tracker backend (module rs_usb) for devices without a HID interface: protocol
- * frames read from the first bulk or interrupt IN endpoint through libusb. The libusb
- * calls go through struct rs_usb_api, a thin table mirroring them (libusb's return
- * codes, LIBUSB_SUCCESS / LIBUSB_ERROR_*): the default calls libusb, tests pass a fake.
+/*
+ * Private to the usb backend and its tests, never installed: the libusb calls the backend
+ * makes, behind a table so tests can put a fake device in libusb's place. The real table
+ * (usb_api.c) translates libusb's return codes into enum rs_usb_code, so usb.c and the
+ * tests never see libusb's headers and libusb stays a private dependency.
  */
-#ifndef RS_USB_H
-#define RS_USB_H
+#ifndef RS_USB_API_H
+#define RS_USB_API_H
 
-#include <stddef.h>
-#include <stdint.h>
+#include "raystream/rs_usb.h"
 
-#include "raystream/rs_track.h"
+/** What a table call returns: 0, or one of these (libusb's codes, translated). */
+enum rs_usb_code {
+	RS_USB_OK = 0,
+	RS_USB_TIMEOUT = -1,   /**< LIBUSB_ERROR_TIMEOUT */
+	RS_USB_NOT_FOUND = -2, /**< LIBUSB_ERROR_NOT_FOUND */
+	RS_USB_NO_DEVICE = -3, /**< LIBUSB_ERROR_NO_DEVICE */
+	RS_USB_IO = -4,        /**< LIBUSB_ERROR_IO */
+	RS_USB_BUSY = -5,      /**< LIBUSB_ERROR_BUSY */
+	RS_USB_ACCESS = -6,    /**< LIBUSB_ERROR_ACCESS */
+	RS_USB_OTHER = -7,     /**< any other libusb error */
+};
 
-#ifdef __cplusplus
-extern "C" {
-#endif
+/** Constant name of a code ("RS_USB_NO_DEVICE"); never NULL. */
+const char *rs_usb_code_name(int code);
 
 /** The libusb calls the backend makes; `ctx` is passed back, handles are opaque. */
 struct rs_usb_api {
@@ -40,8 +47,6 @@ struct rs_usb_api {
 	void (*release_interface)(void *ctx, void *handle, int interface);
 	/** libusb_close(). */
 	void (*close)(void *ctx, void *handle);
-	/** libusb_error_name(); may be NULL. */
-	const char *(*error_name)(void *ctx, int code);
 	/** libusb_get_max_packet_size() of `endpoint`: > 0, or an error code. May be NULL
 	 *  (reads then ask for 512 bytes). Reads are one packet long, so a device that fills
 	 *  its packets is read as each packet lands instead of after several. */
@@ -51,26 +56,8 @@ struct rs_usb_api {
 /** The table that calls libusb itself (static storage). */
 const struct rs_usb_api *rs_usb_api_default(void);
 
-/** USB options; vid and pid are required. */
-struct rs_usb_desc {
-	uint16_t vid, pid;
-	const struct rs_usb_api *api; /**< NULL: rs_usb_api_default(); must outlive the source */
-};
+/** rs_usb_open() through `api` (which must outlive the source) instead of libusb. */
+enum rs_status rs_usb_open_api(const struct rs_usb_desc *desc, const struct rs_usb_api *api,
+                               struct rs_track_source **out_source, struct rs_error *err);
 
-/**
- * Open the device, claim the interface of its first bulk/interrupt IN endpoint and wrap
- * it as a tracker source. RS_ERR_NOT_FOUND (no device), RS_ERR_UNSUPPORTED (no IN
- * endpoint), RS_ERR_DEVICE (libusb failure; message names the libusb error).
- * Unplugging reads as RS_ERR_DISCONNECTED; rs_track_source_reopen() opens it again.
- */
-enum rs_status rs_usb_open(const struct rs_usb_desc *desc, struct rs_track_source **out_source,
-                           struct rs_error *err);
-
-/** Parse the part after "usb:": `VID:PID` in hex (1-4 digits each). RS_ERR_PARSE. */
-enum rs_status rs_usb_parse_uri(const char *rest, struct rs_usb_desc *out_desc,
-                                struct rs_error *err);
-
-#ifdef __cplusplus
-}
-#endif
 #endif
