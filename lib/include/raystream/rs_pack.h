@@ -99,9 +99,9 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
                               struct rs_error *err);
 
 /**
- * Check that `packed` is laid out as rs_pack_layout() makes it for its counts and row_items
- * and has every texel buffer: the condition for reading it through rs_pack_texel().
- * RS_ERR_INVALID naming the first texture that is not.
+ * Check that `packed` (not NULL) is laid out as rs_pack_layout() makes it for its counts and
+ * row_items and has every texel buffer: the condition for reading it through
+ * rs_pack_texel(). RS_ERR_INVALID naming the first texture that is not.
  */
 enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *err);
 
