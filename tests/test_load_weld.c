@@ -103,10 +103,40 @@ static void small_models_keep_every_vertex(void **state)
 	}
 }
 
+/* A flat-shaded cube: 8 "v" lines, 6 "vn" lines, each face's corners with its face normal.
+ * With the file's normals a corner is welded only with corners of the same normal (24
+ * vertices: 8 positions x 3 faces); without them, by position alone (8 vertices). */
+static void normals_take_part_in_the_weld(void **state)
+{
+	static const char cube[] =
+	    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+	    "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
+	    "f 1//1 3//1 2//1\nf 1//1 4//1 3//1\nf 5//2 6//2 7//2\nf 5//2 7//2 8//2\n"
+	    "f 1//3 2//3 6//3\nf 1//3 6//3 5//3\nf 4//4 7//4 3//4\nf 4//4 8//4 7//4\n"
+	    "f 1//5 5//5 8//5\nf 1//5 8//5 4//5\nf 2//6 3//6 7//6\nf 2//6 7//6 6//6\n";
+	for (int ignore = 0; ignore < 2; ignore++) {
+		struct fx fx;
+		struct rs_scene *scene = NULL;
+		struct rs_error err;
+		struct rs_load_desc desc = {.ignore_file_normals = ignore != 0};
+		fx_init(&fx);
+		assert_int_equal(rs_scene_create(NULL, &scene, NULL), RS_OK);
+		enum rs_status st =
+		    rs_load_mesh_file(&desc, fx_write(&fx, "cube.obj", cube), scene, &err);
+		fx_cleanup(&fx);
+		if (st != RS_OK)
+			fail_msg("%s", err.message);
+		assert_int_equal(rs_scene_triangle_count(scene), 12);
+		assert_int_equal(rs_scene_vertex_count(scene), ignore ? 8 : 24);
+		rs_scene_destroy(&scene);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(small_models_keep_every_vertex),
+	    cmocka_unit_test(normals_take_part_in_the_weld),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -120,12 +120,13 @@ static void test_collinear_and_coincident_hold_last_pose(void **state)
 	teardown(f);
 }
 
-/* The gate compares the smallest height (0.0707 m here) with min_height_sigmas * sigma. */
+/* The gate compares the smallest height (0.0707 m here) with min_height_sigmas * sigma.
+ * (At 1 mm the ids are still clear from the side lengths; at 7 mm they never are.) */
 static void test_height_gate_threshold(void **state)
 {
 	(void)state;
-	struct rs_pose_solver_desc below = {.noise_sigma_m = 0.0070, .min_height_sigmas = 10};
-	struct rs_pose_solver_desc above = {.noise_sigma_m = 0.0071, .min_height_sigmas = 10};
+	struct rs_pose_solver_desc below = {.noise_sigma_m = 0.001, .min_height_sigmas = 70};
+	struct rs_pose_solver_desc above = {.noise_sigma_m = 0.001, .min_height_sigmas = 71};
 	struct rs_marker_sample smp;
 	struct rs_pose out;
 	struct fixture *f = setup_with(&below);
@@ -355,13 +356,26 @@ static void test_tiny_dt_velocity_stays_finite(void **state)
 	teardown(f);
 }
 
-/* max_prediction_s and hold_timeout_s near DBL_MAX: an extrapolation that would leave the
- * double range is not handed out; the last pose is held instead (and said so). */
-static void test_absurd_prediction_horizon_holds(void **state)
+/* max_prediction_s above RS_POSE_MAX_PREDICTION_S is refused; with the largest allowed cap
+ * and an absurd hold_timeout_s a 100 m/s pose lost for 1e308 s is extrapolated by exactly
+ * the 30 ms cap (3 m), finite. */
+static void test_prediction_cap_above_30ms_refused(void **state)
 {
 	(void)state;
-	struct rs_pose_solver_desc d = {
-	    .predict_when_lost = 1, .max_prediction_s = 1e308, .hold_timeout_s = 1e308};
+	struct rs_pose_layout L;
+	rs_pose_layout_default(&L);
+	struct rs_pose_solver *s = NULL;
+	struct rs_error err;
+	struct rs_pose_solver_desc bad = {.predict_when_lost = 1, .max_prediction_s = 1e308};
+	assert_int_equal(rs_pose_solver_create(&bad, &L, &s, &err), RS_ERR_INVALID);
+	assert_null(s);
+	assert_non_null(strstr(err.message, "max_prediction_s"));
+	bad.max_prediction_s = 0.031;
+	assert_int_equal(rs_pose_solver_create(&bad, &L, &s, NULL), RS_ERR_INVALID);
+	struct rs_pose_solver_desc d = {.predict_when_lost = 1,
+	                                .max_prediction_s = RS_POSE_MAX_PREDICTION_S,
+	                                .hold_timeout_s = 1e308,
+	                                .velocity_time_constant_s = 1e-9};
 	struct fixture *f = setup_with(&d);
 	solve_good(f, 0.0);
 	f->truth.position[0] += 1.0; /* 100 m/s between the two samples */
@@ -370,8 +384,8 @@ static void test_absurd_prediction_horizon_holds(void **state)
 	struct rs_pose out;
 	make_sample(&f->L, &f->truth, 0.0, &f->r, 1e308, &smp);
 	smp.marker_count = 0;
-	assert_int_equal(run(f, &smp, &out), RS_POSE_HELD);
-	assert_true(pos_error(&out, &good) == 0.0);
+	assert_int_equal(run(f, &smp, &out), RS_POSE_PREDICTED);
+	assert_float_equal(pos_error(&out, &good), 100.0 * RS_POSE_MAX_PREDICTION_S, 1e-6);
 	teardown(f);
 }
 
@@ -527,7 +541,7 @@ int main(void)
 	    cmocka_unit_test(test_hold_timeout_gives_none),
 	    cmocka_unit_test(test_predict_when_lost_is_capped),
 	    cmocka_unit_test(test_tiny_dt_velocity_stays_finite),
-	    cmocka_unit_test(test_absurd_prediction_horizon_holds),
+	    cmocka_unit_test(test_prediction_cap_above_30ms_refused),
 	    cmocka_unit_test(test_output_hemisphere_canonical),
 	    cmocka_unit_test(test_random_degenerate_configurations),
 	    cmocka_unit_test(test_bad_arguments),

@@ -289,8 +289,13 @@ static void centred_layout(struct rs_pose_layout *L)
 
 #define MC_TRIALS 4000
 
-static void monte_carlo(double sigma, double *out_rot_rms, double *out_pos_rms_axis,
-                        double *out_residual_rms)
+/* MC_TRIALS solved samples of random poses. Samples whose ids the side lengths cannot
+ * settle (RS_POSE_HELD / NONE: most at 2 mm on this layout, see docs/pose.md) are skipped:
+ * to first order the side lengths see only the 3 shape components of the noise and the
+ * pose error only the 6 rigid ones, which are independent, so skipping them does not bias
+ * the pose error statistics. *out_solved: fraction of samples solved. */
+static void monte_carlo_solved(double sigma, double *out_rot_rms, double *out_pos_rms_axis,
+                               double *out_residual_rms, double *out_solved)
 {
 	struct rs_pose_layout L;
 	centred_layout(&L);
@@ -299,23 +304,38 @@ static void monte_carlo(double sigma, double *out_rot_rms, double *out_pos_rms_a
 	assert_int_equal(rs_pose_solver_create(&d, &L, &s, NULL), RS_OK);
 	struct rng r = {1000 + (uint64_t)(sigma * 1e6)};
 	double sum_rot = 0.0, sum_pos = 0.0, sum_res = 0.0;
-	for (int trial = 0; trial < MC_TRIALS; ++trial) {
+	int solved = 0, tried = 0;
+	while (solved < MC_TRIALS && tried < 20 * MC_TRIALS) {
 		struct rs_pose T, out;
 		struct rs_marker_sample smp;
 		struct rs_pose_quality q;
 		random_pose(&r, 2.0, &T);
-		make_sample(&L, &T, sigma, &r, 0.001 * trial, &smp);
+		make_sample(&L, &T, sigma, &r, 0.001 * tried++, &smp);
+		rs_pose_solver_reset(s);
 		assert_int_equal(rs_pose_solver_update(s, &smp, &out, &q), RS_OK);
-		assert_int_equal(q.status, RS_POSE_OK);
+		if (q.status != RS_POSE_OK) {
+			assert_int_equal(q.status, RS_POSE_NONE);
+			continue;
+		}
 		double a = rs_pose_angle_between(&out, &T), e = pos_error(&out, &T);
 		sum_rot += a * a;
 		sum_pos += e * e;
 		sum_res += q.residual_rms_m * q.residual_rms_m;
+		++solved;
 	}
 	rs_pose_solver_destroy(&s);
+	assert_int_equal(solved, MC_TRIALS);
 	*out_rot_rms = sqrt(sum_rot / MC_TRIALS);
 	*out_pos_rms_axis = sqrt(sum_pos / (3.0 * MC_TRIALS));
 	*out_residual_rms = sqrt(sum_res / MC_TRIALS);
+	*out_solved = (double)solved / tried;
+}
+
+static void monte_carlo(double sigma, double *out_rot_rms, double *out_pos_rms_axis,
+                        double *out_residual_rms)
+{
+	double solved;
+	monte_carlo_solved(sigma, out_rot_rms, out_pos_rms_axis, out_residual_rms, &solved);
 }
 
 static void test_monte_carlo_sigma_zero(void **state)
@@ -339,8 +359,8 @@ static void check_sigma(double sigma)
 	struct rs_pose_layout L;
 	rs_pose_layout_default(&L);
 	double k = rotation_error_constant(&L);
-	double rot, pos, res;
-	monte_carlo(sigma, &rot, &pos, &res);
+	double rot, pos, res, solved;
+	monte_carlo_solved(sigma, &rot, &pos, &res, &solved);
 	double expect_rot = k * sigma, expect_pos = sigma / sqrt(3.0);
 	double h_min = 0.008 / sqrt(0.08 * 0.08 * 2);
 	/* The sigma / h law with its constant: k * h_min = 1.68 for this layout. */
@@ -352,8 +372,11 @@ static void check_sigma(double sigma)
 	assert_true(pos > 0.9 * expect_pos && pos < 1.1 * expect_pos);
 	/* The quality figure: 9 measured coordinates minus 6 pose parameters leave 3 degrees
 	 * of freedom, so E[sum |r_i|^2] = 3 sigma^2 and the per-marker residual RMS is sigma
-	 * (chi-square with 3 x 4000 dof: ~0.6 % sampling error; +-10 % as above). */
-	assert_true(res > 0.9 * sigma && res < 1.1 * sigma);
+	 * (chi-square with 3 x 4000 dof: ~0.6 % sampling error; +-10 % as above). The
+	 * residual is the shape part of the noise, so it is only unbiased where (nearly) every
+	 * sample is solved: skipping ambiguous labellings keeps the small-residual ones. */
+	if (solved > 0.99)
+		assert_true(res > 0.9 * sigma && res < 1.1 * sigma);
 }
 
 static void test_monte_carlo_sigma_0_1mm(void **state)

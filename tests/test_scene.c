@@ -63,6 +63,65 @@ static void normals_are_angle_weighted(void **state)
 	rs_scene_destroy(&scene);
 }
 
+/* positions_f64 are kept exactly (with a stride), their float rounding is what
+ * rs_scene_positions() shows, and the bounds come from the doubles. */
+static void double_positions_are_kept_exactly(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	double pos[8 * 4]; /* xyz plus one unused double per vertex: stride 32 bytes */
+	for (int v = 0; v < 8; ++v) {
+		for (int a = 0; a < 3; ++a)
+			pos[4 * v + a] = 1e6 + cube_pos[3 * v + a] * (1.0 + 1e-9);
+		pos[4 * v + 3] = NAN; /* never read */
+	}
+	struct rs_mesh_desc mesh = cube_mesh();
+	mesh.positions = NULL;
+	mesh.positions_f64 = pos;
+	mesh.position_stride = 4 * sizeof(double);
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
+	const double *p = rs_scene_positions_f64(scene);
+	const float *f = rs_scene_positions(scene);
+	for (int v = 0; v < 8; ++v)
+		for (int a = 0; a < 3; ++a) {
+			assert_true(p[3 * v + a] == pos[4 * v + a]);
+			assert_true(f[3 * v + a] == (float)pos[4 * v + a]);
+		}
+	struct rs_bounds b;
+	rs_scene_bounds(scene, &b);
+	assert_true(b.lo[0] == 1e6 && b.hi[0] == 1e6 + (1.0 + 1e-9));
+	/* float input is widened exactly */
+	mesh = cube_mesh();
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
+	p = rs_scene_positions_f64(scene);
+	for (int i = 0; i < 8 * 3; ++i)
+		assert_true(p[8 * 3 + i] == (double)cube_pos[i]);
+	rs_scene_destroy(&scene);
+}
+
+/* Exactly one of positions / positions_f64; a double beyond float range is bad data. */
+static void double_positions_are_validated(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	double pos[8 * 3];
+	for (int i = 0; i < 8 * 3; ++i)
+		pos[i] = cube_pos[i];
+	struct rs_mesh_desc mesh = cube_mesh();
+	mesh.positions_f64 = pos; /* and positions: both given */
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_INVALID);
+	mesh.positions = NULL;
+	mesh.positions_f64 = NULL; /* neither */
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_INVALID);
+	pos[7] = 1e39; /* vertex 2 would round to an infinite float */
+	mesh.positions_f64 = pos;
+	struct rs_error err;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, &err), RS_ERR_BAD_DATA);
+	assert_non_null(strstr(err.message, "vertex 2"));
+	pos[7] = NAN;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_ERR_BAD_DATA);
+	assert_int_equal(rs_scene_triangle_count(scene), 0);
+	rs_scene_destroy(&scene);
+}
+
 static void nan_vertex_is_rejected(void **state)
 {
 	struct rs_scene *scene = make_scene();
@@ -185,6 +244,8 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(mesh_is_copied),
 	    cmocka_unit_test(normals_are_angle_weighted),
+	    cmocka_unit_test(double_positions_are_kept_exactly),
+	    cmocka_unit_test(double_positions_are_validated),
 	    cmocka_unit_test(nan_vertex_is_rejected),
 	    cmocka_unit_test(index_out_of_range_is_rejected),
 	    cmocka_unit_test(zero_triangles_and_unknown_material_are_rejected),

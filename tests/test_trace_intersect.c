@@ -100,6 +100,28 @@ static void box_respects_interval(void **state)
 	assert_false(box_hit(unit_lo, unit_hi, &r));
 }
 
+/* docs/tracer.md R3: both slab ends are widened, so a flat box is still entered when the
+ * closest hit so far lies 6 ulps before its computed near distance (the previous test
+ * widened only the far end and culled it: the BVH then changed the result). */
+static void box_near_end_is_conservative(void **state)
+{
+	const float lo[3] = {-1.0f, -1.0f, 0.3f}, hi[3] = {1.0f, 1.0f, 0.3f};
+	struct rs_ray r = make_ray(0.1, 0.2, 2.0, 0.3, -0.1, -1.7);
+	double inv[3] = {1.0 / r.dir[0], 1.0 / r.dir[1], 1.0 / r.dir[2]};
+	double near = ((double)lo[2] - r.origin[2]) * inv[2];
+	double tmax = near;
+	for (int k = 0; k < 6; ++k) /* K = 2^-49 covers 8 ulps; 6 leaves room for rounding */
+		tmax = nextafter(tmax, 0.0);
+	assert_true(rs_intersect_box(lo, hi, r.origin, inv, 0.0, tmax));
+	/* and still culled well before it */
+	assert_false(rs_intersect_box(lo, hi, r.origin, inv, 0.0, near * (1.0 - 1e-12)));
+	/* the far end likewise: a ray starting a few ulps behind the plane still enters */
+	double far = near;
+	for (int k = 0; k < 6; ++k)
+		far = nextafter(far, INFINITY);
+	assert_true(rs_intersect_box(lo, hi, r.origin, inv, far, INFINITY));
+}
+
 /* Triangle in z = 0: v0 (0,0), v1 (4,0), v2 (0,4). Hits are exact in binary. */
 static const double tv0[3] = {0, 0, 0}, tv1[3] = {4, 0, 0}, tv2[3] = {0, 4, 0};
 
@@ -277,6 +299,7 @@ int main(void)
 	    cmocka_unit_test(box_zero_direction_components),
 	    cmocka_unit_test(box_empty_never_hit),
 	    cmocka_unit_test(box_respects_interval),
+	    cmocka_unit_test(box_near_end_is_conservative),
 	    cmocka_unit_test(triangle_known_hit),
 	    cmocka_unit_test(triangle_interval_is_open),
 	    cmocka_unit_test(degenerate_triangles_never_hit),

@@ -1,7 +1,7 @@
 /* rs_trace, spawn rule (docs/tracer.md R5): closed rooms seen from inside, with rays that
  * land on edges, vertices and corners to within an ulp. Every point that sees the light is
- * lit, and no path ever leaves a closed room, at several scales and offsets. ~1.4 million
- * rays over this file (primary, reflected and shadow feelers). */
+ * lit, and no path ever leaves a closed room, at several scales and offsets. About 2.4
+ * million rays over this file (primary, reflected and shadow feelers). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -72,6 +72,80 @@ static void room_edges_are_lit_and_hold_every_path(void **state)
 	fx_free(&fx);
 }
 
+/* R5 evaluated in fp32, as the GLES kernels will: for every pixel of the reproducer (whose
+ * diagonals look exactly into the room's edges), the spawned origin lies inside all six
+ * walls by at least 8 fp32 ulps of the room's half-size, and off its own wall by at least
+ * half of delta. (The fp32 intersection tests are the GLES backend's to check.) */
+static void spawn_rule_holds_in_fp32(void **state)
+{
+	struct fx fx;
+	room(&fx, 0.8f, 0.9f);
+	const float h = 255.0f / 512.0f, half_size = 1.0f; /* R: half the largest side */
+	const float floor_m = half_size / 16.0f, scale = 0x1p-16f;
+	const float margin = 8.0f * 0x1p-24f; /* 8 ulps of numbers in [0.5, 1) */
+	struct rs_camera cam;
+	rs_camera_resolve(rs_scene_camera(fx.scene), &cam);
+	size_t bad = 0;
+	for (uint32_t y = 0; y < ROOM; ++y)
+		for (uint32_t x = 0; x < ROOM; ++x) {
+			struct rs_ray ray;
+			struct rs_hit hit;
+			rs_trace_camera_ray(&cam, ROOM, ROOM, x + 0.5, y + 0.5, &ray);
+			assert_true(
+			    rs_trace_closest(&fx.packed, RS_TRIANGLE_WATERTIGHT, &ray, &hit, NULL));
+			float v[3][3], e1[3], e2[3], c[3], g[3], len[3], b[3], p[3], o[3];
+			float m = floor_m;
+			for (uint32_t k = 0; k < 3; ++k)
+				for (int a = 0; a < 3; ++a) {
+					v[k][a] =
+					    rs_pack_texel(&fx.packed.triangles,
+					                  RS_PACK_TRIANGLE_TEXELS, hit.slot, k)[a];
+					m = fmaxf(m, fabsf(v[k][a]));
+				}
+			float delta = scale * m;
+			for (int a = 0; a < 3; ++a) {
+				e1[a] = v[1][a] - v[0][a];
+				e2[a] = v[2][a] - v[0][a];
+			}
+			c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+			c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+			c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+			float a2 = sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+			for (int k = 0; k < 3; ++k) {
+				const float *s0 = v[(k + 1) % 3], *s1 = v[(k + 2) % 3];
+				len[k] = sqrtf((s1[0] - s0[0]) * (s1[0] - s0[0]) +
+				               (s1[1] - s0[1]) * (s1[1] - s0[1]) +
+				               (s1[2] - s0[2]) * (s1[2] - s0[2]));
+			}
+			b[0] = 1.0f - (float)hit.u - (float)hit.v;
+			b[1] = (float)hit.u;
+			b[2] = (float)hit.v;
+			float sum = 0.0f;
+			for (int k = 0; k < 3; ++k) {
+				float hk = len[k] > 0.0f ? a2 / len[k] : 0.0f;
+				b[k] = fmaxf(b[k],
+				             hk > 12.0f * delta ? 4.0f * delta / hk : 1.0f / 3.0f);
+				sum += b[k];
+			}
+			for (int a = 0; a < 3; ++a) {
+				g[a] = c[a] / a2;
+				if (g[a] * (float)ray.dir[a] > 0.0f) /* face the incoming ray */
+					g[a] = -g[a];
+				p[a] = v[0][a] + (b[1] / sum) * e1[a] + (b[2] / sum) * e2[a];
+				o[a] = p[a] + delta * g[a]; /* leaving into the room */
+			}
+			const float lim[3] = {h, h, 1.0f};
+			for (int a = 0; a < 3; ++a)
+				bad += !(lim[a] - fabsf(o[a]) >= margin);
+			/* off its own wall: the wall's axis is the one g points along */
+			int w = fabsf(g[0]) > 0.5f ? 0 : fabsf(g[1]) > 0.5f ? 1 : 2;
+			bad += !(lim[w] - fabsf(o[w]) >= 0.5f * delta);
+		}
+	if (bad)
+		fail_msg("%zu fp32 spawn origins too close to a wall", bad);
+	fx_free(&fx);
+}
+
 /* ---- subdivided boxes at several scales, offsets and orientations ------------------ */
 
 static uint64_t rng = 0x9e3779b97f4a7c15ull;
@@ -87,20 +161,23 @@ static double rnd(void)
 
 struct box_room {
 	double half[3], offset[3], rot[3][3]; /* world = offset + rot * local */
-	float *pos;                           /* 6 faces * (GRID+1)^2 vertices */
+	bool f64;                             /* hand positions in as doubles */
 };
 
 /* Face f: axis f/2, side -1 (f even) or +1; local grid point (i, j) in [0, GRID]^2. Every
  * world coordinate is computed by one formula from (axis, side, i, j) mapped back to the
  * box's lattice, so a point shared by two faces rounds to the same float in both. */
-static void lattice_point(const struct box_room *b, const int q[3], float out[3])
+static void lattice_point(const struct box_room *b, const int q[3], double out[3])
 {
 	double local[3];
 	for (int a = 0; a < 3; ++a)
 		local[a] = b->half[a] * (2.0 * q[a] / GRID - 1.0);
-	for (int r = 0; r < 3; ++r)
-		out[r] = (float)(b->offset[r] + b->rot[r][0] * local[0] + b->rot[r][1] * local[1] +
-		                 b->rot[r][2] * local[2]);
+	for (int r = 0; r < 3; ++r) {
+		out[r] = b->offset[r] + b->rot[r][0] * local[0] + b->rot[r][1] * local[1] +
+		         b->rot[r][2] * local[2];
+		if (!b->f64)
+			out[r] = (float)out[r];
+	}
 }
 
 static void face_lattice(int f, int i, int j, int q[3])
@@ -117,7 +194,8 @@ static void box_room_build(struct fx *fx, struct box_room *b, float reflectance)
 	struct rs_material m = {.diffuse = {0.8f, 0.8f, 0.8f}, .reflectance = reflectance};
 	uint32_t mat = fx_material(fx->scene, m);
 	const int n = GRID + 1;
-	static float pos[(GRID + 1) * (GRID + 1) * 3];
+	static double pos[(GRID + 1) * (GRID + 1) * 3];
+	static float fpos[(GRID + 1) * (GRID + 1) * 3];
 	static uint32_t idx[GRID * GRID * 6];
 	for (int f = 0; f < 6; ++f) {
 		for (int i = 0; i < n; ++i)
@@ -125,6 +203,8 @@ static void box_room_build(struct fx *fx, struct box_room *b, float reflectance)
 				int q[3];
 				face_lattice(f, i, j, q);
 				lattice_point(b, q, &pos[3 * (i * n + j)]);
+				for (int a = 0; a < 3; ++a)
+					fpos[3 * (i * n + j) + a] = (float)pos[3 * (i * n + j) + a];
 			}
 		/* (a1, a2, axis) is right-handed: i x j = +axis. Inwards = -axis on the
 		 * + side, so the + side is wound (i, j) clockwise. */
@@ -137,7 +217,13 @@ static void box_room_build(struct fx *fx, struct box_room *b, float reflectance)
 				uint32_t out[6] = {v00, v11, v10, v00, v01, v11};
 				memcpy(t, f % 2 ? out : in, sizeof in);
 			}
-		fx_mesh(fx->scene, pos, (size_t)n * n, idx, GRID * GRID * 2, NULL, mat);
+		struct rs_mesh_desc d = {.positions = b->f64 ? NULL : fpos,
+		                         .positions_f64 = b->f64 ? pos : NULL,
+		                         .vertex_count = (size_t)n * n,
+		                         .indices = idx,
+		                         .triangle_count = GRID * GRID * 2,
+		                         .material = mat};
+		assert_int_equal(rs_scene_add_mesh(fx->scene, &d, NULL), RS_OK);
 	}
 }
 
@@ -159,7 +245,7 @@ static void surface_target(const struct box_room *b, double out[3])
 {
 	int f = (int)(rnd() * 6), q[3], q2[3];
 	face_lattice(f, (int)(rnd() * (GRID + 1)), (int)(rnd() * (GRID + 1)), q);
-	float p[3], p2[3];
+	double p[3], p2[3];
 	lattice_point(b, q, p);
 	double kind = rnd();
 	if (kind < 0.3) {
@@ -177,7 +263,7 @@ static void surface_target(const struct box_room *b, double out[3])
 	lattice_point(b, q2, p2);
 	double s = rnd();
 	for (int a = 0; a < 3; ++a)
-		out[a] = (double)p[a] + s * ((double)p2[a] - (double)p[a]);
+		out[a] = p[a] + s * (p2[a] - p[a]);
 }
 
 static void rotation(double yaw, double pitch, double m[3][3])
@@ -233,21 +319,25 @@ static void run_box_room(struct box_room *b, size_t lit_paths, size_t mirror_pat
 static void subdivided_boxes_at_scales_and_offsets(void **state)
 {
 	const double scales[3] = {1e-3, 1.0, 1e3};
-	const double offsets[3][3] = {{0, 0, 0}, {3.7, -1.3, 12.9}, {1000, 1000, -1000}};
+	const double offsets[4][3] = {
+	    {0, 0, 0}, {3.7, -1.3, 12.9}, {1000, 1000, -1000}, {1e6, -1e6, 1e6}};
 	struct room_counts c = {0};
 	for (int s = 0; s < 3; ++s)
-		for (int o = 0; o < 3; ++o) {
+		for (int o = 0; o < 4; ++o) {
 			struct box_room b = {
 			    .half = {1.0 * scales[s], 0.75 * scales[s], 1.25 * scales[s]}};
 			for (int a = 0; a < 3; ++a)
 				b.offset[a] = offsets[o][a] * scales[s];
-			/* axis-aligned except for the last offset, which is also turned */
-			rotation(o == 2 ? 0.6 : 0.0, o == 2 ? 0.35 : 0.0, b.rot);
-			run_box_room(&b, 12000, 8000, &c);
+			/* axis-aligned except for the last two offsets, which are also turned;
+			 * the farthest is handed in as doubles (docs/tracer.md R1, R6) */
+			rotation(o >= 2 ? 0.6 : 0.0, o >= 2 ? 0.35 : 0.0, b.rot);
+			b.f64 = o == 3;
+			run_box_room(&b, 10000, 6000, &c);
 		}
 	if (c.dark || c.escaped)
 		fail_msg("%zu rays: %zu lit points dark, %zu paths escaped", c.rays, c.dark,
 		         c.escaped);
+	print_message("subdivided boxes: %zu rays\n", c.rays);
 	assert_true(c.rays >= 1000000);
 }
 
@@ -348,6 +438,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(room_edges_are_lit_and_hold_every_path),
+	    cmocka_unit_test(spawn_rule_holds_in_fp32),
 	    cmocka_unit_test(subdivided_boxes_at_scales_and_offsets),
 	    cmocka_unit_test(prism_room_with_acute_edges),
 	    cmocka_unit_test(default_triangle_test_is_watertight),

@@ -263,6 +263,38 @@ static void recorder_rejects_directory(void **state)
 	assert_non_null(strstr(err.message, "directory"));
 }
 
+/* A target that exists but is not a regular file is refused and left as it was: renaming
+ * the finished recording over a FIFO or symlink (or, as root, a device node such as
+ * /dev/null) would replace the node itself with a regular file. */
+static void recorder_refuses_non_regular_targets(void **state)
+{
+	char fifo[300], link[300];
+	snprintf(fifo, sizeof fifo, "%s.fifo", path);
+	snprintf(link, sizeof link, "%s.link", path);
+	remove(fifo);
+	remove(link);
+	assert_int_equal(mkfifo(fifo, 0600), 0);
+	FILE *f = fopen(path, "wb");
+	assert_non_null(f);
+	fclose(f);
+	assert_int_equal(symlink(path, link), 0);
+	const char *targets[] = {fifo, link};
+	for (int i = 0; i < 2; i++) {
+		struct rs_track_recorder *rec = NULL;
+		struct rs_error err;
+		assert_int_equal(rs_track_recorder_create(targets[i], &rec, &err), RS_ERR_IO);
+		assert_null(rec);
+		assert_non_null(strstr(err.message, "not a regular file"));
+	}
+	struct stat sb;
+	assert_int_equal(lstat(fifo, &sb), 0);
+	assert_true(S_ISFIFO(sb.st_mode));
+	assert_int_equal(lstat(link, &sb), 0);
+	assert_true(S_ISLNK(sb.st_mode));
+	remove(fifo);
+	remove(link);
+}
+
 /* A record whose host time is NaN, infinite or absurd (a damaged or hand-made file) is
  * replayed with its device time instead, so no non-finite time reaches the caller. */
 static void bad_recorded_time_falls_back_to_device_time(void **state)
@@ -337,6 +369,7 @@ int main(void)
 	    cmocka_unit_test_setup_teardown(recorder_reports_unwritable_path, setup, teardown),
 	    cmocka_unit_test_setup_teardown(recording_appears_only_when_finished, setup, teardown),
 	    cmocka_unit_test_setup_teardown(failed_recording_leaves_no_file, setup, teardown),
+	    cmocka_unit_test_setup_teardown(recorder_refuses_non_regular_targets, setup, teardown),
 	    cmocka_unit_test_setup_teardown(recorder_rejects_directory, setup, teardown),
 	    cmocka_unit_test_setup_teardown(bad_recorded_time_falls_back_to_device_time, setup,
 	                                    teardown),

@@ -119,6 +119,22 @@ static void replay_uri_reads_recording(void **state)
 	}
 	assert_int_equal(rs_track_source_read(src, &s, 0, NULL), RS_END);
 	rs_track_source_destroy(&src);
+	/* The query is options, never part of the file name; unknown or bad ones are a
+	 * malformed URI, not a missing file. */
+	const char *good[] = {"?realtime=0", "?realtime=1"};
+	for (int i = 0; i < 2; i++) {
+		snprintf(uri, sizeof uri, "replay:%s%s", path, good[i]);
+		assert_int_equal(rs_tracker_open(uri, &src, NULL), RS_OK);
+		rs_track_source_destroy(&src);
+	}
+	const char *bad[] = {"?realtime=2", "?speed=1", "?", "?realtime=1&x=1", "?realtime="};
+	for (int i = 0; i < 5; i++) {
+		struct rs_error err;
+		snprintf(uri, sizeof uri, "replay:%s%s", path, bad[i]);
+		assert_int_equal(rs_tracker_open(uri, &src, &err), RS_ERR_PARSE);
+		assert_null(src);
+	}
+	assert_int_equal(rs_tracker_open("replay:?realtime=1", &src, NULL), RS_ERR_PARSE);
 	remove(path);
 }
 

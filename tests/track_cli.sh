@@ -4,7 +4,14 @@ set -euo pipefail
 tool=$1
 work=$2
 mkdir -p "$work"
-fail() { echo "track_cli: $*" >&2; exit 1; }
+# On failure, show what the tool said: a flaky check under load must be diagnosable.
+fail() {
+  echo "track_cli: $*" >&2
+  for f in "$work"/*.err "$work"/err.txt; do
+    [ -s "$f" ] && { echo "--- $f" >&2; tail -n 5 "$f" >&2; }
+  done
+  exit 1
+}
 
 # 1. A simulated run prints one pose line per sample and the final counters.
 out=$("$tool" -n 200 --stats 0 'sim:seed=1&noise=0.5mm')
@@ -84,6 +91,40 @@ wait "$client" || fail "--reconnect run exited non-zero"
 grep -q 'reconnecting' "$work/rc.err" || fail "no reconnect message"
 tail -n 1 "$work/rc.txt" | grep -q 'disconnects=1 ' || fail "disconnect not counted"
 
+# 4d. A disconnect without --reconnect ends the run with one error line, exit 1, and
+#     still the final counters.
+"$tool" --pty -d 2 'sim:realtime=1&rate=200&seed=5' > "$work/pty_dc.txt" &
+server=$!
+for _ in $(seq 50); do [ -s "$work/pty_dc.txt" ] && break; sleep 0.1; done
+set +e
+"$tool" -q --stats 0 "serial:$(head -n 1 "$work/pty_dc.txt")" > "$work/dc.txt" 2> "$work/dc.err"
+rc=$?
+set -e
+wait "$server" || fail "--pty server failed"
+[ "$rc" -eq 1 ] || fail "disconnect exited $rc, want 1"
+[ "$(wc -l < "$work/dc.err")" -eq 1 ] || fail "disconnect: not one error line"
+tail -n 1 "$work/dc.txt" | grep -q '^# stats samples=[1-9].* disconnects=1 ' \
+  || fail "disconnect: no final stats line"
+
+# 4e. Output that cannot be written (a full device, a closed stdout) is an error, never a
+#     silent exit 0.
+set +e
+"$tool" -n 50 --stats 0 'sim:seed=1' > /dev/full 2> "$work/full.err"
+rc_full=$?
+"$tool" -q -n 50 --stats 0 'sim:seed=1' > /dev/full 2> "$work/fullq.err"
+rc_fullq=$?
+"$tool" -n 5 'sim:seed=1' >&- 2> "$work/closed.err"
+rc_closed=$?
+set -e
+[ "$rc_full" -eq 1 ] && [ "$rc_fullq" -eq 1 ] && [ "$rc_closed" -eq 1 ] \
+  || fail "unwritable output exited $rc_full/$rc_fullq/$rc_closed, want 1"
+grep -q 'cannot write output: No space left' "$work/full.err" || fail "/dev/full: no message"
+grep -q 'cannot write output' "$work/fullq.err" || fail "/dev/full -q: no message"
+grep -q 'standard output is closed' "$work/closed.err" || fail "closed stdout: no message"
+for f in full fullq closed; do
+  [ "$(wc -l < "$work/$f.err")" -eq 1 ] || fail "$f: not exactly one error line"
+done
+
 # 5. Bad input: one line on stderr, non-zero exit, nothing on stdout.
 check_error() {
   local want=$1; shift
@@ -104,8 +145,21 @@ check_error 2
 check_error 2 --pty -r "$work/x.rec" sim:
 check_error 2 -n 1e30 sim:
 check_error 2 'sim:rate=1e-300'
-check_error 1 --stats 0 --timeout 0.5 replay:/dev/zero
+# A source that yields no sample: one error line, exit 1, and the final counters show why.
+set +e
+"$tool" --stats 0 --timeout 0.5 replay:/dev/zero > "$work/zero.out" 2> "$work/zero.err"
+rc=$?
+set -e
+[ "$rc" -eq 1 ] && [ "$(wc -l < "$work/zero.err")" -eq 1 ] || fail "replay:/dev/zero: want exit 1, one error line"
+grep -q '^# stats samples=0 frames=0 garbage_bytes=[1-9]' "$work/zero.out" || fail "replay:/dev/zero: no final stats"
 check_error 1 replay:/nonexistent/raystream.rec
 check_error 1 serial:/dev/raystream-none
 check_error 1 -l /nonexistent/layout.json sim:
+check_error 2 --predict 31 sim:
+check_error 2 'replay:/nonexistent/x.rec?speed=2'
+# --record onto something that is not a regular file (here a FIFO; as root /dev/null
+# would be replaced by a regular file) is refused and the node is left as it was.
+rm -f "$work/fifo" && mkfifo "$work/fifo"
+check_error 1 -n 5 -r "$work/fifo" sim:
+[ -p "$work/fifo" ] || fail "--record replaced a FIFO"
 echo "track_cli: all checks passed"

@@ -7,6 +7,10 @@ packages=(
   build-essential cmake pkg-config git
   libcglm-dev libassimp-dev libcmocka-dev libpng-dev libcjson-dev
   libhidapi-dev libusb-1.0-0-dev
+  # OpenCV components for backends/opencv (the libopencv-dev meta-package adds ~40 more,
+  # VTK and MPI among them)
+  libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev libopencv-imgcodecs-dev
+  libopencv-videoio-dev
   clang-14 libclang-rt-14-dev clang-format-14
 )
 

@@ -13,6 +13,9 @@
 #ifdef RS_TRACKER_HAVE_USB
 #include "raystream/rs_usb.h"
 #endif
+#ifdef RS_TRACKER_HAVE_OPTICAL
+#include "raystream/rs_optical.h"
+#endif
 
 #define PATH_CAP 512
 
@@ -34,26 +37,39 @@ bool rs_tracker_has_scheme(const char *scheme)
 	if (!strcmp(scheme, "usb"))
 		return true;
 #endif
+#ifdef RS_TRACKER_HAVE_OPTICAL
+	if (!strcmp(scheme, "video") || !strcmp(scheme, "cam"))
+		return true;
+#endif
 	return false;
 }
 
+/* replay:FILE[?realtime=0|1]: everything after the first '?' is options, as in serial:. */
 static enum rs_status open_replay(const char *rest, struct rs_track_source **out,
                                   struct rs_error *err)
 {
-	static const char opt[] = "?realtime=1";
 	char path[PATH_CAP];
-	size_t n = strlen(rest);
+	size_t n = strcspn(rest, "?");
 	struct rs_track_replay_desc d = {0};
-	if (n >= sizeof opt - 1 && !strcmp(rest + n - (sizeof opt - 1), opt)) {
-		n -= sizeof opt - 1;
-		d.realtime = 1;
-	}
 	if (n == 0)
-		return rs_error_set(err, RS_ERR_PARSE, "replay: expected replay:FILE");
+		return rs_error_set(err, RS_ERR_PARSE, "replay: expected replay:FILE[?realtime=1]");
 	if (n >= sizeof path)
 		return rs_error_set(err, RS_ERR_PARSE, "replay: file name too long");
 	memcpy(path, rest, n);
 	path[n] = '\0';
+	for (const char *q = rest + n; *q;) {
+		q++; /* '?' or '&' */
+		size_t len = strcspn(q, "&");
+		if (len == 10 && !strncmp(q, "realtime=0", 10))
+			d.realtime = 0;
+		else if (len == 10 && !strncmp(q, "realtime=1", 10))
+			d.realtime = 1;
+		else
+			return rs_error_set(err, RS_ERR_PARSE,
+			                    "replay: unknown option '%.*s' (realtime=0|1)",
+			                    (int)(len > 40 ? 40 : len), q);
+		q += len;
+	}
 	return rs_track_replay_open(path, &d, out, err);
 }
 
@@ -80,7 +96,7 @@ enum rs_status rs_tracker_open(const char *uri, struct rs_track_source **out, st
 		return rs_error_set(
 		    err, RS_ERR_PARSE,
 		    "tracker: '%.60s' is not a source URI (hid:, usb:, serial:, sim:, "
-		    "replay:)",
+		    "replay:, video:, cam:)",
 		    uri);
 	char scheme[17];
 	memcpy(scheme, uri, sl);
@@ -119,6 +135,15 @@ enum rs_status rs_tracker_open(const char *uri, struct rs_track_source **out, st
 		return rs_error_set(err, RS_ERR_UNSUPPORTED, "tracker: usb backend not built");
 #endif
 	}
+	if (!strcmp(scheme, "video") || !strcmp(scheme, "cam")) {
+#ifdef RS_TRACKER_HAVE_OPTICAL
+		return rs_optical_open_uri(scheme, rest, out, err);
+#else
+		return rs_error_set(err, RS_ERR_UNSUPPORTED, "tracker: opencv backend not built");
+#endif
+	}
 	return rs_error_set(err, RS_ERR_PARSE,
-	                    "tracker: unknown scheme '%s' (hid, usb, serial, sim, replay)", scheme);
+	                    "tracker: unknown scheme '%s' (hid, usb, serial, sim, replay, video, "
+	                    "cam)",
+	                    scheme);
 }

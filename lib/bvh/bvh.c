@@ -96,8 +96,6 @@ static enum rs_status validate(const struct rs_bvh_desc *d, const float *positio
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: traversal_cost must be positive");
 	if (triangle_count == 0)
 		return RS_OK;
-	if (!positions || !indices)
-		return rs_error_set(err, RS_ERR_INVALID, "bvh: positions or indices missing");
 	if (triangle_count >= (size_t)1 << 31)
 		return rs_error_set(err, RS_ERR_LIMIT, "bvh: %zu triangles exceed 2^31",
 		                    triangle_count);

@@ -47,7 +47,7 @@ void rs_pose_filter_desc_resolve(const struct rs_pose_filter_desc *desc,
 	if (d.orientation_d_cutoff_hz == 0.0)
 		d.orientation_d_cutoff_hz = 1.2;
 	if (d.max_prediction_s == 0.0)
-		d.max_prediction_s = 0.03;
+		d.max_prediction_s = RS_POSE_MAX_PREDICTION_S;
 	if (d.reset_gap_s == 0.0)
 		d.reset_gap_s = 0.25;
 	*out = d;
@@ -74,6 +74,10 @@ enum rs_status rs_pose_filter_create(const struct rs_pose_filter_desc *desc,
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "pose filter: cutoffs, betas, max_prediction_s and reset_gap_s "
 		                    "must be finite and > 0");
+	if (d.max_prediction_s > RS_POSE_MAX_PREDICTION_S)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "pose filter: max_prediction_s %g s above the %g s cap",
+		                    d.max_prediction_s, RS_POSE_MAX_PREDICTION_S);
 	struct rs_pose_filter *f = calloc(1, sizeof *f);
 	if (!f)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "pose filter: out of memory");

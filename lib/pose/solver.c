@@ -14,8 +14,9 @@ struct rs_pose_solver {
 	struct rs_pose_solver_desc desc;
 	struct rs_pose_layout layout;
 	double layout_sides[3];
-	double relabel_margin; /* m^2, see match_layout() */
 	double side_tolerance; /* m: worst side mismatch still taken for this layout */
+	double rotation_rms;   /* rad: stated error of a solved pose (rs_pose_error_law) */
+	double position_rms;   /* m */
 	int have_pose;
 	struct rs_pose last_good;   /* T_tracker_display of the last solved sample */
 	double velocity[3];         /* smoothed, m/s */
@@ -24,8 +25,11 @@ struct rs_pose_solver {
 	char message[RS_ERROR_MESSAGE_MAX];
 };
 
-/* All orderings of three markers: perm[j] = layout id of measured point j. */
-static const int k_perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+/* A labelling is taken only when the measured side lengths lie at least this many standard
+ * deviations of their noise from every other ordering's decision boundary, so a wrong one
+ * needs a > 4.5 sigma noise excursion (plus half the orderings' distance) to be reported
+ * good; see rs_pose_label() and docs/pose.md. */
+#define LABEL_MIN_SEPARATION 4.5
 
 void rs_pose_solver_desc_resolve(const struct rs_pose_solver_desc *desc,
                                  struct rs_pose_solver_desc *out)
@@ -42,7 +46,7 @@ void rs_pose_solver_desc_resolve(const struct rs_pose_solver_desc *desc,
 	if (d.hold_timeout_s == 0.0)
 		d.hold_timeout_s = 0.5;
 	if (d.max_prediction_s == 0.0)
-		d.max_prediction_s = 0.03;
+		d.max_prediction_s = RS_POSE_MAX_PREDICTION_S;
 	if (d.velocity_time_constant_s == 0.0)
 		d.velocity_time_constant_s = 0.05;
 	*out = d;
@@ -83,6 +87,10 @@ enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
 	    !valid_param(d.velocity_time_constant_s))
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "pose solver: descriptor fields must be finite and >= 0");
+	if (d.max_prediction_s > RS_POSE_MAX_PREDICTION_S)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "pose solver: max_prediction_s %g s above the %g s cap",
+		                    d.max_prediction_s, RS_POSE_MAX_PREDICTION_S);
 	enum rs_status st = rs_pose_layout_check(layout, err);
 	if (st != RS_OK)
 		return st;
@@ -98,8 +106,7 @@ enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
 	rs_q_canonical(q);
 	double h;
 	rs_pose_triangle_metrics(layout->markers, s->layout_sides, &h);
-	double dmin = rs_pose_min_side_difference(s->layout_sides);
-	s->relabel_margin = dmin * dmin;
+	rs_pose_error_law(&s->layout, d.noise_sigma_m, &s->rotation_rms, &s->position_rms);
 	/* Side lengths carry about sqrt(2) sigma of noise each; beyond ten of those plus 2 mm of
 	 * calibration slack the points are not this display's markers at all. */
 	s->side_tolerance = 10.0 * sqrt(2.0) * d.noise_sigma_m + 0.002;
@@ -217,50 +224,6 @@ static int marker_usable(const struct rs_marker *m)
 	return 1;
 }
 
-static double perm_cost(const struct rs_pose_solver *s, const double sides[3], int p,
-                        double *out_worst)
-{
-	double cost = 0.0, worst = 0.0;
-	for (int k = 0; k < 3; ++k) {
-		double d = fabs(sides[k] - s->layout_sides[k_perms[p][k]]);
-		cost += d * d;
-		worst = d > worst ? d : worst;
-	}
-	*out_worst = worst;
-	return cost;
-}
-
-/* Which layout id each measured point is (index into k_perms). The tracker's ids are
- * trusted unless another ordering fits the side lengths better by more than D^2, D the
- * layout's smallest side difference: a true swap of the two closest sides improves the
- * cost by about 2 D^2, while noise alone needs a ~1.5 D error to fake that margin. */
-static int match_layout(const struct rs_pose_solver *s, const double sides[3], const int given[3],
-                        double *out_worst)
-{
-	int best = 0, given_p = -1;
-	double best_cost = INFINITY, worst, given_cost = INFINITY, given_worst = INFINITY;
-	for (int p = 0; p < 6; ++p) {
-		double cost = perm_cost(s, sides, p, &worst);
-		if (given[0] == k_perms[p][0] && given[1] == k_perms[p][1] &&
-		    given[2] == k_perms[p][2]) {
-			given_p = p;
-			given_cost = cost;
-			given_worst = worst;
-		}
-		if (cost < best_cost) {
-			best_cost = cost;
-			best = p;
-			*out_worst = worst;
-		}
-	}
-	if (given_p >= 0 && given_worst <= s->side_tolerance &&
-	    !(given_cost - best_cost > s->relabel_margin)) {
-		*out_worst = given_worst;
-		return given_p;
-	}
-	return best;
-}
-
 enum rs_status rs_pose_solver_update(struct rs_pose_solver *s,
                                      const struct rs_marker_sample *sample, struct rs_pose *out,
                                      struct rs_pose_quality *out_quality)
@@ -308,19 +271,30 @@ enum rs_status rs_pose_solver_update(struct rs_pose_solver *s,
 		lost(s, t, out, q);
 		return RS_OK;
 	}
-	double worst = INFINITY;
-	int p = match_layout(s, sides, given, &worst);
+	double worst = INFINITY, separation = 0.0;
+	int p = rs_pose_label(s->layout_sides, (const double(*)[3])pts, sides,
+	                      s->desc.noise_sigma_m, &worst, &separation);
 	if (!(worst <= s->side_tolerance)) {
 		note(s, "marker distances do not match the layout (off by %.3g m > %.3g m)", worst,
 		     s->side_tolerance);
 		lost(s, t, out, q);
 		return RS_OK;
 	}
+	/* The tracker's ids are no evidence: a swapped pair that noise makes fit almost as
+	 * well as the truth is exactly the case that must not come back as a good pose. */
+	if (!(separation >= LABEL_MIN_SEPARATION)) {
+		note(s,
+		     "marker ids ambiguous: side lengths only %.2f sigma from another ordering "
+		     "(need %.1f)",
+		     separation, LABEL_MIN_SEPARATION);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
 	double model[3][3];
 	int same = 1;
 	for (int j = 0; j < 3; ++j) {
-		memcpy(model[j], s->layout.markers[k_perms[p][j]], sizeof model[j]);
-		same &= given[j] == k_perms[p][j];
+		memcpy(model[j], s->layout.markers[rs_pose_perms[p][j]], sizeof model[j]);
+		same &= given[j] == rs_pose_perms[p][j];
 	}
 	struct rs_pose T_tracker_markers;
 	struct rs_error e;
@@ -341,5 +315,7 @@ enum rs_status rs_pose_solver_update(struct rs_pose_solver *s,
 	*out = pose;
 	q->status = same ? RS_POSE_OK : RS_POSE_RELABELED;
 	q->residual_rms_m = rms;
+	q->rotation_rms_rad = s->rotation_rms;
+	q->position_rms_m = s->position_rms;
 	return RS_OK;
 }

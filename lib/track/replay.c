@@ -64,9 +64,15 @@ enum rs_status rs_track_recorder_create(const char *path, struct rs_track_record
 	*out = NULL;
 	if (!path[0])
 		return rs_error_set(err, RS_ERR_INVALID, "record: empty file name");
+	/* The finished file is renamed over `path`, which would replace a device node (as
+	 * root, --record /dev/null), FIFO or symlink itself with a regular file: only a
+	 * regular file (or nothing) is replaced. lstat, so a symlink is not followed. */
 	struct stat sb;
-	if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+	if (lstat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
 		return rs_error_set(err, RS_ERR_IO, "record: cannot create %s: Is a directory",
+		                    path);
+	if (lstat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+		return rs_error_set(err, RS_ERR_IO, "record: cannot write %s: not a regular file",
 		                    path);
 	struct rs_track_recorder *r = calloc(1, sizeof *r);
 	if (!r)

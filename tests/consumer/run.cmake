@@ -5,6 +5,26 @@ execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${PREFIX}
 if(rc)
   message(FATAL_ERROR "install failed: ${rc}")
 endif()
+# Test seams and driver headers stay out of the installed API: no fake-device tables, no
+# libusb or hidapi types, and every header under include/raystream/.
+file(GLOB rs_installed LIST_DIRECTORIES false ${PREFIX}/include/*.h ${PREFIX}/include/raystream/*.h)
+foreach(h IN LISTS rs_installed)
+  if(NOT h MATCHES "/include/raystream/rs_[a-z0-9_]+\\.h$")
+    message(FATAL_ERROR "header installed outside include/raystream: ${h}")
+  endif()
+  file(READ ${h} text)
+  foreach(seam rs_usb_api rs_hid_api "libusb.h" "hidapi.h" LIBUSB_)
+    string(FIND "${text}" "${seam}" at)
+    if(NOT at EQUAL -1)
+      message(FATAL_ERROR "${h} exposes ${seam} (a test seam or driver type)")
+    endif()
+  endforeach()
+endforeach()
+foreach(h rs_tracker rs_serial rs_status)
+  if(NOT EXISTS ${PREFIX}/include/raystream/${h}.h)
+    message(FATAL_ERROR "raystream/${h}.h is not installed")
+  endif()
+endforeach()
 set(ENV{PKG_CONFIG_PATH} "${PREFIX}/lib/pkgconfig:${PREFIX}/lib/x86_64-linux-gnu/pkgconfig")
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SRC} -B ${PREFIX}-consumer
                 -DCMAKE_PREFIX_PATH=${PREFIX} "-DCMAKE_C_FLAGS=${FLAGS}"

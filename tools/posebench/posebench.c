@@ -215,8 +215,14 @@ static void error_table(long trials)
 			struct rs_pose_quality q;
 			random_pose(&r, &T);
 			make_sample(&L, &T, sigma, &r, 0.001 * (double)i, &smp);
+			rs_pose_solver_reset(s);
 			rs_pose_solver_update(s, &smp, &out, &q);
-			bad += q.status != RS_POSE_OK;
+			/* Ambiguous labellings are not solved (NONE); the error is over solved
+			 * samples, which is unbiased (docs/pose.md, "Ids by side lengths"). */
+			if (q.status != RS_POSE_OK) {
+				++bad;
+				continue;
+			}
 			double a = rs_pose_angle_between(&out, &T);
 			sr += a * a;
 			for (int c = 0; c < 3; ++c) {
@@ -225,9 +231,10 @@ static void error_table(long trials)
 			}
 		}
 		rs_pose_solver_destroy(&s);
+		double n = (double)(trials - bad > 0 ? trials - bad : 1);
 		printf("| %.1f | %.4g | %.4g | %.4g | %.4g | %ld |\n", sigmas_mm[j],
-		       sqrt(sr / (double)trials) * 180.0 / PI, k * sigma * 180.0 / PI,
-		       sqrt(sp / (3.0 * (double)trials)) * 1e3, sigma / sqrt(3.0) * 1e3, bad);
+		       sqrt(sr / n) * 180.0 / PI, k * sigma * 180.0 / PI,
+		       sqrt(sp / (3.0 * n)) * 1e3, sigma / sqrt(3.0) * 1e3, bad);
 	}
 }
 

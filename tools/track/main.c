@@ -4,12 +4,14 @@
  * Errors are one line on stderr and a non-zero exit (1 runtime, 2 usage).
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "raystream/rs_pose.h"
 #include "raystream/rs_track.h"
@@ -40,12 +42,15 @@ static void usage(FILE *f)
 	       "  URI: hid:VID:PID[:SERIAL]  usb:VID:PID  serial:/dev/PATH[?baud=N]\n"
 	       "       sim:[seed=N&noise=0.5mm&rate=120&script=walk,turn&realtime=1&...]\n"
 	       "       replay:FILE[?realtime=1]\n"
+	       "       video:LEFT,RIGHT?calib=RIG[&rate=60]  (image sequences or videos)\n"
+	       "       cam:0,1?calib=RIG   (two V4L2 cameras; see docs/optical.md)\n"
 	       "  -n, --count N       stop after N samples\n"
 	       "  -d, --duration S    stop after S seconds\n"
 	       "  -r, --record FILE   record every sample (replay with replay:FILE)\n"
 	       "  -l, --layout FILE   marker layout JSON (default: 10 x 8 cm triangle)\n"
 	       "  -f, --filter        1-euro filter the poses\n"
-	       "  -p, --predict MS    predict MS ms ahead of each sample (implies --filter)\n"
+	       "  -p, --predict MS    predict MS ms (at most 30) ahead of each sample (implies\n"
+	       "                      --filter)\n"
 	       "      --sigma MM      expected marker noise for the solver (default 0.5)\n"
 	       "      --stats S       fault counters every S seconds (0: only at the end)\n"
 	       "      --timeout S     give up after S seconds without a sample (default 5)\n"
@@ -114,8 +119,10 @@ static int parse_args(int argc, char **argv, struct options *o)
 			o->filter = 1;
 		} else if (!strcmp(a, "-p") || !strcmp(a, "--predict")) {
 			NEED_VALUE();
-			if (!parse_double(v, 0, &o->predict_ms))
-				return die_usage("predict must be >= 0 ms", v);
+			if (!parse_double(v, 0, &o->predict_ms) ||
+			    o->predict_ms > RS_POSE_MAX_PREDICTION_S * 1e3)
+				return die_usage("predict must be 0 to 30 ms (the prediction cap)",
+				                 v);
 			o->filter = 1;
 		} else if (!strcmp(a, "--sigma")) {
 			NEED_VALUE();
@@ -183,6 +190,23 @@ static void print_stats(const struct rs_track_source *src)
 	fflush(stdout);
 }
 
+/* Whether writing the output failed (a full disk, /dev/full, a closed descriptor); the
+ * message is printed once. A closed pipe (EPIPE, with SIGPIPE caught) is a reader that
+ * has seen enough, which ends the run cleanly instead. */
+static int output_failed(int *reported)
+{
+	if (!ferror(stdout) || *reported)
+		return *reported;
+	int e = errno;
+	*reported = 1;
+	if (e == EPIPE) {
+		stop_requested = 1;
+		return 0;
+	}
+	fprintf(stderr, TOOL ": cannot write output: %s\n", strerror(e));
+	return 1;
+}
+
 /* sim: gets the tool's layout, so the solver and the simulated markers agree. */
 static enum rs_status open_source(const char *uri, const struct rs_pose_layout *layout,
                                   struct rs_track_source **src, struct rs_error *err)
@@ -216,7 +240,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 	struct rs_pose_solver *solver = NULL;
 	struct rs_pose_filter *filter = NULL;
 	struct rs_track_recorder *rec = NULL;
-	int code = 1;
+	int code = 1, started = 0, output_error = 0;
 	if (open_source(o->uri, layout, &src, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": cannot open '%s': %s\n", o->uri, err.message);
 		return err.status == RS_ERR_PARSE || err.status == RS_ERR_INVALID ? 2 : 1;
@@ -236,6 +260,8 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 	double start = rs_track_now_s(), next_stats = start + o->stats_every_s;
 	double last_sample = start;
 	long long n = 0;
+	/* From here on every end of the run, an error included, prints the final counters. */
+	started = 1;
 	for (;;) {
 		if (stop_requested || (o->count && n >= o->count))
 			break;
@@ -244,6 +270,8 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 			break;
 		if (o->stats_every_s > 0 && now >= next_stats) {
 			print_stats(src);
+			if (output_failed(&output_error))
+				goto out;
 			next_stats = now + o->stats_every_s;
 		}
 		struct rs_marker_sample s;
@@ -303,10 +331,16 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 		}
 		if (!o->quiet)
 			print_pose(&s, &pose, &q);
+		if (output_failed(&output_error))
+			goto out;
 	}
-	print_stats(src);
 	code = 0;
 out:
+	if (started && !output_error) {
+		print_stats(src);
+		if (fflush(stdout) != 0 || ferror(stdout))
+			code = output_failed(&output_error) ? 1 : code;
+	}
 	if (rec && rs_track_recorder_destroy(&rec, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": %s\n", err.message);
 		code = 1;
@@ -319,6 +353,12 @@ out:
 
 int main(int argc, char **argv)
 {
+	/* With descriptor 1 closed the first file the tool opens (a recording, a device)
+	 * would become "stdout" and receive the pose lines. */
+	if (fcntl(STDOUT_FILENO, F_GETFD) < 0) {
+		fprintf(stderr, TOOL ": error: standard output is closed\n");
+		return 1;
+	}
 	struct options o;
 	int r = parse_args(argc, argv, &o);
 	if (r)

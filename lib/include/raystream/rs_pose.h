@@ -27,6 +27,9 @@ extern "C" {
 #define RS_POSE_LAYOUT_MIN_SIDE_DIFF_M 0.005
 /** Layout check: the smallest height of the marker triangle must exceed this. */
 #define RS_POSE_LAYOUT_MIN_HEIGHT_M 0.01
+/** Largest allowed max_prediction_s (solver and filter): extrapolating further mostly
+ *  amplifies jitter. Also the default. */
+#define RS_POSE_MAX_PREDICTION_S 0.03
 /** Marker coordinates beyond this magnitude are treated as invalid (keeps sums finite). */
 #define RS_POSE_MAX_COORD_M 1.0e6
 
@@ -88,6 +91,12 @@ struct rs_pose_quality {
 	double
 	    min_height_m; /**< smallest height of the measured marker triangle (0 if < 3 markers) */
 	uint32_t markers_used; /**< markers that passed the validity checks (3 when solved) */
+	/** Stated RMS rotation error of a solved pose (OK/RELABELED; 0 otherwise) for the
+	 *  solver's noise_sigma_m: sigma sqrt(trace J^-1), docs/pose.md. A good pose is within
+	 *  6 times this unless the real noise exceeds noise_sigma_m. */
+	double rotation_rms_rad;
+	/** Stated RMS 3-D position error of the display origin of a solved pose (0 otherwise). */
+	double position_rms_m;
 };
 
 /** Solver options; zero-initialised means defaults (see rs_pose_solver_desc_resolve()). */
@@ -96,7 +105,8 @@ struct rs_pose_solver_desc {
 	double min_height_sigmas; /**< gate: solve only if min height >= this * sigma, default 10 */
 	double hold_timeout_s; /**< HELD/PREDICTED last at most this long, then NONE; default 0.5 */
 	int predict_when_lost; /**< nonzero: PREDICTED instead of HELD */
-	double max_prediction_s; /**< cap on the PREDICTED extrapolation horizon, default 0.03 */
+	double max_prediction_s; /**< cap on the PREDICTED extrapolation horizon, default and
+	                            at most RS_POSE_MAX_PREDICTION_S (0.03) */
 	double velocity_time_constant_s; /**< smoothing of the velocity used by PREDICTED, default
 	                                    0.05 */
 };
@@ -109,7 +119,8 @@ struct rs_pose_solver;
 
 /**
  * Create a solver for `layout` (copied; checked with rs_pose_layout_check()).
- * @param desc  NULL or zero fields: defaults. Negative or non-finite fields: RS_ERR_INVALID.
+ * @param desc  NULL or zero fields: defaults. Negative or non-finite fields, or
+ *              max_prediction_s > RS_POSE_MAX_PREDICTION_S: RS_ERR_INVALID.
  * @param out   receives the solver; the caller frees it with rs_pose_solver_destroy().
  */
 enum rs_status rs_pose_solver_create(const struct rs_pose_solver_desc *desc,
@@ -177,7 +188,8 @@ struct rs_pose_filter_desc {
 	double orientation_min_cutoff_hz; /**< default 1.5 Hz */
 	double orientation_beta;          /**< default 0.5 (Hz per rad/s) */
 	double orientation_d_cutoff_hz;   /**< default 1.2 Hz */
-	double max_prediction_s;          /**< cap on prediction horizon, default 0.03 */
+	double max_prediction_s;          /**< cap on prediction horizon, default and at most
+	                                       RS_POSE_MAX_PREDICTION_S (0.03) */
 	int disable_filter;               /**< nonzero: pass through (prediction still available) */
 	double reset_gap_s;               /**< a gap between samples longer than this restarts the
 	                                       filter from the new sample; default 0.25 */
@@ -190,8 +202,9 @@ void rs_pose_filter_desc_resolve(const struct rs_pose_filter_desc *desc,
 struct rs_pose_filter;
 
 /**
- * Create a filter. @param desc NULL or zero fields: defaults; negative or non-finite fields
- * give RS_ERR_INVALID. The caller frees *out with rs_pose_filter_destroy().
+ * Create a filter. @param desc NULL or zero fields: defaults; negative or non-finite fields,
+ * or max_prediction_s > RS_POSE_MAX_PREDICTION_S, give RS_ERR_INVALID. The caller frees *out with
+ * rs_pose_filter_destroy().
  */
 enum rs_status rs_pose_filter_create(const struct rs_pose_filter_desc *desc,
                                      struct rs_pose_filter **out, struct rs_error *err);

@@ -1,8 +1,10 @@
 /**
  * @file rs_scene.h
  * A scene: triangles (fed from caller-owned vertex/index arrays, copied in), materials, a
- * camera, point lights, the environment cube and ambient light. Geometry is stored in
- * single precision, exactly as the GPU will read it; everything else in double.
+ * camera, point lights, the environment cube and ambient light. Positions are kept in
+ * double as given (and rounded to float); packing subtracts the scene's centre before
+ * rounding them for the GPU (rs_pack.h). Normals are float; camera, lights and the rest
+ * are double.
  */
 #ifndef RS_SCENE_H
 #define RS_SCENE_H

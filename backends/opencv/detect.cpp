@@ -1,0 +1,132 @@
+// Marker blobs: threshold, connected components, intensity-weighted sub-pixel centroids,
+// and the area and shape gates that drop noise, lamps, reflections and merged markers.
+#include "optical_internal.hpp"
+#include "optical_detect.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace rs_optical
+{
+
+void resolve_detect(const rs_optical_detect_desc *in, rs_optical_detect_desc *out)
+{
+	*out = in ? *in : rs_optical_detect_desc{};
+	if (!out->threshold)
+		out->threshold = 100;
+	if (out->min_area_px == 0.0)
+		out->min_area_px = 3.0;
+	if (out->max_area_px == 0.0)
+		out->max_area_px = 400.0;
+	if (out->max_aspect == 0.0)
+		out->max_aspect = 1.6;
+}
+
+bool detect_desc_valid(const rs_optical_detect_desc &d)
+{
+	return d.threshold > 0 && d.threshold < 255 && std::isfinite(d.min_area_px) &&
+	       std::isfinite(d.max_area_px) && d.min_area_px > 0 &&
+	       d.max_area_px >= d.min_area_px && std::isfinite(d.max_aspect) && d.max_aspect >= 1.0;
+}
+
+void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &s,
+            std::vector<rs_optical_blob> &out)
+{
+	out.clear();
+	cv::threshold(img, s.binary, d.threshold, 255, cv::THRESH_BINARY);
+	int n =
+	    cv::connectedComponentsWithStats(s.binary, s.labels, s.stats, s.centroids, 8, CV_32S);
+	for (int i = 1; i < n; ++i) {
+		int area = s.stats.at<int>(i, cv::CC_STAT_AREA);
+		if (area < d.min_area_px || area > d.max_area_px)
+			continue;
+		// The spot's flanks below the threshold belong to the centroid too, so the window
+		// reaches 3 px beyond the thresholded pixels, and the weight is the brightness
+		// above the local background (the window's rim): linear in how much of a pixel
+		// the marker covers, so the centroid of a symmetric spot has no bias.
+		const int m = 3;
+		int x0 = std::max(0, s.stats.at<int>(i, cv::CC_STAT_LEFT) - m);
+		int y0 = std::max(0, s.stats.at<int>(i, cv::CC_STAT_TOP) - m);
+		int x1 = std::min(img.cols, s.stats.at<int>(i, cv::CC_STAT_LEFT) +
+		                                s.stats.at<int>(i, cv::CC_STAT_WIDTH) + m);
+		int y1 = std::min(img.rows, s.stats.at<int>(i, cv::CC_STAT_TOP) +
+		                                s.stats.at<int>(i, cv::CC_STAT_HEIGHT) + m);
+		double rim = 0;
+		int nrim = 0;
+		for (int y = y0; y < y1; ++y) {
+			const uint8_t *row = img.ptr<uint8_t>(y);
+			const int *lab = s.labels.ptr<int>(y);
+			for (int x = x0; x < x1; ++x)
+				if ((y == y0 || y == y1 - 1 || x == x0 || x == x1 - 1) &&
+				    lab[x] == 0) {
+					rim += row[x];
+					++nrim;
+				}
+		}
+		const double bg = nrim ? rim / nrim : 0.0;
+		double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+		for (int y = y0; y < y1; ++y) {
+			const uint8_t *row = img.ptr<uint8_t>(y);
+			const int *lab = s.labels.ptr<int>(y);
+			for (int x = x0; x < x1; ++x) {
+				if (lab[x] != 0 && lab[x] != i)
+					continue;
+				double w = row[x] - bg;
+				sw += w;
+				sx += w * x;
+				sy += w * y;
+				sxx += w * x * x;
+				syy += w * y * y;
+				sxy += w * x * y;
+			}
+		}
+		if (!(sw > 0))
+			continue;
+		double cx = sx / sw, cy = sy / sw;
+		double a = sxx / sw - cx * cx, c = syy / sw - cy * cy, b = sxy / sw - cx * cy;
+		double tr = a + c,
+		       disc = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
+		double l1 = 0.5 * tr + disc, l2 = 0.5 * tr - disc;
+		double aspect = l2 > 1e-12 ? std::sqrt(l1 / l2) : INFINITY;
+		if (!(aspect <= d.max_aspect))
+			continue;
+		out.push_back({cx, cy, (double)area, aspect});
+	}
+	std::sort(out.begin(), out.end(), [](const rs_optical_blob &p, const rs_optical_blob &q) {
+		return p.area_px > q.area_px;
+	});
+}
+
+} // namespace rs_optical
+
+using namespace rs_optical;
+
+extern "C" enum rs_status rs_optical_detect(const struct rs_optical_detect_desc *desc,
+                                            const struct rs_optical_image *img,
+                                            struct rs_optical_blob *out, size_t cap, size_t *out_n,
+                                            struct rs_error *err)
+{
+	if (!out_n || (cap && !out))
+		return rs_error_set(err, RS_ERR_INVALID, "detect: NULL argument");
+	*out_n = 0;
+	rs_status st = check_image(img, err);
+	if (st != RS_OK)
+		return st;
+	rs_optical_detect_desc d;
+	resolve_detect(desc, &d);
+	if (!detect_desc_valid(d))
+		return rs_error_set(err, RS_ERR_INVALID, "detect: bad descriptor");
+	DetectScratch s;
+	std::vector<rs_optical_blob> blobs;
+	try {
+		detect(wrap(*img), d, s, blobs);
+	} catch (const cv::Exception &e) {
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "detect: %.160s", e.msg.c_str());
+	}
+	size_t n = std::min(cap, blobs.size());
+	std::copy(blobs.begin(), blobs.begin() + (long)n, out);
+	*out_n = n;
+	return RS_OK;
+}

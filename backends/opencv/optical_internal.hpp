@@ -1,0 +1,53 @@
+// Private helpers shared by the OpenCV backend's C++ files (not installed).
+#ifndef RS_OPTICAL_INTERNAL_HPP
+#define RS_OPTICAL_INTERNAL_HPP
+
+#include <opencv2/core.hpp>
+
+#include "raystream/rs_optical.h"
+
+namespace rs_optical
+{
+
+inline cv::Matx33d K_of(const rs_optical_camera &c)
+{
+	return cv::Matx33d(c.K);
+}
+
+inline cv::Mat dist_of(const rs_optical_camera &c)
+{
+	return cv::Mat(1, 5, CV_64F, const_cast<double *>(c.dist)).clone();
+}
+
+inline cv::Matx33d R_of(const rs_optical_rig &r)
+{
+	return cv::Matx33d(r.R_cam1_cam0);
+}
+
+inline cv::Vec3d t_of(const rs_optical_rig &r)
+{
+	return cv::Vec3d(r.t_cam1_cam0[0], r.t_cam1_cam0[1], r.t_cam1_cam0[2]);
+}
+
+// 3x3 rotation of a unit quaternion x, y, z, w.
+cv::Matx33d quat_to_R(const double q[4]);
+
+// A header over caller-owned grey pixels (no copy); the caller checked the image.
+inline cv::Mat wrap(const rs_optical_image &img)
+{
+	return cv::Mat(img.height, img.width, CV_8UC1, const_cast<uint8_t *>(img.pixels),
+	               img.stride);
+}
+
+// RS_ERR_INVALID unless pixels, sizes (1..16384) and stride are sane.
+rs_status check_image(const rs_optical_image *img, rs_error *err);
+
+// Linearised RMS rotation error (rad) and 3-D RMS error of the display origin of the pose
+// fitted to markers P[i] (camera frame, layout id order) with covariances S[i]
+// (docs/optical.md, "Error law"). Infinite when the markers are degenerate.
+void pose_error_law(const rs_pose_layout &layout, const cv::Vec3d P[3], const cv::Matx33d S[3],
+                    double *out_rot_rms, double *out_pos_rms);
+
+} // namespace rs_optical
+
+#endif

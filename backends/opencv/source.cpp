@@ -1,0 +1,154 @@
+// video: and cam: tracker sources: two frame streams (rs_optical_frames) through
+// rs_optical_tracker into marker samples.
+#include "optical_internal.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <string>
+
+using namespace rs_optical;
+
+namespace
+{
+
+struct OpticalSource {
+	rs_optical_frames *frames[2] = {nullptr, nullptr};
+	rs_optical_tracker *tracker = nullptr;
+	bool live = false; // cam: host clock; video: frame index / rate
+	double rate_hz = 60.0;
+	uint32_t sequence = 0;
+	~OpticalSource()
+	{
+		rs_optical_tracker_destroy(&tracker);
+		rs_optical_frames_destroy(&frames[0]);
+		rs_optical_frames_destroy(&frames[1]);
+	}
+};
+
+// The key=value options after '?': calib (required), layout, rate.
+struct Options {
+	std::string a, b, calib, layout;
+	double rate_hz = 60.0;
+};
+
+rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
+{
+	std::string r(rest);
+	size_t qm = r.find('?');
+	std::string streams = r.substr(0, qm);
+	size_t comma = streams.find(',');
+	if (comma == std::string::npos || comma == 0 || comma + 1 == streams.size())
+		return rs_error_set(err, RS_ERR_PARSE, "%s: expected %s:LEFT,RIGHT?calib=FILE",
+		                    scheme, scheme);
+	o->a = streams.substr(0, comma);
+	o->b = streams.substr(comma + 1);
+	std::string q = qm == std::string::npos ? "" : r.substr(qm + 1);
+	size_t pos = 0;
+	while (qm != std::string::npos && pos <= q.size()) {
+		size_t amp = q.find('&', pos);
+		std::string kv =
+		    q.substr(pos, amp == std::string::npos ? std::string::npos : amp - pos);
+		size_t eq = kv.find('=');
+		std::string k = kv.substr(0, eq),
+		            v = eq == std::string::npos ? "" : kv.substr(eq + 1);
+		if (eq == std::string::npos || v.empty())
+			return rs_error_set(err, RS_ERR_PARSE, "%s: bad option '%.40s'", scheme,
+			                    kv.c_str());
+		if (k == "calib") {
+			o->calib = v;
+		} else if (k == "layout") {
+			o->layout = v;
+		} else if (k == "rate") {
+			char *end = nullptr;
+			o->rate_hz = std::strtod(v.c_str(), &end);
+			if (*end || !(o->rate_hz >= 0.01 && o->rate_hz <= 1e6))
+				return rs_error_set(err, RS_ERR_PARSE, "%s: bad rate '%.40s'",
+				                    scheme, v.c_str());
+		} else {
+			return rs_error_set(err, RS_ERR_PARSE,
+			                    "%s: unknown option '%.40s' (calib, layout, rate)",
+			                    scheme, k.c_str());
+		}
+		if (amp == std::string::npos)
+			break;
+		pos = amp + 1;
+	}
+	if (o->calib.empty())
+		return rs_error_set(err, RS_ERR_PARSE, "%s: needs ?calib=FILE (raystream-calib)",
+		                    scheme);
+	return RS_OK;
+}
+
+rs_status src_read(void *impl, rs_marker_sample *out, int timeout_ms, rs_error *err)
+{
+	OpticalSource *s = static_cast<OpticalSource *>(impl);
+	(void)timeout_ms; // a frame read blocks for at most one frame interval
+	rs_optical_image img[2];
+	for (int v = 0; v < 2; ++v) {
+		rs_status st = rs_optical_frames_read(s->frames[v], &img[v], err);
+		if (st != RS_OK) {
+			// Say which stream ended or failed; keep the status.
+			std::string m = err ? err->message : "";
+			return rs_error_set(err, st, "%s (stream %d, frame %u)", m.c_str(), v,
+			                    s->sequence);
+		}
+	}
+	double t = s->live ? rs_track_now_s() : s->sequence / s->rate_hz;
+	rs_status st =
+	    rs_optical_tracker_process(s->tracker, &img[0], &img[1], t, out, nullptr, err);
+	if (st != RS_OK)
+		return st;
+	out->sequence = s->sequence;
+	out->device_time_us = (uint64_t)std::llround(t * 1e6);
+	s->sequence++;
+	return RS_OK;
+}
+
+void src_destroy(void *impl)
+{
+	delete static_cast<OpticalSource *>(impl);
+}
+
+const rs_track_source_ops k_ops = {src_read, nullptr, nullptr, src_destroy};
+
+} // namespace
+
+extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *rest,
+                                              struct rs_track_source **out, struct rs_error *err)
+{
+	if (!scheme || !rest || !out)
+		return rs_error_set(err, RS_ERR_INVALID, "optical: NULL argument");
+	*out = nullptr;
+	bool camera = !std::strcmp(scheme, "cam");
+	if (!camera && std::strcmp(scheme, "video"))
+		return rs_error_set(err, RS_ERR_PARSE, "optical: unknown scheme '%.20s'", scheme);
+	Options o;
+	rs_status st = parse(scheme, rest, &o, err);
+	if (st != RS_OK)
+		return st;
+	rs_optical_tracker_desc d{};
+	if ((st = rs_optical_rig_load(o.calib.c_str(), &d.rig, err)) != RS_OK)
+		return st;
+	if (!o.layout.empty() &&
+	    (st = rs_pose_layout_load(o.layout.c_str(), &d.layout, err)) != RS_OK)
+		return st;
+	OpticalSource *s = new (std::nothrow) OpticalSource();
+	if (!s)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical: out of memory");
+	s->live = camera;
+	s->rate_hz = o.rate_hz;
+	if ((st = rs_optical_tracker_create(&d, &s->tracker, err)) != RS_OK) {
+		delete s;
+		return st;
+	}
+	const std::string *names[2] = {&o.a, &o.b};
+	for (int v = 0; v < 2; ++v)
+		if ((st = rs_optical_frames_open(names[v]->c_str(), camera, &s->frames[v], err)) !=
+		    RS_OK) {
+			delete s;
+			return st;
+		}
+	return rs_track_source_create(&k_ops, s, out, err);
+}

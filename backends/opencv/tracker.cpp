@@ -1,0 +1,411 @@
+// Frame pair -> three labelled marker positions: blobs in both views, pairs on each other's
+// epipolar line, triangulation, the triple whose side lengths fit the layout, refinement
+// (optimal correction onto the epipolar geometry, then triangulation) and quality figures.
+#include "optical_detect.hpp"
+#include "optical_internal.hpp"
+
+#include <opencv2/calib3d.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <new>
+#include <vector>
+
+using namespace rs_optical;
+
+namespace
+{
+
+const int k_perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+const size_t k_max_blobs = 24; // per view; more bright spots than this is not a marker scene
+
+struct Pair {
+	int i, j;    // blob indices in view 0 and 1
+	cv::Vec3d X; // triangulated, camera-0 frame
+};
+
+} // namespace
+
+struct rs_optical_tracker {
+	rs_optical_tracker_desc d;
+	cv::Matx34d P0, P1; // pixels
+	cv::Matx34d N0, N1; // normalised camera coordinates
+	cv::Matx33d F;      // undistorted pixel coordinates: x1^T F x0 = 0
+	double layout_sides[3];
+	DetectScratch scratch;
+	std::vector<rs_optical_blob> blobs[2];
+	std::vector<cv::Point2d> raw[2], und[2];
+	std::vector<Pair> pairs;
+};
+
+static void sides_of(const cv::Vec3d p[3], double s[3])
+{
+	s[0] = cv::norm(p[2] - p[1]);
+	s[1] = cv::norm(p[0] - p[2]);
+	s[2] = cv::norm(p[1] - p[0]);
+}
+
+static cv::Vec3d triangulate(const rs_optical_tracker &t, cv::Point2d a, cv::Point2d b)
+{
+	// Linear (DLT) triangulation, as cv::triangulatePoints, for one point without
+	// allocating: the null vector of the 4x4 system by SVD. In normalised camera
+	// coordinates, where the system's entries are O(1); in pixels its conditioning skews
+	// the algebraic solution several times beyond the geometric error.
+	cv::Point2d n[2];
+	for (int v = 0; v < 2; ++v) {
+		const double *K = t.d.rig.cam[v].K;
+		cv::Point2d p = v ? b : a;
+		n[v] = cv::Point2d((p.x - K[2]) / K[0], (p.y - K[5]) / K[4]);
+	}
+	cv::Matx44d A;
+	for (int k = 0; k < 4; ++k) {
+		A(0, k) = n[0].x * t.N0(2, k) - t.N0(0, k);
+		A(1, k) = n[0].y * t.N0(2, k) - t.N0(1, k);
+		A(2, k) = n[1].x * t.N1(2, k) - t.N1(0, k);
+		A(3, k) = n[1].y * t.N1(2, k) - t.N1(1, k);
+	}
+	cv::Matx44d u, vt;
+	cv::Matx41d w;
+	cv::SVD::compute(A, w, u, vt, cv::SVD::FULL_UV);
+	double h = vt(3, 3);
+	if (!(std::fabs(h) > 1e-300))
+		return cv::Vec3d(0, 0, -1);
+	return cv::Vec3d(vt(3, 0) / h, vt(3, 1) / h, vt(3, 2) / h);
+}
+
+static double epipolar_distance(const cv::Matx33d &F, cv::Point2d a, cv::Point2d b)
+{
+	cv::Vec3d x0(a.x, a.y, 1), x1(b.x, b.y, 1);
+	cv::Vec3d l1 = F * x0, l0 = F.t() * x1;
+	double e = x1.dot(l1);
+	double d1 = std::fabs(e) / std::hypot(l1[0], l1[1]);
+	double d0 = std::fabs(e) / std::hypot(l0[0], l0[1]);
+	return std::max(d0, d1);
+}
+
+extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_tracker_desc *desc,
+                                                    struct rs_optical_tracker **out,
+                                                    struct rs_error *err)
+{
+	if (!desc || !out)
+		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	*out = nullptr;
+	rs_optical_tracker_desc d = *desc;
+	enum rs_status st = rs_optical_rig_check(&d.rig, err);
+	if (st != RS_OK)
+		return st;
+	static const rs_pose_layout zero = {};
+	if (!std::memcmp(&d.layout, &zero, sizeof zero))
+		rs_pose_layout_default(&d.layout);
+	if ((st = rs_pose_layout_check(&d.layout, err)) != RS_OK)
+		return st;
+	rs_optical_detect_desc dd;
+	resolve_detect(&d.detect, &dd);
+	d.detect = dd;
+	if (d.centroid_sigma_px == 0.0)
+		d.centroid_sigma_px = 0.3;
+	// The distance from the epipolar line carries the noise of both centroids (~sqrt(2)
+	// sigma): the default gate is 6 of those, and never below 2 px.
+	if (d.epipolar_gate_px == 0.0 && std::isfinite(d.centroid_sigma_px))
+		d.epipolar_gate_px = std::max(2.0, 6.0 * std::sqrt(2.0) * d.centroid_sigma_px);
+	if (d.side_tolerance_m == 0.0)
+		d.side_tolerance_m = 0.01;
+	if (!detect_desc_valid(dd) || !(d.epipolar_gate_px > 0) ||
+	    !std::isfinite(d.epipolar_gate_px) || !(d.centroid_sigma_px > 0) ||
+	    !std::isfinite(d.centroid_sigma_px) || !(d.side_tolerance_m > 0) ||
+	    !std::isfinite(d.side_tolerance_m))
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "optical tracker: gates and sigmas must be finite and > 0");
+	rs_optical_tracker *t = new (std::nothrow) rs_optical_tracker();
+	if (!t)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: out of memory");
+	t->d = d;
+	cv::Matx33d K0 = K_of(d.rig.cam[0]), K1 = K_of(d.rig.cam[1]), R = R_of(d.rig);
+	cv::Vec3d tv = t_of(d.rig);
+	cv::Matx34d I34(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0);
+	cv::Matx34d Rt(R(0, 0), R(0, 1), R(0, 2), tv[0], R(1, 0), R(1, 1), R(1, 2), tv[1], R(2, 0),
+	               R(2, 1), R(2, 2), tv[2]);
+	t->N0 = I34;
+	t->N1 = Rt;
+	t->P0 = K0 * I34;
+	t->P1 = K1 * Rt;
+	cv::Matx33d tx(0, -tv[2], tv[1], tv[2], 0, -tv[0], -tv[1], tv[0], 0);
+	t->F = K1.inv().t() * tx * R * K0.inv();
+	cv::Vec3d m[3];
+	for (int i = 0; i < 3; ++i)
+		m[i] = cv::Vec3d(d.layout.markers[i]);
+	sides_of(m, t->layout_sides);
+	*out = t;
+	return RS_OK;
+}
+
+extern "C" void rs_optical_tracker_destroy(struct rs_optical_tracker **tracker)
+{
+	if (!tracker)
+		return;
+	delete *tracker;
+	*tracker = nullptr;
+}
+
+// Best labelling of three points: cost = squared side mismatch, worst = largest mismatch.
+static int best_order(const double ls[3], const cv::Vec3d p[3], double *cost, double *worst)
+{
+	double s[3];
+	sides_of(p, s);
+	int best = 0;
+	*cost = *worst = INFINITY;
+	for (int q = 0; q < 6; ++q) {
+		double c = 0, w = 0;
+		for (int k = 0; k < 3; ++k) {
+			double e = std::fabs(s[k] - ls[k_perms[q][k]]);
+			c += e * e;
+			w = std::max(w, e);
+		}
+		if (c < *cost) {
+			*cost = c;
+			*worst = w;
+			best = q;
+		}
+	}
+	return best;
+}
+
+// Projection Jacobian rows of both views at X (pixels per metre), summed as J^T J: the
+// inverse is the covariance of the maximum-likelihood point per unit centroid variance.
+static cv::Matx33d info_matrix(const rs_optical_tracker &t, const cv::Vec3d &X)
+{
+	const cv::Matx34d *P[2] = {&t.P0, &t.P1};
+	cv::Matx33d JtJ = cv::Matx33d::zeros();
+	for (int v = 0; v < 2; ++v) {
+		const cv::Matx34d &M = *P[v];
+		cv::Vec3d x = M * cv::Vec4d(X[0], X[1], X[2], 1.0);
+		for (int row = 0; row < 2; ++row) {
+			cv::Vec3d J;
+			for (int k = 0; k < 3; ++k)
+				J[k] = (M(row, k) * x[2] - M(2, k) * x[row]) / (x[2] * x[2]);
+			JtJ += J * J.t();
+		}
+	}
+	return JtJ;
+}
+
+// Covariance of a triangulated point for isotropic centroid noise sigma_px:
+// sigma^2 (J^T J)^-1; infinite when the views do not constrain it.
+static cv::Matx33d point_cov(const rs_optical_tracker &t, const cv::Vec3d &X)
+{
+	cv::Matx33d inv;
+	if (!cv::invert(info_matrix(t, X), inv, cv::DECOMP_CHOLESKY))
+		return cv::Matx33d::eye() * INFINITY;
+	return inv * (t.d.centroid_sigma_px * t.d.centroid_sigma_px);
+}
+
+static void reproject(const cv::Matx34d &P, const cv::Vec3d &X, cv::Point2d *out)
+{
+	cv::Vec3d x = P * cv::Vec4d(X[0], X[1], X[2], 1.0);
+	*out = cv::Point2d(x[0] / x[2], x[1] / x[2]);
+}
+
+// Gauss-Newton on the reprojection error in both views (the maximum-likelihood point for
+// Gaussian centroid noise), from the DLT solution; three steps converge to ~1e-9 px.
+static cv::Vec3d refine(const rs_optical_tracker &t, cv::Vec3d X, cv::Point2d a, cv::Point2d b)
+{
+	const cv::Matx34d *P[2] = {&t.P0, &t.P1};
+	const cv::Point2d obs[2] = {a, b};
+	for (int it = 0; it < 3; ++it) {
+		cv::Matx33d JtJ = cv::Matx33d::zeros();
+		cv::Vec3d Jtr(0, 0, 0);
+		for (int v = 0; v < 2; ++v) {
+			const cv::Matx34d &M = *P[v];
+			cv::Vec3d x = M * cv::Vec4d(X[0], X[1], X[2], 1.0);
+			if (!(x[2] > 0))
+				return X;
+			double r[2] = {x[0] / x[2] - obs[v].x, x[1] / x[2] - obs[v].y};
+			for (int row = 0; row < 2; ++row) {
+				cv::Vec3d J;
+				for (int k = 0; k < 3; ++k)
+					J[k] =
+					    (M(row, k) * x[2] - M(2, k) * x[row]) / (x[2] * x[2]);
+				JtJ += J * J.t();
+				Jtr += J * r[row];
+			}
+		}
+		cv::Vec3d step;
+		if (!cv::solve(JtJ, -Jtr, step, cv::DECOMP_CHOLESKY))
+			return X;
+		X += step;
+	}
+	return X;
+}
+
+static void empty_sample(double time_s, rs_marker_sample *out)
+{
+	std::memset(out, 0, sizeof *out);
+	out->host_time_s = time_s;
+}
+
+// Blobs of both views (t->blobs) to the sample: undistort, match, triangulate, label.
+static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sample *out,
+                             rs_optical_quality &q, rs_error *err)
+{
+	(void)time_s;
+	try {
+		for (int v = 0; v < 2; ++v) {
+			q.blobs[v] = (uint32_t)t->blobs[v].size();
+			t->raw[v].clear();
+			for (const rs_optical_blob &b : t->blobs[v])
+				t->raw[v].emplace_back(b.x, b.y);
+			const rs_optical_camera &c = t->d.rig.cam[v];
+			if (t->raw[v].empty())
+				t->und[v].clear();
+			else
+				cv::undistortPoints(t->raw[v], t->und[v], K_of(c), dist_of(c),
+				                    cv::noArray(), K_of(c));
+		}
+	} catch (const cv::Exception &e) {
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: %.160s",
+		                    e.msg.c_str());
+	}
+	t->pairs.clear();
+	cv::Matx33d R = R_of(t->d.rig);
+	cv::Vec3d tv = t_of(t->d.rig);
+	for (int i = 0; i < (int)t->und[0].size(); ++i)
+		for (int j = 0; j < (int)t->und[1].size(); ++j) {
+			cv::Point2d a = t->und[0][i], b = t->und[1][j];
+			if (!(epipolar_distance(t->F, a, b) <= t->d.epipolar_gate_px))
+				continue;
+			cv::Vec3d X = triangulate(*t, a, b);
+			if (!(X[2] > 0) || !((R * X + tv)[2] > 0))
+				continue;
+			t->pairs.push_back({i, j, X});
+		}
+	q.matches = (uint32_t)t->pairs.size();
+	// The triple of one-to-one pairs whose side lengths fit the layout best. A stray light
+	// on an epipolar line triangulates to a point, but not one at the layout's distances.
+	int best[3] = {-1, -1, -1}, order = 0;
+	double best_cost = INFINITY, best_worst = INFINITY;
+	const std::vector<Pair> &P = t->pairs;
+	for (size_t a = 0; a < P.size(); ++a)
+		for (size_t b = a + 1; b < P.size(); ++b) {
+			if (P[a].i == P[b].i || P[a].j == P[b].j)
+				continue;
+			for (size_t c = b + 1; c < P.size(); ++c) {
+				if (P[c].i == P[a].i || P[c].i == P[b].i || P[c].j == P[a].j ||
+				    P[c].j == P[b].j)
+					continue;
+				cv::Vec3d pts[3] = {P[a].X, P[b].X, P[c].X};
+				double cost, worst;
+				int o = best_order(t->layout_sides, pts, &cost, &worst);
+				if (cost < best_cost) {
+					best_cost = cost;
+					best_worst = worst;
+					order = o;
+					best[0] = (int)a;
+					best[1] = (int)b;
+					best[2] = (int)c;
+				}
+			}
+		}
+	if (best[0] < 0 || !(best_worst <= t->d.side_tolerance_m)) {
+		q.side_error_m = best[0] < 0 ? 0.0 : best_worst;
+		return RS_OK;
+	}
+	double sq = 0, sig = 0;
+	cv::Vec3d pts[3];
+	cv::Matx33d cov[3];
+	out->marker_count = 3;
+	for (int k = 0; k < 3; ++k) {
+		const Pair &p = P[best[k]];
+		cv::Point2d a = t->und[0][p.i], b = t->und[1][p.j];
+		cv::Vec3d X = refine(*t, p.X, a, b);
+		cv::Point2d ra, rb;
+		reproject(t->P0, X, &ra);
+		reproject(t->P1, X, &rb);
+		double e2 = (ra.x - a.x) * (ra.x - a.x) + (ra.y - a.y) * (ra.y - a.y) +
+		            (rb.x - b.x) * (rb.x - b.x) + (rb.y - b.y) * (rb.y - b.y);
+		sq += e2 / 2.0;
+		int id = k_perms[order][k];
+		pts[id] = X;
+		cov[id] = point_cov(*t, X);
+		sig += cv::trace(cov[id]) / 3.0;
+		rs_marker &m = out->markers[id];
+		m.id = (uint32_t)id;
+		m.flags = RS_MARKER_VALID;
+		// Off its epipolar geometry by more than the gate: seen, but doubtful.
+		if (std::sqrt(e2 / 2.0) > t->d.epipolar_gate_px)
+			m.flags |= RS_MARKER_LOW_QUALITY;
+		for (int c = 0; c < 3; ++c)
+			m.position[c] = X[c];
+	}
+	q.markers = 3;
+	q.reprojection_px = std::sqrt(sq / 3.0);
+	q.side_error_m = best_worst;
+	q.sigma_m = std::sqrt(sig / 3.0);
+	pose_error_law(t->d.layout, pts, cov, &q.rotation_rms_rad, &q.position_rms_m);
+	return RS_OK;
+}
+
+extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *t,
+                                                     const struct rs_optical_image *img0,
+                                                     const struct rs_optical_image *img1,
+                                                     double time_s, struct rs_marker_sample *out,
+                                                     struct rs_optical_quality *out_quality,
+                                                     struct rs_error *err)
+{
+	rs_optical_quality qd;
+	rs_optical_quality &q = out_quality ? *out_quality : qd;
+	std::memset(&q, 0, sizeof q);
+	if (!t || !out)
+		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	empty_sample(time_s, out);
+	const rs_optical_image *img[2] = {img0, img1};
+	for (int v = 0; v < 2; ++v) {
+		if (!img[v])
+			continue;
+		if (check_image(img[v], err) != RS_OK)
+			return RS_ERR_INVALID;
+		const rs_optical_camera &c = t->d.rig.cam[v];
+		if (img[v]->width != c.width || img[v]->height != c.height)
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "optical tracker: camera %d frame is %dx%d, calibrated "
+			                    "%dx%d",
+			                    v, img[v]->width, img[v]->height, c.width, c.height);
+	}
+	if (!img0 || !img1)
+		return RS_OK; // one camera alone cannot triangulate: no markers this frame
+	try {
+		for (int v = 0; v < 2; ++v) {
+			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v]);
+			if (t->blobs[v].size() > k_max_blobs)
+				t->blobs[v].resize(k_max_blobs);
+		}
+	} catch (const cv::Exception &e) {
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: %.160s",
+		                    e.msg.c_str());
+	}
+	return solve_blobs(t, time_s, out, q, err);
+}
+
+extern "C" enum rs_status
+rs_optical_tracker_process_blobs(struct rs_optical_tracker *t, const struct rs_optical_blob *blobs0,
+                                 size_t n0, const struct rs_optical_blob *blobs1, size_t n1,
+                                 double time_s, struct rs_marker_sample *out,
+                                 struct rs_optical_quality *out_quality, struct rs_error *err)
+{
+	rs_optical_quality qd;
+	rs_optical_quality &q = out_quality ? *out_quality : qd;
+	std::memset(&q, 0, sizeof q);
+	if (!t || !out || (n0 && !blobs0) || (n1 && !blobs1))
+		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	empty_sample(time_s, out);
+	const rs_optical_blob *b[2] = {blobs0, blobs1};
+	size_t n[2] = {std::min(n0, k_max_blobs), std::min(n1, k_max_blobs)};
+	for (int v = 0; v < 2; ++v) {
+		t->blobs[v].assign(b[v], b[v] + n[v]);
+		for (const rs_optical_blob &x : t->blobs[v])
+			if (!std::isfinite(x.x) || !std::isfinite(x.y))
+				return rs_error_set(err, RS_ERR_BAD_DATA,
+				                    "optical tracker: non-finite blob centroid");
+	}
+	return solve_blobs(t, time_s, out, q, err);
+}
