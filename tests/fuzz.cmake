@@ -1,4 +1,4 @@
-# A short libFuzzer smoke run of the protocol parser (tests/fuzz.sh), registered only when
+# Short libFuzzer smoke runs of the tracker and stream protocol parsers (tests/fuzz.sh), registered only when
 # clang-14 with libFuzzer is available. Longer runs: tests/fuzz.sh SECONDS.
 find_program(RS_FUZZ_CLANG NAMES clang-14)
 if(RS_FUZZ_CLANG AND NOT DEFINED RS_FUZZ_WORKS)
@@ -18,6 +18,10 @@ if(RS_FUZZ_CLANG AND RS_FUZZ_WORKS)
            COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/fuzz.sh 20 ${CMAKE_CURRENT_BINARY_DIR}/fuzz)
   set_tests_properties(fuzz_proto_smoke PROPERTIES TIMEOUT 180
                        ENVIRONMENT "RS_FUZZ_CC=${RS_FUZZ_CLANG}")
+  add_test(NAME fuzz_stream_smoke
+           COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/fuzz.sh 20 ${CMAKE_CURRENT_BINARY_DIR}/fuzz)
+  set_tests_properties(fuzz_stream_smoke PROPERTIES TIMEOUT 180
+                       ENVIRONMENT "RS_FUZZ_CC=${RS_FUZZ_CLANG};RS_FUZZ_TARGET=stream")
 else()
   message(STATUS "raystream: clang-14 with libFuzzer not found; fuzz smoke test skipped")
 endif()

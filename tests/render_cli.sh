@@ -80,4 +80,27 @@ else
   bad "scene without lights: $(cat stderr.txt)"
 fi
 
+# The GL backends (where this build has them and a context can be made: llvmpipe in CI):
+# the stats name the backend and the renderer string; a bad EGL platform fails in one line.
+for backend in egl osmesa; do
+  rm -f gl.png gl.json
+  if "$bin" --scene box --size 32x32 --backend $backend --out gl.png --stats gl.json \
+      --primary raster --shadows map:256:3 >stdout.txt 2>stderr.txt; then
+    if grep -q "\"backend\":[[:space:]]*\"$backend\"" gl.json &&
+        grep -q '"renderer":[[:space:]]*"[^"]' gl.json && [ -s gl.png ]; then
+      ok "$backend render names backend and renderer"
+    else
+      bad "$backend stats: $(cat gl.json)"
+    fi
+  elif grep -q "not part of this build\|no EGL display\|no OpenGL" stderr.txt; then
+    ok "$backend not available here: $(cat stderr.txt)"
+  else
+    bad "$backend render failed: $(cat stderr.txt)"
+  fi
+done
+if "$bin" --scene box --size 8x8 --backend egl >/dev/null 2>&1; then
+  RS_EGL_PLATFORM=wayland expect_fail "unknown EGL platform" 1 "unknown platform 'wayland'" \
+    --scene box --size 8x8 --backend egl
+fi
+
 finish

@@ -48,7 +48,7 @@ grep -q '^# stats samples=[1-9]' "$work/dur.txt" || fail "no samples in duration
 #    through the serial path (tty raw mode, poll, parser) and solves poses.
 "$tool" --pty -d 5 'sim:realtime=1&rate=200&seed=3' > "$work/pty.txt" &
 server=$!
-for _ in $(seq 50); do [ -s "$work/pty.txt" ] && break; sleep 0.1; done
+for _ in $(seq 300); do [ -s "$work/pty.txt" ] && break; sleep 0.1; done
 pty=$(head -n 1 "$work/pty.txt")
 [ -n "$pty" ] || fail "--pty printed no path"
 "$tool" -n 100 --stats 0 "serial:$pty" > "$work/serial.txt"
@@ -72,17 +72,20 @@ wait "$server" || fail "--pty interrupted exited non-zero"
 # 4c. --reconnect: the device (a pty behind a symlink, removed before the hang-up so no
 #     other pty can be opened by mistake) goes away; the tool reports it, keeps trying,
 #     and --duration still ends the run cleanly.
-"$tool" --pty -d 3 'sim:realtime=1&rate=200&seed=4' > "$work/pty_rc.txt" &
+#     The waits are generous: under a loaded CI machine a sanitized binary can take
+#     seconds to start, and a device that ends before its reader opened it proves nothing.
+"$tool" --pty -d 6 'sim:realtime=1&rate=200&seed=4' > "$work/pty_rc.txt" &
 server=$!
-for _ in $(seq 50); do [ -s "$work/pty_rc.txt" ] && break; sleep 0.1; done
+for _ in $(seq 300); do [ -s "$work/pty_rc.txt" ] && break; sleep 0.1; done
+[ -s "$work/pty_rc.txt" ] || fail "--pty (reconnect case) printed no path within 30 s"
 ln -sf "$(head -n 1 "$work/pty_rc.txt")" "$work/tty"
-"$tool" -q --stats 0.2 --reconnect -d 5 "serial:$work/tty" > "$work/rc.txt" 2> "$work/rc.err" &
+"$tool" -q --stats 0.2 --reconnect -d 9 "serial:$work/tty" > "$work/rc.txt" 2> "$work/rc.err" &
 client=$!
 # Remove the link once the client reads through it (it holds the open line).
-for _ in $(seq 50); do grep -q 'samples=[1-9]' "$work/rc.txt" && break; sleep 0.1; done
+for _ in $(seq 300); do grep -q 'samples=[1-9]' "$work/rc.txt" && break; sleep 0.1; done
 rm -f "$work/tty"
 wait "$server" || fail "--pty server failed"
-for _ in $(seq 100); do kill -0 "$client" 2> /dev/null || break; sleep 0.1; done
+for _ in $(seq 150); do kill -0 "$client" 2> /dev/null || break; sleep 0.1; done
 if kill -0 "$client" 2> /dev/null; then
   kill -KILL "$client"
   fail "--reconnect ignored --duration while the device was away"
@@ -95,7 +98,7 @@ tail -n 1 "$work/rc.txt" | grep -q 'disconnects=1 ' || fail "disconnect not coun
 #     still the final counters.
 "$tool" --pty -d 2 'sim:realtime=1&rate=200&seed=5' > "$work/pty_dc.txt" &
 server=$!
-for _ in $(seq 50); do [ -s "$work/pty_dc.txt" ] && break; sleep 0.1; done
+for _ in $(seq 300); do [ -s "$work/pty_dc.txt" ] && break; sleep 0.1; done
 set +e
 "$tool" -q --stats 0 "serial:$(head -n 1 "$work/pty_dc.txt")" > "$work/dc.txt" 2> "$work/dc.err"
 rc=$?

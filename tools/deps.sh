@@ -12,6 +12,8 @@ packages=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev libopencv-imgcodecs-dev
   libopencv-videoio-dev
   clang-14 libclang-rt-14-dev clang-format-14
+  libturbojpeg0-dev libx11-dev xvfb x11-apps
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libosmesa6-dev
 )
 
 # Intel Embree 3: the peer tracer of raystream-bench --table 2, a benchmark-only dependency

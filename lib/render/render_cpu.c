@@ -137,6 +137,22 @@ static enum rs_status cpu_set_scene(void *impl, const struct rs_scene *scene,
 	return RS_OK;
 }
 
+/* Triangle ids of the primary hits: the camera rays traced once more (not counted). */
+static void primary_ids(const struct cpu_renderer *cpu, const struct rs_camera *camera,
+                        uint32_t *out)
+{
+	uint32_t w = cpu->desc.width, h = cpu->desc.height;
+	for (uint32_t y = 0; y < h; ++y)
+		for (uint32_t x = 0; x < w; ++x) {
+			struct rs_ray ray;
+			struct rs_hit hit;
+			rs_trace_camera_ray(camera, w, h, x + 0.5, y + 0.5, &ray);
+			rs_trace_closest(&cpu->accel.packed, cpu->desc.triangle_test, &ray, &hit,
+			                 NULL);
+			out[(size_t)y * w + x] = hit.triangle;
+		}
+}
+
 static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
                                  const struct rs_frame *frame, struct rs_render_stats *stats,
                                  struct rs_error *err)
@@ -158,6 +174,8 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 	if (status != RS_OK)
 		return status;
 	stats->render_ms = rs_render_now_ms() - t0;
+	if (frame->triangle)
+		primary_ids(cpu, camera, frame->triangle);
 	if (frame->rgba8) {
 		double t1 = rs_render_now_ms();
 		size_t n = (size_t)d->width * d->height;

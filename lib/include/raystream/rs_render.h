@@ -116,6 +116,9 @@ struct rs_frame {
 	float *rgb;     /**< 3 linear floats per pixel, row 0 = top, or NULL */
 	uint8_t *rgba8; /**< 4 bytes per pixel as rs_image_quantize() rounds, alpha 255, or NULL */
 	float *depth;   /**< primary-hit distance, +INFINITY on a miss, or NULL */
+	/** Scene triangle id of the primary hit (traced or rasterized), RS_NO_SLOT on a miss,
+	 * or NULL: for picking, and for comparing primary modes. */
+	uint32_t *triangle;
 };
 
 struct rs_renderer;

@@ -1,0 +1,100 @@
+/* raystream-server internals: options, viewer slots, the render threads and the poll loop.
+ * One mutex guards everything both sides touch (a viewer's pose, its pending frame and
+ * counters); sockets belong to the poll thread only. */
+#ifndef RS_SERVER_H
+#define RS_SERVER_H
+
+#include <pthread.h>
+#include <stdint.h>
+
+#include "raystream/rs_codec.h"
+#include "raystream/rs_render.h"
+#include "raystream/rs_stream.h"
+
+#define SERVER_MAX_VIEWERS 64
+#define SERVER_MAX_THREADS 16
+
+struct server_options {
+	const char *scene, *backend, *bind, *token, *port_file, *stats;
+	uint16_t port;
+	uint32_t width, height, passes, lights, threads, render_threads, max_viewers;
+	enum rs_shadow_mode shadows;
+	int quality;                  /* default JPEG quality */
+	int raw;                      /* send raw RGBA8 instead of JPEG */
+	enum rs_jpeg_subsampling sub; /* 4:2:0 or 4:4:4 */
+	double link_mbps, link_latency_ms;
+	double read_timeout_s; /* slow drip / no hello */
+	double stale_s;        /* a pending frame older than this is dropped for a newer pose */
+	double duration_s;     /* 0: until SIGINT/SIGTERM */
+};
+
+/* A frame buffer: one whole FRAME message. */
+struct outframe {
+	uint8_t *data;
+	size_t len, off, cap;
+	double ready_s, queued_s;
+	int full;
+};
+
+struct viewer {
+	int active, fd, hello_done, closing;
+	uint32_t id;
+	char peer[64];
+	int quality;
+	double connected_s, msg_start_s, last_stats_s;
+	struct rs_stream_parser parser;
+	uint8_t inbuf[RS_STREAM_HEADER_SIZE + RS_STREAM_MAX_CLIENT_PAYLOAD];
+	/* guarded by server.lock */
+	struct rs_stream_pose pose;
+	int pose_new, busy;
+	uint32_t next_frame_id;
+	struct outframe pending;
+	uint64_t poses, poses_replaced, frames_rendered, frames_dropped;
+	/* poll thread only */
+	struct outframe inflight;
+	uint8_t ctl[1024];
+	size_t ctl_len, ctl_off;
+	int sending_ctl;
+	struct rs_stream_link link;
+	uint64_t frames_sent, bytes_sent;
+	struct rs_stream_stats reported; /* the viewer's last STATS */
+};
+
+struct server {
+	struct server_options o;
+	const struct rs_scene *scene;
+	size_t frame_cap; /* bytes of one FRAME message at most */
+	pthread_mutex_t lock;
+	pthread_cond_t work;
+	int stop;
+	int wake[2]; /* render threads -> poll loop */
+	struct viewer viewers[SERVER_MAX_VIEWERS];
+	uint32_t next_viewer_id;
+	uint64_t frames_rendered, disconnects;
+	double render_ms_sum;
+	double started_s;
+};
+
+/* Render threads (render.c): each its own renderer and JPEG encoder. */
+int server_render_start(struct server *s, pthread_t *threads, uint32_t n);
+void server_render_stop(struct server *s, pthread_t *threads, uint32_t n);
+
+/* Viewer input (net.c): read and handle what arrived; queue a whole control message
+ * (0 on success); close with a BYE (best effort) and a logged reason. */
+void server_viewer_read(struct server *s, struct viewer *v, double now);
+int server_viewer_queue(struct viewer *v, const struct rs_stream_msg *m);
+void server_viewer_close(struct server *s, struct viewer *v, uint32_t reason, const char *why);
+
+/* The poll loop (loop.c): returns when stopped or the duration ran out; 0 on success. */
+int server_run(struct server *s, int listen_fd);
+
+/* One log line on stderr, prefixed with the program name and seconds since start. */
+void server_log(const struct server *s, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+double server_now_s(void);
+
+#endif

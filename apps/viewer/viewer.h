@@ -1,0 +1,94 @@
+/* raystream-viewer internals: options, the session state, the remote link and outputs. */
+#ifndef RS_VIEWER_H
+#define RS_VIEWER_H
+
+#include <stdint.h>
+
+#include "raystream/rs_codec.h"
+#include "raystream/rs_pose.h"
+#include "raystream/rs_render.h"
+#include "raystream/rs_stream.h"
+#include "raystream/rs_track.h"
+#include "raystream/rs_view.h"
+
+struct rs_window;
+
+struct viewer_options {
+	const char *tracker, *server, *scene, *backend, *token, *out_dir, *stats, *layout, *last;
+	uint32_t width, height, passes, threads, every, frames, pose_id_base;
+	int quality, headless, verify_local, start_remote;
+	double duration_s, linger_s;
+	struct rs_view_calibration cal;
+};
+
+/* Latency samples kept for the median and 99th percentile. */
+#define VIEWER_MAX_SAMPLES 65536
+/* Recent cameras by pose id, for --verify-local. */
+#define VIEWER_POSE_RING 512
+
+struct viewer_link {
+	int fd;
+	struct rs_stream_parser parser;
+	uint8_t *inbuf;
+	uint8_t out[RS_STREAM_HEADER_SIZE + 128]; /* the newest unsent pose (latest wins) */
+	size_t out_len, out_off;
+	uint32_t viewer_id;
+	uint64_t bytes_in;
+	struct rs_stream_stats server_stats; /* last STATS from the server */
+};
+
+struct viewer {
+	struct viewer_options o;
+	struct rs_scene *scene;
+	struct rs_track_source *tracker;
+	struct rs_pose_solver *solver;
+	struct rs_view *view;
+	struct rs_renderer *local; /* local rendering and --verify-local */
+	struct rs_jpeg *jpeg;
+	struct viewer_link link;
+	struct rs_window *window; /* NULL when headless */
+	int remote;               /* showing remote frames (else local) */
+	uint8_t *rgba, *check;    /* the frame shown; a local render to compare with */
+	uint32_t pose_id;         /* last pose id sent or rendered */
+	struct rs_camera camera;  /* current camera */
+	enum rs_view_state view_state;
+	struct rs_camera ring[VIEWER_POSE_RING];
+	uint32_t ring_id[VIEWER_POSE_RING];
+	/* measurements */
+	uint64_t frames, frames_written, gaps, order_errors, unknown_poses;
+	uint32_t last_frame_id, last_pose_id_shown;
+	int have_frame;
+	double *latency_ms;
+	uint64_t latency_n;
+	double psnr_min, psnr_sum;
+	uint64_t psnr_n;
+	double started_s, last_line_s;
+	uint64_t frames_at_line, bytes_at_line, latency_at_line;
+};
+
+/* Remote link (remote.c). */
+int viewer_connect(struct viewer *v);
+void viewer_send_pose(struct viewer *v, const struct rs_camera *cam, uint32_t flags);
+/* Flush the pending pose and read what arrived; calls viewer_show() for each frame.
+ * Returns 0, or -1 when the connection ended (reason printed). */
+int viewer_pump(struct viewer *v, int timeout_ms);
+void viewer_disconnect(struct viewer *v, const char *why);
+
+/* Outputs (output.c). */
+void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t pose_time_us);
+int viewer_write_stats(struct viewer *v);
+void viewer_status_line(struct viewer *v, double now, int force);
+/* Write the frame shown last to `path` (temp + rename); 0 on success. */
+int viewer_write_last(struct viewer *v, const char *path);
+
+/* The window (window.c, through backends/window when built). */
+enum viewer_key { VIEWER_KEY_NONE, VIEWER_KEY_QUIT, VIEWER_KEY_SWITCH, VIEWER_KEY_RECENTRE };
+int viewer_window_open(struct viewer *v);
+void viewer_window_present(struct viewer *v);
+void viewer_window_caption(struct viewer *v, const char *text);
+enum viewer_key viewer_window_poll(struct viewer *v);
+void viewer_window_close(struct viewer *v);
+
+double viewer_now_s(void);
+
+#endif

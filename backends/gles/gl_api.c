@@ -1,0 +1,21 @@
+/* Loading the GL entry point table from the context backend's get_proc_address. */
+#include <string.h>
+
+#include "gl_api.h"
+
+enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *name), void *ctx,
+                          struct rs_error *err)
+{
+	memset(gl, 0, sizeof *gl);
+	void *p;
+	/* Function pointers are stored through memcpy: ISO C has no object-to-function cast. */
+#define RS_GL_LOAD(ret, name, params)                                                              \
+	p = get(ctx, "gl" #name);                                                                  \
+	if (!p)                                                                                    \
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,                                       \
+		                    "gles: the GL context has no gl" #name " (GLES 3.0 needed)");  \
+	memcpy(&gl->name, &p, sizeof p);
+	RS_GL_FUNCS(RS_GL_LOAD)
+#undef RS_GL_LOAD
+	return RS_OK;
+}

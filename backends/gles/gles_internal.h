@@ -1,0 +1,116 @@
+/* Private state of the GLES renderer, shared by its files (not installed). */
+#ifndef RS_GLES_INTERNAL_H
+#define RS_GLES_INTERNAL_H
+
+#include <stdbool.h>
+
+#include "gl_api.h"
+#include "raystream/rs_gles.h"
+
+/* Per-pixel state textures (ping-pong pairs). */
+enum { ST_ORIG = 0, ST_DIR = 1, ST_ACC = 2, ST_COUNT = 3 };
+
+/* Texture units: the scene's four packed textures first, then the per-pixel inputs. */
+enum {
+	UNIT_NODES = 0,
+	UNIT_TRIS,
+	UNIT_NORMALS,
+	UNIT_MATERIALS,
+	UNIT_ORIG,
+	UNIT_DIR,
+	UNIT_ACC,
+	UNIT_HIT,
+	UNIT_CNT,
+	UNIT_SHADOW,
+	UNIT_COUNT
+};
+
+enum {
+	PROG_RAYGEN = 0,
+	PROG_INTERSECT,
+	PROG_SHADE,
+	PROG_FUSED,
+	PROG_DISPLAY,
+	PROG_RASTER,
+	PROG_SHADOW,
+	PROG_COUNT
+};
+
+struct gles {
+	const struct rs_gl_context_ops *cops;
+	void *ctx;
+	struct rs_gl gl;
+	char renderer[128];
+	bool es;        /* a GLES context (else desktop GL running the ES kernels) */
+	GLint max_tex;  /* GL_MAX_TEXTURE_SIZE */
+	GLint max_view; /* smaller side of GL_MAX_VIEWPORT_DIMS */
+	GLint max_draw; /* GL_MAX_DRAW_BUFFERS */
+	GLuint vao, fbo;
+
+	/* set_scene */
+	const struct rs_scene *scene;
+	struct rs_render_desc desc;
+	struct rs_render_accel accel;
+	GLuint scene_tex[4];
+	GLuint state[2][ST_COUNT];
+	GLuint cnt[2];
+	GLuint hit[2];               /* [0]: pass 0 (depth), [1]: later passes */
+	GLuint color;                /* RGBA8 display target */
+	GLuint depth;                /* raster primary: depth renderbuffer */
+	GLuint shadow, shadow_depth; /* shadow maps: R32F array (6 faces a light), depth */
+	double bounds_center[3], bounds_radius; /* raster primary: clip planes per camera */
+	GLuint prog[PROG_COUNT];
+	uint32_t light_count;
+	float light_pos[16 * 3], light_color[16 * 3];
+	float spawn_scale, ambient;
+	float env_center[3], env_half, env_color[18], env_grid, env_line_width, env_line_scale;
+	float *scratch; /* readback: width * height * 4 floats */
+};
+
+/* Largest number of lights a kernel is specialised for (uniform arrays). */
+#define RS_GLES_MAX_LIGHTS 16u
+
+/* Compile and link vertex kernel files `vfiles` (NULL: the fullscreen triangle) with
+ * fragment kernel files `files` (common first), under `defines` (#define lines). A compile
+ * error names the file and line with the driver's first log line and the source line. */
+enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *vfiles, size_t vcount,
+                               const char *const *files, size_t count, const char *defines,
+                               GLuint *out, struct rs_error *err);
+
+/* Tests only: compile `source` in place of kernel file `name` (NULL name: none). */
+void rs__gles_override_kernel(const char *name, const char *source);
+
+/* Check glGetError after `what`; RS_ERR_NO_MEMORY for GL_OUT_OF_MEMORY, else RS_ERR_DEVICE. */
+enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err);
+
+/* Monotonic clock in milliseconds. */
+double rs_gles_now_ms(void);
+
+/* One frame: passes, display, readback (gles_frame.c). */
+enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
+                             const struct rs_frame *frame, struct rs_render_stats *stats,
+                             struct rs_error *err);
+
+/* Render the cube shadow maps of every light (set_scene: lights and geometry are fixed). */
+enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);
+
+/* Bind `tex` (target GL_TEXTURE_2D or GL_TEXTURE_2D_ARRAY) to `unit` as sampler `name`. */
+void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,
+                  GLuint tex);
+void rs_gles_bind_2d(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLuint tex);
+/* Uniforms by name; a name the compiler dropped (unused in this specialisation) is skipped. */
+void rs_gles_uniform_i(const struct rs_gl *gl, GLuint prog, const char *name, GLint v);
+void rs_gles_uniform_f(const struct rs_gl *gl, GLuint prog, const char *name, GLfloat v);
+void rs_gles_uniform_3fv(const struct rs_gl *gl, GLuint prog, const char *name, GLsizei n,
+                         const GLfloat *v);
+/* The packed textures and scene constants of the tracing kernels (gles_uniforms.c). */
+void rs_gles_scene_uniforms(const struct gles *g, GLuint prog);
+/* Camera basis, eye moved into the packed frame (R1), size, fov, lens shift. */
+void rs_gles_camera_uniforms(const struct gles *g, GLuint prog, const struct rs_camera *c);
+
+/* The whole chain once on a 1x1 viewport, results unused: drivers (llvmpipe) compile a
+ * kernel at its first draw, which would otherwise land in the first frame's timings. */
+enum rs_status rs_gles_warm_up(struct gles *g, const struct rs_camera *camera,
+                               struct rs_error *err);
+
+#endif

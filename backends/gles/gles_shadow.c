@@ -1,0 +1,82 @@
+/* Cube shadow maps for point lights (the paper's alternative to shadow feelers): per light
+ * six faces of an R32F array texture holding the distance from the light to the nearest
+ * surface, rendered once at set_scene (lights and geometry do not change per frame; the
+ * tracked viewer moves only the camera). Looked up with a box filter by surface.glsl. */
+#include <math.h>
+
+#include "gles_internal.h"
+
+static enum rs_status face(struct gles *g, GLuint prog, uint32_t light, int f, double far,
+                           struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	gl->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, g->shadow, 0,
+	                            (GLint)(6 * light + (uint32_t)f));
+	if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                    "gles: the shadow map's render targets are not complete");
+	static const GLfloat none[4] = {1.0e38f, 0.0f, 0.0f, 1.0f};
+	static const GLfloat one = 1.0f;
+	gl->ClearBufferfv(GL_COLOR, 0, none);
+	gl->ClearBufferfv(GL_DEPTH, 0, &one);
+	gl->Uniform1i(gl->GetUniformLocation(prog, "u_axis"), f / 2);
+	gl->Uniform1f(gl->GetUniformLocation(prog, "u_sign"), f % 2 ? -1.0f : 1.0f);
+	gl->Uniform1f(gl->GetUniformLocation(prog, "u_far"), (GLfloat)far);
+	gl->Uniform1f(gl->GetUniformLocation(prog, "u_near"), (GLfloat)(far * 1e-5));
+	gl->DrawArrays(GL_TRIANGLES, 0, (GLsizei)(3 * g->accel.packed.triangle_count));
+	return RS_OK;
+}
+
+enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	GLsizei size = (GLsizei)g->desc.shadow_map_size;
+	GLsizei layers = (GLsizei)(6 * (g->light_count ? g->light_count : 1));
+	gl->GenTextures(1, &g->shadow);
+	gl->BindTexture(GL_TEXTURE_2D_ARRAY, g->shadow);
+	gl->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+	gl->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+	gl->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R32F, size, size, layers, 0, GL_RED, GL_FLOAT,
+	               NULL);
+	gl->GenRenderbuffers(1, &g->shadow_depth);
+	gl->BindRenderbuffer(GL_RENDERBUFFER, g->shadow_depth);
+	gl->RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, size, size);
+	enum rs_status st = rs_gles_check(gl, "allocating the shadow maps", err);
+	if (st != RS_OK || g->accel.packed.triangle_count == 0)
+		return st;
+
+	GLuint prog = g->prog[PROG_SHADOW];
+	gl->UseProgram(prog);
+	rs_gles_bind(gl, prog, UNIT_TRIS, "u_tris", GL_TEXTURE_2D, g->scene_tex[UNIT_TRIS]);
+	gl->BindVertexArray(g->vao);
+	gl->BindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+	static const GLenum buf0 = GL_COLOR_ATTACHMENT0;
+	for (int i = 1; i < 4; ++i)
+		gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i,
+		                         GL_TEXTURE_2D, 0, 0);
+	gl->DrawBuffers(1, &buf0);
+	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+	                            g->shadow_depth);
+	gl->Viewport(0, 0, size, size);
+	gl->Disable(GL_CULL_FACE);
+	gl->Disable(GL_BLEND);
+	gl->Enable(GL_DEPTH_TEST);
+	gl->DepthFunc(GL_LESS);
+	gl->DepthMask(GL_TRUE);
+	for (uint32_t l = 0; st == RS_OK && l < g->light_count; ++l) {
+		const float *lp = &g->light_pos[3 * l];
+		gl->Uniform3f(gl->GetUniformLocation(prog, "u_light"), lp[0], lp[1], lp[2]);
+		double d2 = 0.0;
+		for (int a = 0; a < 3; ++a)
+			d2 += (lp[a] - g->bounds_center[a]) * (lp[a] - g->bounds_center[a]);
+		double far = 1.01 * (sqrt(d2) + g->bounds_radius) + 1e-30;
+		for (int f = 0; st == RS_OK && f < 6; ++f)
+			st = face(g, prog, l, f, far, err);
+	}
+	gl->Disable(GL_DEPTH_TEST);
+	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, 0);
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+	if (st == RS_OK)
+		st = rs_gles_check(gl, "rendering the shadow maps", err);
+	return st;
+}

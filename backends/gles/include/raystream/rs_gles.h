@@ -1,0 +1,55 @@
+/**
+ * @file rs_gles.h
+ * The GLES 3.0 fragment-kernel ray tracer (the paper's stream tracer) as a render backend
+ * (rs_render.h), over any GL context a small context interface provides: backends/egl
+ * (GLES 3 through EGL, headless) and backends/osmesa (desktop GL with "#version 300 es"
+ * kernels) only make a context and hand it over; this module is the only one that draws.
+ *
+ * GL state: every call makes the context current, draws into the renderer's own
+ * framebuffers and textures and releases the context before returning. It changes and
+ * does not restore: the bound program, vertex array, framebuffer and renderbuffer, the
+ * viewport, the textures bound to units 0..9 and the active texture unit,
+ * GL_PACK_ALIGNMENT (4), depth function and mask, and disables GL_DEPTH_TEST, GL_BLEND,
+ * GL_CULL_FACE, GL_SCISSOR_TEST, GL_DITHER (which would change results). A context the
+ * caller shares must be set up again by the caller after a render (docs/gles.md).
+ */
+#ifndef RS_GLES_H
+#define RS_GLES_H
+
+#include <stddef.h>
+
+#include "raystream/rs_render.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** What a context backend provides. `ctx` is the backend's own state. */
+struct rs_gl_context_ops {
+	const char *backend; /**< "egl", "osmesa": becomes rs_render_stats.backend */
+	/** Make the context current on the calling thread. */
+	enum rs_status (*make_current)(void *ctx, struct rs_error *err);
+	/** Release it from the calling thread. */
+	void (*release)(void *ctx);
+	/** A GL entry point by name ("glDrawArrays"), NULL when missing; context current. */
+	void *(*get_proc_address)(void *ctx, const char *name);
+	/** Describe the platform ("EGL surfaceless") into out (never NULL, NUL-terminated). */
+	void (*describe)(const void *ctx, char *out, size_t cap);
+	/** Destroy the context and `ctx` itself. */
+	void (*destroy)(void *ctx);
+};
+
+/**
+ * Make a renderer drawing through the context. On success the renderer owns `ctx`
+ * (ops->destroy runs when it is destroyed); on failure ops->destroy(ctx) has already run.
+ * Fails with RS_ERR_UNSUPPORTED when the context is not GLES 3.0 (or desktop GL with
+ * ARB_ES3_compatibility) or cannot render to float textures.
+ */
+enum rs_status rs_gles_renderer_create(const struct rs_gl_context_ops *ops, void *ctx,
+                                       const struct rs_render_desc *desc, struct rs_renderer **out,
+                                       struct rs_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

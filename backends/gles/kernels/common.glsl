@@ -1,0 +1,224 @@
+// common.glsl: the ray rules every kernel shares, in fp32, copied from the CPU reference
+// (lib/trace, docs/tracer.md): packed-texture access, slab and triangle tests, the
+// stackless walk of the threaded BVH, surface data, environment cube, spawn rule.
+// Inputs:  u_nodes, u_tris, u_normals, u_materials (packed RGBA32F, rs_pack.h),
+//          u_node_count, u_tri_count, u_material_count, u_spawn_scale (R5's S).
+// Every position is in the packed frame (docs/tracer.md R1): the CPU moved the camera,
+// lights and environment by rs_packed.origin in double before handing them over.
+// Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY.
+uniform sampler2D u_nodes;
+uniform sampler2D u_tris;
+uniform sampler2D u_normals;
+uniform sampler2D u_materials;
+uniform int u_node_count;
+uniform int u_tri_count;
+uniform int u_material_count;
+uniform float u_spawn_scale;
+
+// "No hit yet" distance: far beyond any scene, finite so no kernel depends on how a GPU
+// treats infinities. Zero-direction slabs use +-RS_HUGE, beyond it.
+const float RS_FAR = 1.0e38;
+const float RS_HUGE = 3.0e38;
+// Slab distances are widened outwards by K = 2^-19, 16 fp32 ulps (docs/tracer.md R3; the
+// double reference uses 16 double ulps).
+const float RS_BOX_GROW = 1.0 + 1.9073486e-6;
+const float RS_BOX_SHRINK = 1.0 - 1.9073486e-6;
+const float RS_PARALLEL_EPS = 1.0e-13;
+// Ray states, the paper's numbers (docs/tracer.md).
+const float RS_STATE_ACTIVE = 0.0;
+const float RS_STATE_MISSED = -1.0;
+const float RS_STATE_ENVIRONMENT = -2.0;
+const float RS_STATE_DIFFUSE = -3.0;
+
+struct Ray {
+	vec3 o;
+	vec3 d;
+	float tmax;
+	int skip; // packed slot the ray leaves, -1: none
+};
+
+struct Hit {
+	float t;
+	float u;
+	float v;
+	int slot; // -1: miss
+	float id; // scene triangle id (the tie-break's key)
+};
+
+ivec2 rs_item(int item, int texels, int j)
+{
+#if RS_ROW_SHIFT >= 0
+	// RS_ROW_ITEMS = 1 << RS_ROW_SHIFT and items are >= 0: mask and shift, no division.
+	return ivec2((item & (RS_ROW_ITEMS - 1)) * texels + j, item >> RS_ROW_SHIFT);
+#else
+	return ivec2((item % RS_ROW_ITEMS) * texels + j, item / RS_ROW_ITEMS);
+#endif
+}
+
+vec4 rs_node(int i, int j) { return texelFetch(u_nodes, rs_item(i, 3, j), 0); }
+vec4 rs_tri(int s, int j) { return texelFetch(u_tris, rs_item(s, 3, j), 0); }
+vec4 rs_normal(int s, int j) { return texelFetch(u_normals, rs_item(s, 3, j), 0); }
+vec4 rs_material(int m, int j) { return texelFetch(u_materials, rs_item(m, 3, j), 0); }
+
+float rs_maxabs(vec3 a) { return max(max(abs(a.x), abs(a.y)), abs(a.z)); }
+
+// Per-ray values every box and triangle test reuses.
+struct Pre {
+	vec3 inv;
+	bvec3 zero; // direction component 0: the ray stays in that slab's plane
+	bvec3 pos; // inv >= 0: near is the lo plane
+	float dmax;
+	ivec3 k;   // watertight: (kx, ky, kz)
+	vec3 shear; // (sx, sy, sz)
+};
+
+Pre rs_prepare(Ray r)
+{
+	Pre p;
+	p.zero = equal(r.d, vec3(0.0));
+	p.inv = mix(1.0 / r.d, vec3(0.0), p.zero);
+	p.pos = greaterThanEqual(p.inv, vec3(0.0));
+	p.dmax = rs_maxabs(r.d);
+	int kz = 0;
+	if (abs(r.d.y) > abs(r.d[kz]))
+		kz = 1;
+	if (abs(r.d.z) > abs(r.d[kz]))
+		kz = 2;
+	int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+	if (r.d[kz] < 0.0) {
+		int t = kx;
+		kx = ky;
+		ky = t;
+	}
+	p.k = ivec3(kx, ky, kz);
+	p.shear = vec3(r.d[kx] / r.d[kz], r.d[ky] / r.d[kz], 1.0 / r.d[kz]);
+	return p;
+}
+
+// Slab test (R3), near/far picked by the direction's sign (an empty box stays empty), both
+// ends widened outwards by a constant factor (no division); a zero direction component
+// keeps the ray inside iff the origin is in that slab (selects, no branch: a branch in the
+// innermost loop measured slower on llvmpipe).
+bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
+{
+	vec3 a = lo - r.o, b = hi - r.o;
+	vec3 t0 = a * p.inv, t1 = b * p.inv;
+	vec3 near = mix(t1, t0, p.pos);
+	vec3 far = mix(t0, t1, p.pos);
+	near *= mix(vec3(RS_BOX_GROW), vec3(RS_BOX_SHRINK), greaterThan(near, vec3(0.0)));
+	far *= mix(vec3(RS_BOX_SHRINK), vec3(RS_BOX_GROW), greaterThan(far, vec3(0.0)));
+	bvec3 inside =
+	    bvec3(uvec3(lessThanEqual(a, vec3(0.0))) & uvec3(greaterThanEqual(b, vec3(0.0))));
+	near = mix(near, mix(vec3(RS_HUGE), vec3(-RS_HUGE), inside), p.zero);
+	far = mix(far, mix(vec3(-RS_HUGE), vec3(RS_HUGE), inside), p.zero);
+	float tn = max(max(near.x, near.y), max(near.z, 0.0));
+	float tf = min(min(far.x, far.y), min(far.z, tmax));
+	return tn <= tf;
+}
+
+#if RS_WATERTIGHT
+vec3 rs_perm(vec3 a, ivec3 k) { return vec3(a[k.x], a[k.y], a[k.z]); }
+
+// Woop, Benthin & Wald 2013, as lib/trace/intersect.c.
+bool rs_triangle(vec3 v0, vec3 v1, vec3 v2, Ray r, Pre p, float tmax, out vec3 tuv)
+{
+	vec3 e1 = v1 - v0, e2 = v2 - v0;
+	vec3 n = cross(e1, e2);
+	float nm = rs_maxabs(n);
+	if (nm == 0.0 || abs(dot(r.d, n)) <= RS_PARALLEL_EPS * p.dmax * nm)
+		return false;
+	vec3 a = rs_perm(v0 - r.o, p.k), b = rs_perm(v1 - r.o, p.k), c = rs_perm(v2 - r.o, p.k);
+	float ax = a.x - p.shear.x * a.z, ay = a.y - p.shear.y * a.z;
+	float bx = b.x - p.shear.x * b.z, by = b.y - p.shear.y * b.z;
+	float cx = c.x - p.shear.x * c.z, cy = c.y - p.shear.y * c.z;
+	float U = cx * by - cy * bx;
+	float V = ax * cy - ay * cx;
+	float W = bx * ay - by * ax;
+	if ((U < 0.0 || V < 0.0 || W < 0.0) && (U > 0.0 || V > 0.0 || W > 0.0))
+		return false;
+	float det = U + V + W;
+	if (det == 0.0)
+		return false;
+	float sz = p.shear.z;
+	float t = (U * sz * a.z + V * sz * b.z + W * sz * c.z) / det;
+	if (!(t > 0.0 && t <= tmax))
+		return false;
+	tuv = vec3(t, V / det, W / det);
+	return true;
+}
+#else
+// Moller-Trumbore, as lib/trace/intersect.c: numerators compared against |det|.
+bool rs_triangle(vec3 v0, vec3 v1, vec3 v2, Ray r, Pre p, float tmax, out vec3 tuv)
+{
+	vec3 e1 = v1 - v0, e2 = v2 - v0;
+	vec3 pv = cross(r.d, e2);
+	float det = dot(e1, pv);
+	if (abs(det) <= RS_PARALLEL_EPS * p.dmax * rs_maxabs(e1) * rs_maxabs(e2))
+		return false;
+	float sgn = det > 0.0 ? 1.0 : -1.0, adet = abs(det);
+	vec3 s = r.o - v0;
+	float un = dot(s, pv) * sgn;
+	if (un < 0.0 || un > adet)
+		return false;
+	vec3 q = cross(s, e1);
+	float vn = dot(r.d, q) * sgn;
+	if (vn < 0.0 || un + vn > adet)
+		return false;
+	float inv = 1.0 / det;
+	float t = dot(e2, q) * inv;
+	if (!(t > 0.0 && t <= tmax))
+		return false;
+	tuv = vec3(t, un * sgn * inv, vn * sgn * inv);
+	return true;
+}
+#endif
+
+// The closest-hit rule (R4): nearer wins, and on exactly equal t the lower scene triangle
+// id, so the answer does not depend on the order the BVH visits triangles. The triangle
+// test accepts t <= the bound passed; the ray's own tmax stays exclusive.
+bool rs_better(float t, float id, Hit best, bool found, float tmax)
+{
+	return found ? t < best.t || (t == best.t && id < best.id) : t < tmax;
+}
+
+// Stackless walk of the threaded BVH (pre-order, escape indices). `any`: stop at the first
+// hit (shadow feelers). counts += (box tests, triangle tests), as the CPU counts them.
+bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
+{
+	Pre p = rs_prepare(r);
+	h = Hit(r.tmax, 0.0, 0.0, -1, -1.0);
+	bool found = false;
+	int i = 0;
+	while (i < u_node_count) {
+		vec4 n0 = rs_node(i, 0), n1 = rs_node(i, 1);
+		int escape = max(int(n0.w), i + 1);
+		counts.x += 1.0;
+		if (!rs_box(n0.xyz, n1.xyz, r, p, h.t)) {
+			i = escape;
+			continue;
+		}
+		if (n1.w != 0.0) {
+			i++;
+			continue;
+		}
+		vec4 n2 = rs_node(i, 2);
+		int first = int(n2.x);
+		int end = min(first + int(n2.y), u_tri_count);
+		for (int s = first; s < end; s++) {
+			if (s == r.skip)
+				continue;
+			counts.y += 1.0;
+			vec4 v0 = rs_tri(s, 0);
+			vec3 tuv;
+			if (!rs_triangle(v0.xyz, rs_tri(s, 1).xyz, rs_tri(s, 2).xyz, r, p, h.t, tuv) ||
+			    !rs_better(tuv.x, v0.w, h, found, r.tmax))
+				continue;
+			found = true;
+			h = Hit(tuv.x, tuv.y, tuv.z, s, v0.w);
+			if (any)
+				return true;
+		}
+		i = escape;
+	}
+	return found;
+}

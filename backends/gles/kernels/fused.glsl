@@ -1,0 +1,33 @@
+// fused.glsl: intersection, environment, shading and next ray of one pass in one kernel
+// (RS_CHAIN_FUSED: no hit texture round trip). Without counters only: the fourth render
+// target GLES 3.0 guarantees carries the hit (pass 0's gives the depth).
+// In:  u_orig, u_dir, u_acc.
+// Out: 0 orig, 1 dir, 2 acc, 3 hit = (t, u, v, slot).
+uniform sampler2D u_orig;
+uniform sampler2D u_dir;
+uniform sampler2D u_acc;
+layout(location = 0) out vec4 o_orig;
+layout(location = 1) out vec4 o_dir;
+layout(location = 2) out vec4 o_acc;
+layout(location = 3) out vec4 o_hit;
+
+void main()
+{
+	ivec2 px = ivec2(gl_FragCoord.xy);
+	vec4 orig = texelFetch(u_orig, px, 0), dir = texelFetch(u_dir, px, 0);
+	vec4 acc = texelFetch(u_acc, px, 0);
+	Hit h = Hit(RS_FAR, 0.0, 0.0, -2, -1.0);
+	if (acc.w == RS_STATE_ACTIVE) {
+		h.slot = -1;
+		vec2 c = vec2(0.0);
+		vec4 cnt = vec4(0.0);
+#if RS_GEOMETRY
+		rs_traverse(Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w)), false, h, c);
+#endif
+		rs_path_step(orig, dir, acc, h, cnt);
+	}
+	o_orig = orig;
+	o_dir = dir;
+	o_acc = acc;
+	o_hit = vec4(h.t, h.u, h.v, float(h.slot));
+}

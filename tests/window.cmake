@@ -1,0 +1,12 @@
+# The viewer's real window under Xvfb: a screenshot (xwd) of the window must equal the
+# frame the viewer last received. Skipped (exit 77) when Xvfb or xwd is missing;
+# tools/deps.sh installs both, so CI runs it.
+if(TARGET rs_window AND TARGET raystream-viewer AND TARGET raystream-server)
+  add_executable(xwd_compare xwd_compare.c)
+  target_link_libraries(xwd_compare PRIVATE rs_image)
+  add_test(NAME viewer_window_xvfb COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/window_xvfb.sh
+           $<TARGET_FILE:raystream-viewer> ${CMAKE_CURRENT_BINARY_DIR}/window_xvfb
+           $<TARGET_FILE:raystream-server> $<TARGET_FILE:xwd_compare>)
+  set_tests_properties(viewer_window_xvfb PROPERTIES TIMEOUT 120 SKIP_RETURN_CODE 77
+    ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+endif()
