@@ -60,4 +60,25 @@ for scene in box cow1; do
     grep -q "^Peer: not built" out.txt && ok "$scene: peer absence stated" || bad "$scene: no peer line"
   fi
 done
+
+# A GL backend, when built: the raster settings run (not refused), every image agrees with
+# the reference, per-kernel rows come from stats.kernels[], and the renderer is named.
+if "$bin" --table 2 --backend egl --size 16 --repeats 1 --scene box --peer none \
+    >egl.txt 2>egl_err.txt; then
+  for setting in "tree BVH, 1 pass" "raster + BVH, 1 pass" "raster + BVH, 2 passes" \
+      "tree BVH, 2 passes"; do
+    row=$(grep -F "| $setting |" egl.txt | grep -E "^\| box +\|" | head -1)
+    if echo "$row" | grep -q "agrees"; then ok "egl: '$setting' agrees with the reference"
+    else bad "egl: '$setting': $row"; fi
+  done
+  grep -q "refused" egl.txt && bad "egl refused a setting" || ok "egl: nothing refused"
+  grep -Eq "^\| box +\| tree BVH, 1 pass \| [a-z]+ \| [0-9]+ \|" egl.txt &&
+    ok "egl: per-kernel rows" || bad "egl: no per-kernel rows"
+  grep -q "^renderer: " egl.txt && ! grep -q "^renderer: CPU" egl.txt &&
+    ok "egl: renderer string" || bad "egl: renderer string missing"
+elif grep -q "unknown backend 'egl'" egl_err.txt; then
+  ok "egl not in this build (GL checks skipped)"
+else
+  bad "egl: $(head -c 300 egl_err.txt)"
+fi
 finish
