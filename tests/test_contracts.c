@@ -56,7 +56,8 @@ static void bvh_pack_and_trace_check_their_outputs(void **state)
 	    rs_bvh_build(NULL, pos, 3, idx, 1, NULL, 4, order, &count, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(rs_bvh_builder_parse("sah", NULL, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(rs_bvh_builder_parse(NULL, &b, NULL));
-	RS_EXPECT_CONTRACT_VIOLATION(rs_pack_layout(1, 1, 1, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_pack_layout(NULL, 1, 1, 1, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(rs_pack_check(NULL, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(rs_pack_alloc(NULL, NULL));
 	struct rs_packed packed = {0};
 	RS_EXPECT_CONTRACT_VIOLATION(rs_trace_render(NULL, &packed, NULL, NULL, NULL, NULL, NULL));

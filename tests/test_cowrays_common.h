@@ -67,9 +67,9 @@ static struct cow_world cow_pack(const struct rs_scene *scene, enum rs_bvh_build
 	assert_int_equal(rs_bvh_check(w.nodes, w.node_count, rs_scene_positions(scene),
 	                              rs_scene_indices(scene), w.order, tris, &err),
 	                 RS_OK);
-	assert_int_equal(
-	    rs_pack_layout(w.node_count, tris, rs_scene_material_count(scene), &w.packed, &err),
-	    RS_OK);
+	assert_int_equal(rs_pack_layout(NULL, w.node_count, tris, rs_scene_material_count(scene),
+	                                &w.packed, &err),
+	                 RS_OK);
 	assert_int_equal(rs_pack_alloc(&w.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_scene(scene, w.nodes, w.node_count, w.order, &w.packed, &err),
 	                 RS_OK);

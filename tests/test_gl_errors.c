@@ -1,6 +1,7 @@
 /* GL backend errors: one line each and a clean failure (no scene left behind): a kernel
  * that does not compile (file, line, driver log and source line), a scene over the
- * texture limit (named), an unknown or unavailable EGL platform. */
+ * texture limit (named) and a scene that fits GLES 3.0's 2048 in narrower rows, an unknown
+ * or unavailable EGL platform. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -40,18 +41,61 @@ static void a_kernel_that_does_not_compile_names_file_line_and_source(void **sta
 	rs_scene_destroy(&scene);
 }
 
+/* A renderer whose GL reports `limit` texels a side (0: the device's own). */
+static struct rs_renderer *gl_open_limited(const char *limit, const struct rs_render_desc *desc)
+{
+	if (limit)
+		setenv("RS_GLES_MAX_TEXTURE_SIZE", limit, 1);
+	struct rs_renderer *r = gl_open("egl", desc);
+	unsetenv("RS_GLES_MAX_TEXTURE_SIZE");
+	return r;
+}
+
+/* GLES 3.0 guarantees 2048 texels a side. Cow1 (over 1024 nodes, which used to make a
+ * 3072-texel row and be refused there) now fits such a device and renders exactly as on
+ * the big one, whose rows are wider. */
+static void a_gles3_minimum_device_holds_cow1_in_narrower_rows(void **state)
+{
+	struct rs_render_desc desc = {.width = 16, .height = 16};
+	struct rs_renderer *small = gl_open_limited("2048", &desc);
+	struct rs_renderer *big = gl_open_limited(NULL, &desc);
+	if (!small || !big) {
+		rs_renderer_destroy(&small);
+		rs_renderer_destroy(&big);
+		skip();
+	}
+	struct rs_scene *scene = gl_scene("cow1");
+	struct rs_error err;
+	float a[16 * 16 * 3], b[16 * 16 * 3];
+	struct rs_frame fa = {.rgb = a}, fb = {.rgb = b};
+	assert_int_equal(rs_renderer_set_scene(small, scene, &err), RS_OK);
+	assert_int_equal(rs_renderer_set_scene(big, scene, &err), RS_OK);
+	assert_int_equal(rs_renderer_render(small, NULL, &fa, &err), RS_OK);
+	assert_int_equal(rs_renderer_render(big, NULL, &fb, &err), RS_OK);
+	assert_memory_equal(a, b, sizeof a);
+	rs_renderer_destroy(&small);
+	rs_renderer_destroy(&big);
+	rs_scene_destroy(&scene);
+}
+
 static void a_scene_over_the_texture_limit_is_refused_naming_it(void **state)
 {
-	setenv("RS_GLES_MAX_TEXTURE_SIZE", "2048", 1);
 	struct rs_render_desc desc = {.width = 16, .height = 16};
-	struct rs_renderer *r = gl_open("egl", &desc);
-	unsetenv("RS_GLES_MAX_TEXTURE_SIZE");
+	struct rs_renderer *r = gl_open_limited("64", &desc);
 	if (!r)
 		skip();
-	struct rs_scene *scene = gl_scene("cow1"); /* > 1024 nodes: a 3072-texel row */
+	/* 64 texels: 16 items a row, 64 rows: 1024 items, and Cow1 has 5837 triangles */
+	struct rs_scene *scene = gl_scene("cow1");
 	struct rs_error err;
 	assert_int_equal(rs_renderer_set_scene(r, scene, &err), RS_ERR_LIMIT);
 	print_message("%s\n", err.message);
+	assert_non_null(strstr(err.message, "texture size limit of 64 texels"));
+	rs_renderer_destroy(&r);
+	/* asking for more than the device has is refused too */
+	struct rs_render_desc wide = {.width = 16, .height = 16, .pack.max_texture_size = 4096};
+	r = gl_open_limited("2048", &wide);
+	assert_non_null(r);
+	assert_int_equal(rs_renderer_set_scene(r, scene, &err), RS_ERR_LIMIT);
 	assert_non_null(strstr(err.message, "GL_MAX_TEXTURE_SIZE of 2048"));
 	rs_renderer_destroy(&r);
 	rs_scene_destroy(&scene);
@@ -114,6 +158,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(a_kernel_that_does_not_compile_names_file_line_and_source),
+	    cmocka_unit_test(a_gles3_minimum_device_holds_cow1_in_narrower_rows),
 	    cmocka_unit_test(a_scene_over_the_texture_limit_is_refused_naming_it),
 	    cmocka_unit_test(an_image_over_the_limit_is_refused),
 	    cmocka_unit_test(an_unknown_egl_platform_is_invalid),

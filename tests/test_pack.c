@@ -1,5 +1,6 @@
-/* rs_pack: texture sizes, the 2^24 limit, and an exact round trip of every node, triangle,
- * normal and material field through the float texels. */
+/* rs_pack: texture sizes within the texture size limit at any row width, the refusals (2^24,
+ * the limit), and an exact round trip of every node, triangle, normal and material field
+ * through the float texels, read both as the CPU does and at the kernels' (x, y). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -30,8 +31,9 @@ struct fixture {
 	struct rs_packed packed;
 };
 
-/* A scene of `tris` random triangles split over two meshes with different materials. */
-static struct fixture make(size_t tris, enum rs_bvh_builder builder)
+/* A scene of `tris` random triangles split over two meshes with different materials, packed
+ * `row_items` per row (0: the default). */
+static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32_t row_items)
 {
 	struct fixture f = {0};
 	struct rs_error err;
@@ -73,12 +75,18 @@ static struct fixture make(size_t tris, enum rs_bvh_builder builder)
 	                              rs_scene_vertex_count(f.scene), rs_scene_indices(f.scene),
 	                              tris, f.nodes, cap, f.order, &f.node_count, &err),
 	                 RS_OK);
-	assert_int_equal(rs_pack_layout(f.node_count, tris, 2, &f.packed, &err), RS_OK);
+	struct rs_pack_desc pd = {.row_items = row_items};
+	assert_int_equal(rs_pack_layout(&pd, f.node_count, tris, 2, &f.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_alloc(&f.packed, &err), RS_OK);
 	enum rs_status s = rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err);
 	if (s != RS_OK)
 		fail_msg("pack: %s", err.message);
 	return f;
+}
+
+static struct fixture make(size_t tris, enum rs_bvh_builder builder)
+{
+	return make_rows(tris, builder, 0);
 }
 
 static void release(struct fixture *f)
@@ -89,40 +97,130 @@ static void release(struct fixture *f)
 	rs_scene_destroy(&f->scene);
 }
 
-static void texture_size_rows_of_1024(void **state)
+static void texture_size_follows_the_row_width(void **state)
 {
 	uint32_t w, h;
-	rs_pack_texture_size(1, 3, &w, &h);
+	rs_pack_texture_size(1, 3, 512, &w, &h);
 	assert_int_equal(w, 3);
 	assert_int_equal(h, 1);
-	rs_pack_texture_size(1024, 3, &w, &h);
-	assert_int_equal(w, 3072);
+	rs_pack_texture_size(682, 3, 682, &w, &h);
+	assert_int_equal(w, 2046);
 	assert_int_equal(h, 1);
-	rs_pack_texture_size(1025, 3, &w, &h);
-	assert_int_equal(w, 3072);
+	rs_pack_texture_size(683, 3, 682, &w, &h);
+	assert_int_equal(w, 2046);
 	assert_int_equal(h, 2);
-	rs_pack_texture_size(0, 3, &w, &h); /* never 0 x 0 */
+	rs_pack_texture_size(10, 3, 4, &w, &h);
+	assert_int_equal(w, 12);
+	assert_int_equal(h, 3);
+	rs_pack_texture_size(0, 3, 682, &w, &h); /* never 0 x 0 */
 	assert_int_equal(w, 3);
 	assert_int_equal(h, 1);
+}
+
+/* GLES 3.0 guarantees 2048 texels a side: by default no texture may be wider or taller, even
+ * for a scene far larger than Cow17 (rows used to be 1024 items = 3072 texels wide). */
+static void default_layout_fits_gles3_minimum(void **state)
+{
+	struct rs_packed p;
+	struct rs_error err;
+	assert_int_equal(rs_pack_layout(NULL, 600000, 300000, 40, &p, &err), RS_OK);
+	assert_int_equal(p.max_texture_size, 2048);
+	assert_int_equal(p.row_items, 512); /* a power of two: kernels mask and shift */
+	const struct rs_texture *t[4] = {&p.nodes, &p.triangles, &p.normals, &p.materials};
+	for (int i = 0; i < 4; i++) {
+		assert_true(t[i]->width <= 2048);
+		assert_true(t[i]->height <= 2048);
+		assert_int_equal(t[i]->width % 3, 0);
+	}
+	assert_int_equal(p.nodes.height, (600000 + 511) / 512);
+	struct rs_pack_desc odd = {.max_texture_size = 3000}; /* 1000 fit: 512 */
+	assert_int_equal(rs_pack_layout(&odd, 10, 10, 1, &p, &err), RS_OK);
+	assert_int_equal(p.row_items, 512);
+	struct rs_pack_desc exact = {.max_texture_size = 3072}; /* 1024 fit */
+	assert_int_equal(rs_pack_layout(&exact, 10, 10, 1, &p, &err), RS_OK);
+	assert_int_equal(p.row_items, 1024);
+	/* A larger device limit widens the rows. */
+	struct rs_pack_desc big = {.max_texture_size = 16384};
+	assert_int_equal(rs_pack_layout(&big, 600000, 300000, 40, &p, &err), RS_OK);
+	assert_int_equal(p.row_items, 4096);
+	assert_int_equal(p.nodes.width, 4096 * 3);
+}
+
+static void scene_over_the_texture_limit_is_refused_naming_it(void **state)
+{
+	struct rs_packed p;
+	struct rs_error err;
+	/* 512 x 2048 items fit exactly; one more triangle does not. */
+	assert_int_equal(rs_pack_layout(NULL, 10, 512u * 2048u, 1, &p, &err), RS_OK);
+	assert_int_equal(p.triangles.height, 2048);
+	assert_int_equal(rs_pack_layout(NULL, 10, 512u * 2048u + 1u, 1, &p, &err), RS_ERR_LIMIT);
+	assert_non_null(strstr(err.message, "texture size limit of 2048"));
+	assert_non_null(strstr(err.message, "triangles"));
+	assert_int_equal(p.triangle_count, 0); /* nothing half laid out */
+	struct rs_pack_desc small = {.max_texture_size = 64};
+	assert_int_equal(rs_pack_layout(&small, 21u * 64u + 1u, 5, 1, &p, &err), RS_ERR_LIMIT);
+	assert_non_null(strstr(err.message, "nodes"));
+	assert_non_null(strstr(err.message, "texture size limit of 64"));
+}
+
+static void impossible_row_widths_are_invalid(void **state)
+{
+	struct rs_packed p;
+	struct rs_error err;
+	struct rs_pack_desc tiny = {.max_texture_size = 2};
+	assert_int_equal(rs_pack_layout(&tiny, 1, 1, 1, &p, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "2 texels"));
+	struct rs_pack_desc wide = {.row_items = 683};
+	assert_int_equal(rs_pack_layout(&wide, 1, 1, 1, &p, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "limit of 2048"));
+	struct rs_pack_desc one = {.max_texture_size = 3};
+	assert_int_equal(rs_pack_layout(&one, 3, 3, 3, &p, &err), RS_OK);
+	assert_int_equal(p.row_items, 1);
+	assert_int_equal(p.nodes.width, 3);
+	assert_int_equal(p.nodes.height, 3);
 }
 
 static void layout_refuses_2_pow_24(void **state)
 {
 	struct rs_packed p;
 	struct rs_error err;
-	assert_int_equal(rs_pack_layout(RS_PACK_MAX_ITEMS, 1, 1, &p, &err), RS_ERR_LIMIT);
-	assert_int_equal(rs_pack_layout(1, RS_PACK_MAX_ITEMS, 1, &p, &err), RS_ERR_LIMIT);
-	assert_int_equal(rs_pack_layout(RS_PACK_MAX_ITEMS - 1, RS_PACK_MAX_ITEMS - 1, 1, &p, &err),
-	                 RS_OK);
-	assert_int_equal(p.nodes.height, RS_PACK_MAX_ITEMS / RS_PACK_ROW_ITEMS);
+	struct rs_pack_desc big = {.max_texture_size = 16384};
+	assert_int_equal(rs_pack_layout(&big, RS_PACK_MAX_ITEMS, 1, 1, &p, &err), RS_ERR_LIMIT);
+	assert_non_null(strstr(err.message, "2^24"));
+	assert_int_equal(rs_pack_layout(&big, 1, RS_PACK_MAX_ITEMS, 1, &p, &err), RS_ERR_LIMIT);
+	assert_int_equal(
+	    rs_pack_layout(&big, RS_PACK_MAX_ITEMS - 1, RS_PACK_MAX_ITEMS - 1, 1, &p, &err), RS_OK);
+	assert_int_equal(p.nodes.height, (RS_PACK_MAX_ITEMS - 1 + 4095) / 4096);
 }
 
 /* Every field read back through rs_pack_texel() equals the source exactly: indices are
  * below 2^24, so float conversion is exact (no tolerance). */
-static void round_trip(enum rs_bvh_builder builder, size_t tris)
+/* The texel the kernels fetch at rs_pack_texel_xy() is the one rs_pack_texel() returns. */
+static void assert_xy_is_linear(const struct rs_texture *t, uint32_t row_items,
+                                uint32_t texels_per_item, uint32_t items)
 {
-	struct fixture f = make(tris, builder);
+	for (uint32_t k = 0; k < items; k++) {
+		for (uint32_t j = 0; j < texels_per_item; j++) {
+			uint32_t x, y;
+			rs_pack_texel_xy(row_items, texels_per_item, k, j, &x, &y);
+			assert_true(x < t->width && y < t->height);
+			assert_ptr_equal(t->texels + ((size_t)y * t->width + x) * 4u,
+			                 rs_pack_texel(t, texels_per_item, k, j));
+		}
+	}
+}
+
+static void round_trip_rows(enum rs_bvh_builder builder, size_t tris, uint32_t row_items)
+{
+	struct fixture f = make_rows(tris, builder, row_items);
 	const struct rs_packed *p = &f.packed;
+	assert_int_equal(rs_pack_check(p, NULL), RS_OK);
+	assert_xy_is_linear(&p->nodes, p->row_items, RS_PACK_NODE_TEXELS, p->node_count);
+	assert_xy_is_linear(&p->triangles, p->row_items, RS_PACK_TRIANGLE_TEXELS,
+	                    p->triangle_count);
+	assert_xy_is_linear(&p->normals, p->row_items, RS_PACK_NORMAL_TEXELS, p->triangle_count);
+	assert_xy_is_linear(&p->materials, p->row_items, RS_PACK_MATERIAL_TEXELS,
+	                    p->material_count);
 	assert_int_equal(p->node_count, f.node_count);
 	for (uint32_t i = 0; i < f.node_count; i++) {
 		const struct rs_bvh_node *n = &f.nodes[i];
@@ -178,9 +276,20 @@ static void round_trip(enum rs_bvh_builder builder, size_t tris)
 	release(&f);
 }
 
+static void round_trip(enum rs_bvh_builder builder, size_t tris)
+{
+	round_trip_rows(builder, tris, 0);
+}
+
 static void round_trip_sah(void **state)
 {
-	round_trip(RS_BVH_SAH, 3000); /* > 1024 items: crosses texture rows */
+	round_trip(RS_BVH_SAH, 3000); /* > 512 items: crosses texture rows */
+}
+static void round_trip_at_several_row_widths(void **state)
+{
+	const uint32_t rows[] = {1, 2, 7, 64, 500};
+	for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++)
+		round_trip_rows(RS_BVH_SAH, 300, rows[i]);
 }
 static void round_trip_paper(void **state)
 {
@@ -208,14 +317,15 @@ static void materials_resolve_defaults(void **state)
 
 static void unused_texels_are_zero(void **state)
 {
-	/* 1500 triangles: the second texture row holds items 1024..1499; items 1500..2047 of
-	 * that row are unused and must come back zeroed even over a garbage-filled buffer. */
+	/* 1500 triangles at 512 a row: the third texture row holds items 1024..1499; items
+	 * 1500..1535 of that row are unused and must come back zeroed even over a
+	 * garbage-filled buffer. */
 	struct fixture f = make(1500, RS_BVH_PAPER);
 	struct rs_texture *t = &f.packed.triangles;
 	memset(t->texels, 0x7f, (size_t)t->width * t->height * 4 * sizeof(float));
 	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, NULL),
 	                 RS_OK);
-	for (uint32_t item = 1500; item < 2048; item++)
+	for (uint32_t item = 1500; item < 3 * 512; item++)
 		for (uint32_t j = 0; j < RS_PACK_TRIANGLE_TEXELS; j++)
 			for (int c = 0; c < 4; c++)
 				assert_true(rs_pack_texel(t, RS_PACK_TRIANGLE_TEXELS, item, j)[c] ==
@@ -228,12 +338,19 @@ static void pack_rejects_mismatch(void **state)
 	struct fixture f = make(20, RS_BVH_SAH);
 	struct rs_error err;
 	struct rs_packed wrong;
-	assert_int_equal(rs_pack_layout(f.node_count + 1, 20, 2, &wrong, &err), RS_OK);
+	assert_int_equal(rs_pack_layout(NULL, f.node_count + 1, 20, 2, &wrong, &err), RS_OK);
 	wrong.nodes = f.packed.nodes;
 	wrong.triangles = f.packed.triangles;
 	wrong.normals = f.packed.normals;
 	wrong.materials = f.packed.materials;
 	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &wrong, &err),
+	                 RS_ERR_INVALID);
+	/* textures laid out for another row width */
+	struct rs_packed narrow = f.packed;
+	narrow.row_items = 2;
+	assert_int_equal(rs_pack_check(&narrow, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "2 items per row"));
+	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &narrow, &err),
 	                 RS_ERR_INVALID);
 	f.order[3] = 99;
 	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err),
@@ -253,9 +370,13 @@ static void free_accepts_zeroed(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-	    cmocka_unit_test(texture_size_rows_of_1024),
+	    cmocka_unit_test(texture_size_follows_the_row_width),
+	    cmocka_unit_test(default_layout_fits_gles3_minimum),
+	    cmocka_unit_test(scene_over_the_texture_limit_is_refused_naming_it),
+	    cmocka_unit_test(impossible_row_widths_are_invalid),
 	    cmocka_unit_test(layout_refuses_2_pow_24),
 	    cmocka_unit_test(round_trip_sah),
+	    cmocka_unit_test(round_trip_at_several_row_widths),
 	    cmocka_unit_test(round_trip_paper),
 	    cmocka_unit_test(round_trip_linear_and_none),
 	    cmocka_unit_test(materials_resolve_defaults),

@@ -319,19 +319,22 @@ static void row_range_writes_only_its_rows(void **state)
 	fx_free(&fx);
 }
 
+static bool half_closest(void *user, const struct rs_ray *ray, struct rs_hit *hit)
+{
+	return false;
+}
+
 static void bad_descriptors_are_rejected_with_a_message(void **state)
 {
 	struct fx fx;
 	passes_scene(&fx);
 	struct rs_error err;
+	static const struct rs_trace_intersector half = {.closest = half_closest};
 	const struct rs_trace_desc bad[] = {
-	    {.passes = RS_TRACE_MAX_PASSES + 1},
-	    {.lights = 2},
-	    {.row_begin = 5, .row_end = 3},
-	    {.row_end = 25},
-	    {.ray_epsilon = -1.0},
-	    {.ray_epsilon = NAN},
-	    {.triangle_test = (enum rs_triangle_test)7},
+	    {.intersector = &half}, {.passes = RS_TRACE_MAX_PASSES + 1},
+	    {.lights = 2},          {.row_begin = 5, .row_end = 3},
+	    {.row_end = 25},        {.ray_epsilon = -1.0},
+	    {.ray_epsilon = NAN},   {.triangle_test = (enum rs_triangle_test)7},
 	};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
 		rs_error_clear(&err);
@@ -364,7 +367,7 @@ static void empty_scene_shows_the_environment(void **state)
 		for (int c = 0; c < 3; ++c)
 			env.face_color[f][c] = 0.5f;
 	assert_int_equal(rs_scene_set_environment(fx.scene, &env, NULL), RS_OK);
-	assert_int_equal(rs_pack_layout(0, 0, 0, &fx.packed, NULL), RS_OK);
+	assert_int_equal(rs_pack_layout(NULL, 0, 0, 0, &fx.packed, NULL), RS_OK);
 	assert_int_equal(rs_pack_alloc(&fx.packed, NULL), RS_OK);
 	float rgb[8 * 8 * 3], depth[8 * 8];
 	struct rs_trace_desc d = {.width = 8, .height = 8};

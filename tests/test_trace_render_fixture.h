@@ -119,9 +119,9 @@ static inline void fx_pack(struct fx *fx, enum rs_bvh_builder builder)
 	                              rs_scene_vertex_count(fx->scene), rs_scene_indices(fx->scene),
 	                              tris, nodes, cap, order, &node_count, &err),
 	                 RS_OK);
-	assert_int_equal(
-	    rs_pack_layout(node_count, tris, rs_scene_material_count(fx->scene), &fx->packed, &err),
-	    RS_OK);
+	assert_int_equal(rs_pack_layout(NULL, node_count, tris, rs_scene_material_count(fx->scene),
+	                                &fx->packed, &err),
+	                 RS_OK);
 	assert_int_equal(rs_pack_alloc(&fx->packed, &err), RS_OK);
 	assert_int_equal(rs_pack_scene(fx->scene, nodes, node_count, order, &fx->packed, &err),
 	                 RS_OK);

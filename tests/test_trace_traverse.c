@@ -57,7 +57,7 @@ static struct world make_world(const float *pos, size_t verts, const uint32_t *i
 	                              rs_scene_vertex_count(w.scene), rs_scene_indices(w.scene),
 	                              tris, w.nodes, cap, w.order, &w.node_count, &err),
 	                 RS_OK);
-	assert_int_equal(rs_pack_layout(w.node_count, tris, 1, &w.packed, &err), RS_OK);
+	assert_int_equal(rs_pack_layout(NULL, w.node_count, tris, 1, &w.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_alloc(&w.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_scene(w.scene, w.nodes, w.node_count, w.order, &w.packed, &err),
 	                 RS_OK);

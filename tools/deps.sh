@@ -17,6 +17,10 @@ packages=(
   gnuplot-nox
 )
 
+# Intel Embree 3: the peer tracer of raystream-bench --table 2, a benchmark-only dependency
+# (CMake builds the peer only when it finds Embree).
+packages+=(libembree-dev)
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -123,12 +123,26 @@ static bool scene_has_optics(const struct rs_scene *scene)
 	return false;
 }
 
-/* Items per texture row of the packed layout: the one place the kernels learn it (a
- * packing parameter once rs_pack takes the device's GL_MAX_TEXTURE_SIZE). */
+/* Items per texture row of the packed layout: the one place the kernels learn it. */
 static uint32_t row_items(const struct rs_packed *packed)
 {
-	(void)packed;
-	return RS_PACK_ROW_ITEMS;
+	return packed->row_items;
+}
+
+/* The layout this GL can hold: the descriptor's texture limit, or GL_MAX_TEXTURE_SIZE when
+ * it leaves it to the device; a limit above the device's is refused, naming both. */
+static enum rs_status pack_desc(const struct gles *g, const struct rs_render_desc *desc,
+                                struct rs_pack_desc *out, struct rs_error *err)
+{
+	*out = desc->pack;
+	if (!out->max_texture_size)
+		out->max_texture_size = (uint32_t)g->max_tex;
+	if (out->max_texture_size > (uint32_t)g->max_tex)
+		return rs_error_set(err, RS_ERR_LIMIT,
+		                    "gles: a texture size limit of %u texels is over this GL's "
+		                    "GL_MAX_TEXTURE_SIZE of %d",
+		                    out->max_texture_size, g->max_tex);
+	return RS_OK;
 }
 
 /* log2 of a power of two, else -1 (the kernels then divide). */
@@ -224,7 +238,10 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 		return st;
 	delete_scene(g);
 	g->desc = *desc;
-	st = rs_render_accel_build(scene, &desc->bvh, &g->accel, err);
+	struct rs_pack_desc pack;
+	st = pack_desc(g, desc, &pack, err);
+	if (st == RS_OK)
+		st = rs_render_accel_build(scene, &desc->bvh, &pack, &g->accel, err);
 	uint32_t lights = desc->lights ? desc->lights : (uint32_t)rs_scene_light_count(scene);
 	struct rs_render_desc d = *desc;
 	d.lights = lights;

@@ -7,38 +7,100 @@
 #include <stdlib.h>
 #include <string.h>
 
-void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t *out_width,
-                          uint32_t *out_height)
+void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t row_items,
+                          uint32_t *out_width, uint32_t *out_height)
 {
+	RS_ASSERT(row_items > 0 && out_width && out_height);
 	/* Never 0 x 0: an empty list still gets one (zeroed) row so a texture can exist. */
-	size_t per_row = items < RS_PACK_ROW_ITEMS ? (items ? items : 1) : RS_PACK_ROW_ITEMS;
-	size_t rows = items ? (items + RS_PACK_ROW_ITEMS - 1) / RS_PACK_ROW_ITEMS : 1;
+	size_t per_row = items < row_items ? (items ? items : 1) : row_items;
+	size_t rows = items ? (items + row_items - 1) / row_items : 1;
 	*out_width = (uint32_t)(per_row * texels_per_item);
 	*out_height = (uint32_t)rows;
 }
 
-enum rs_status rs_pack_layout(size_t node_count, size_t triangle_count, size_t material_count,
-                              struct rs_packed *out, struct rs_error *err)
+static const char *const texture_names[4] = {"node", "triangle", "normal", "material"};
+static const uint32_t texture_texels[4] = {RS_PACK_NODE_TEXELS, RS_PACK_TRIANGLE_TEXELS,
+                                           RS_PACK_NORMAL_TEXELS, RS_PACK_MATERIAL_TEXELS};
+
+/* The default row: the most items a row holds, rounded down to a power of two, so that
+ * kernels address an item with a mask and a shift instead of an integer division. */
+static uint32_t widest_power_of_two(uint32_t max_side)
+{
+	uint32_t fit = max_side / RS_PACK_MAX_ITEM_TEXELS, p = 1;
+	while (p <= fit / 2)
+		p *= 2;
+	return p;
+}
+
+enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count,
+                              size_t triangle_count, size_t material_count, struct rs_packed *out,
+                              struct rs_error *err)
 {
 	RS_ASSERT(out);
 	memset(out, 0, sizeof *out);
+	uint32_t max_side = desc && desc->max_texture_size ? desc->max_texture_size
+	                                                   : RS_PACK_DEFAULT_MAX_TEXTURE_SIZE;
+	if (max_side < RS_PACK_MAX_ITEM_TEXELS)
+		return rs_error_set(
+		    err, RS_ERR_INVALID,
+		    "pack: a texture size limit of %u texels cannot hold one %u-texel "
+		    "item",
+		    max_side, RS_PACK_MAX_ITEM_TEXELS);
+	uint32_t row_items =
+	    desc && desc->row_items ? desc->row_items : widest_power_of_two(max_side);
+	if ((uint64_t)row_items * RS_PACK_MAX_ITEM_TEXELS > max_side)
+		return rs_error_set(
+		    err, RS_ERR_INVALID,
+		    "pack: %u items per row need %llu texels, over the texture size "
+		    "limit of %u",
+		    row_items, (unsigned long long)row_items * RS_PACK_MAX_ITEM_TEXELS, max_side);
 	if (node_count >= RS_PACK_MAX_ITEMS || triangle_count >= RS_PACK_MAX_ITEMS ||
 	    material_count >= RS_PACK_MAX_ITEMS)
 		return rs_error_set(err, RS_ERR_LIMIT,
 		                    "pack: %zu nodes, %zu triangles, %zu materials: each must stay "
 		                    "below 2^24 to index exactly through floats",
 		                    node_count, triangle_count, material_count);
-	rs_pack_texture_size(node_count, RS_PACK_NODE_TEXELS, &out->nodes.width,
-	                     &out->nodes.height);
-	rs_pack_texture_size(triangle_count, RS_PACK_TRIANGLE_TEXELS, &out->triangles.width,
-	                     &out->triangles.height);
-	rs_pack_texture_size(triangle_count, RS_PACK_NORMAL_TEXELS, &out->normals.width,
-	                     &out->normals.height);
-	rs_pack_texture_size(material_count, RS_PACK_MATERIAL_TEXELS, &out->materials.width,
-	                     &out->materials.height);
+	struct rs_texture *tex[4] = {&out->nodes, &out->triangles, &out->normals, &out->materials};
+	size_t items[4] = {node_count, triangle_count, triangle_count, material_count};
+	for (int i = 0; i < 4; i++) {
+		rs_pack_texture_size(items[i], texture_texels[i], row_items, &tex[i]->width,
+		                     &tex[i]->height);
+		if (tex[i]->height > max_side) {
+			enum rs_status s = rs_error_set(
+			    err, RS_ERR_LIMIT,
+			    "pack: %zu %ss need %u texture rows of %u, over the texture size limit "
+			    "of %u texels (GL_MAX_TEXTURE_SIZE)",
+			    items[i], texture_names[i], tex[i]->height, row_items, max_side);
+			memset(out, 0, sizeof *out);
+			return s;
+		}
+	}
 	out->node_count = (uint32_t)node_count;
 	out->triangle_count = (uint32_t)triangle_count;
 	out->material_count = (uint32_t)material_count;
+	out->row_items = row_items;
+	out->max_texture_size = max_side;
+	return RS_OK;
+}
+
+enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *err)
+{
+	RS_ASSERT(packed);
+	if (packed->row_items == 0)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: not laid out (row width 0)");
+	const struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
+	                                   &packed->materials};
+	size_t items[4] = {packed->node_count, packed->triangle_count, packed->triangle_count,
+	                   packed->material_count};
+	for (int i = 0; i < 4; i++) {
+		uint32_t w, h;
+		rs_pack_texture_size(items[i], texture_texels[i], packed->row_items, &w, &h);
+		if (!tex[i]->texels || tex[i]->width != w || tex[i]->height != h)
+			return rs_error_set(err, RS_ERR_INVALID,
+			                    "pack: %s texture missing or not %ux%u as laid out for "
+			                    "%u items per row",
+			                    texture_names[i], w, h, packed->row_items);
+	}
 	return RS_OK;
 }
 
@@ -98,20 +160,9 @@ static enum rs_status check_packed(const struct rs_scene *scene, const struct rs
 	    p->material_count != rs_scene_material_count(scene))
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "pack: layout counts do not match the scene and BVH");
-	struct rs_packed want;
-	enum rs_status s = rs_pack_layout(node_count, tris, p->material_count, &want, err);
+	enum rs_status s = rs_pack_check(p, err);
 	if (s != RS_OK)
 		return s;
-	const struct rs_texture *have[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
-	const struct rs_texture *need[4] = {&want.nodes, &want.triangles, &want.normals,
-	                                    &want.materials};
-	for (int i = 0; i < 4; i++) {
-		if (!have[i]->texels || have[i]->width != need[i]->width ||
-		    have[i]->height != need[i]->height)
-			return rs_error_set(
-			    err, RS_ERR_INVALID,
-			    "pack: texture %d missing or not sized by rs_pack_layout", i);
-	}
 	if (node_count && !nodes)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: no nodes");
 	if (tris && !triangle_order)

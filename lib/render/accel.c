@@ -6,7 +6,8 @@
 #include "render_internal.h"
 
 enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
-                                     struct rs_render_accel *out, struct rs_error *err)
+                                     const struct rs_pack_desc *pack, struct rs_render_accel *out,
+                                     struct rs_error *err)
 {
 	RS_ASSERT(scene && out);
 	static const struct rs_bvh_desc zero_bvh;
@@ -27,7 +28,7 @@ enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct 
 	    tris, out->nodes, cap, out->triangle_order, &out->node_count, err);
 	out->build_ms = rs_render_now_ms() - t0;
 	if (status == RS_OK)
-		status = rs_pack_layout(out->node_count, tris, rs_scene_material_count(scene),
+		status = rs_pack_layout(pack, out->node_count, tris, rs_scene_material_count(scene),
 		                        &out->packed, err);
 	if (status == RS_OK)
 		status = rs_pack_alloc(&out->packed, err);

@@ -83,6 +83,17 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "render: shadow filter %u is wider than the %u-texel map",
 		                    d.shadow_filter, d.shadow_map_size);
+	if (d.pack.max_texture_size && d.pack.max_texture_size < RS_PACK_MAX_ITEM_TEXELS)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "render: a texture size limit of %u texels cannot hold one "
+		                    "%u-texel item",
+		                    d.pack.max_texture_size, RS_PACK_MAX_ITEM_TEXELS);
+	/* With the limit left to the device, a row width is checked when the device is known. */
+	if (d.pack.max_texture_size &&
+	    d.pack.row_items > d.pack.max_texture_size / RS_PACK_MAX_ITEM_TEXELS)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "render: %u items per texture row do not fit a %u-texel row",
+		                    d.pack.row_items, d.pack.max_texture_size);
 	if (d.threads > RS_RENDER_MAX_THREADS)
 		return rs_error_set(err, RS_ERR_INVALID, "render: %u threads (at most %u)",
 		                    d.threads, RS_RENDER_MAX_THREADS);

@@ -16,6 +16,7 @@ struct cpu_renderer {
 	struct rs_render_desc desc;
 	float *rgb; /* scratch when the caller wants only RGBA8 */
 	size_t rgb_floats;
+	const struct rs_trace_intersector *intersector; /* NULL: the BVH walk */
 };
 
 struct band_job {
@@ -109,9 +110,14 @@ static enum rs_status cpu_set_scene(void *impl, const struct rs_scene *scene,
 	struct cpu_renderer *cpu = impl;
 	rs_render_accel_free(&cpu->accel);
 	cpu->scene = NULL;
-	enum rs_status status = rs_render_accel_build(scene, &desc->bvh, &cpu->accel, err);
-	if (status != RS_OK)
+	enum rs_status status =
+	    rs_render_accel_build(scene, &desc->bvh, &desc->pack, &cpu->accel, err);
+	if (status == RS_OK && cpu->intersector && cpu->intersector->prepare)
+		status = cpu->intersector->prepare(cpu->intersector->user, &cpu->accel.packed, err);
+	if (status != RS_OK) {
+		rs_render_accel_free(&cpu->accel);
 		return status;
+	}
 	size_t floats = (size_t)desc->width * desc->height * 3u;
 	if (floats > cpu->rgb_floats) {
 		float *rgb = realloc(cpu->rgb, floats * sizeof *rgb);
@@ -159,7 +165,8 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 	                           .lights = d->lights,
 	                           .triangle_test = d->triangle_test,
 	                           .ray_epsilon = d->ray_epsilon,
-	                           .camera = camera};
+	                           .camera = camera,
+	                           .intersector = cpu->intersector};
 	float *rgb = frame->rgb ? frame->rgb : frame->rgba8 ? cpu->rgb : NULL;
 	struct rs_trace_stats ts;
 	double t0 = rs_render_now_ms();
@@ -185,7 +192,7 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 	stats->shadow_rays = ts.shadow_rays;
 	stats->box_tests = ts.box_tests;
 	stats->triangle_tests = ts.triangle_tests;
-	stats->counters_valid = true; /* the reference always counts */
+	stats->counters_valid = !cpu->intersector; /* the BVH walk always counts */
 	return RS_OK;
 }
 
@@ -215,6 +222,13 @@ static const struct rs_renderer_ops cpu_ops = {.name = "cpu",
 enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
                                       struct rs_error *err)
 {
+	return rs_renderer_create_cpu_with(desc, NULL, out, err);
+}
+
+enum rs_status rs_renderer_create_cpu_with(const struct rs_render_desc *desc,
+                                           const struct rs_trace_intersector *intersector,
+                                           struct rs_renderer **out, struct rs_error *err)
+{
 	RS_ASSERT(out);
 	*out = NULL;
 	if (desc && desc->primary == RS_PRIMARY_RASTER)
@@ -226,8 +240,12 @@ enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct 
 	if (desc && desc->reflections == RS_REFLECT_ENVMAP)
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "render: the cpu backend traces reflections only (no env map)");
+	if (intersector && (!intersector->closest || !intersector->occluded))
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "render: the intersector lacks a closest or occluded query");
 	struct cpu_renderer *cpu = calloc(1, sizeof *cpu);
 	if (!cpu)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "render: out of memory");
+	cpu->intersector = intersector;
 	return rs_renderer_create(&cpu_ops, cpu, desc, out, err);
 }

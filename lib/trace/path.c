@@ -17,9 +17,8 @@ void rs_trace_path_run(const struct rs_trace_frame *frame, const struct rs_ray *
 
 	for (uint32_t pass = 0; pass < frame->passes; ++pass) {
 		struct rs_hit hit = {.t = INFINITY, .slot = RS_NO_SLOT, .triangle = RS_NO_SLOT};
-		bool found =
-		    frame->has_geometry &&
-		    rs__trace_closest_local(frame->packed, frame->test, &ray, &hit, &out->counters);
+		bool found = frame->has_geometry &&
+		             rs_trace_frame_closest(frame, &ray, &hit, &out->counters);
 		out->segments++;
 		struct rs_trace_segment seg = {.ray = ray, .throughput = throughput};
 		for (int a = 0; a < 3; ++a)

@@ -17,11 +17,13 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "trace: packed arrays hold %u triangles, the scene %zu",
 		                    packed->triangle_count, tris);
-	if (tris > 0 && (packed->node_count == 0 || !packed->nodes.texels ||
-	                 !packed->triangles.texels || !packed->normals.texels))
-		return rs_error_set(err, RS_ERR_INVALID, "trace: packed arrays have no texels");
-	if (packed->material_count > 0 && !packed->materials.texels)
-		return rs_error_set(err, RS_ERR_INVALID, "trace: packed materials have no texels");
+	if (tris > 0 && packed->node_count == 0)
+		return rs_error_set(err, RS_ERR_INVALID, "trace: packed arrays have no BVH nodes");
+	/* rs_pack_texel() addresses items linearly, which is the kernels' 2D layout only for
+	 * textures sized exactly as rs_pack_layout() sizes them. */
+	enum rs_status st = rs_pack_check(packed, err);
+	if (st != RS_OK)
+		return st;
 	if (desc->triangle_test != RS_TRIANGLE_MOLLER_TRUMBORE &&
 	    desc->triangle_test != RS_TRIANGLE_WATERTIGHT)
 		return rs_error_set(err, RS_ERR_INVALID, "trace: unknown triangle test %d",
@@ -37,6 +39,9 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	if (!isfinite(desc->ray_epsilon) || desc->ray_epsilon < 0.0)
 		return rs_error_set(err, RS_ERR_INVALID, "trace: ray epsilon %g is not >= 0",
 		                    desc->ray_epsilon);
+	if (desc->intersector && (!desc->intersector->closest || !desc->intersector->occluded))
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "trace: the intersector lacks a closest or occluded query");
 
 	memset(out, 0, sizeof *out);
 	out->packed = packed;
@@ -46,6 +51,7 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	out->lights = rs_scene_lights(scene);
 	out->ambient = rs_scene_ambient(scene);
 	out->has_geometry = tris > 0;
+	out->intersector = desc->intersector;
 	rs_scene_environment(scene, &out->env);
 
 	/* R5: the offset scales with the hit triangle's coordinates in the packed frame. */

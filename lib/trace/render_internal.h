@@ -5,6 +5,7 @@
 
 #include <math.h>
 
+#include "accel_internal.h"
 #include "raystream/rs_trace.h"
 #include "private/rs_vec.h"
 
@@ -23,7 +24,27 @@ struct rs_trace_frame {
 	double origin[3];          /* the packed frame's origin (R1): lights are moved by it */
 	bool has_geometry;         /* false: every ray misses (empty scene) */
 	struct rs_environment env; /* centre already in the packed frame */
+	const struct rs_trace_intersector *intersector; /* NULL: walk packed's BVH */
 };
+
+/* The frame's ray queries: the packed BVH, or the caller's intersector. */
+static inline bool rs_trace_frame_closest(const struct rs_trace_frame *frame,
+                                          const struct rs_ray *ray, struct rs_hit *hit,
+                                          struct rs_trace_counters *counters)
+{
+	if (frame->intersector)
+		return frame->intersector->closest(frame->intersector->user, ray, hit);
+	return rs__trace_closest_local(frame->packed, frame->test, ray, hit, counters);
+}
+
+static inline bool rs_trace_frame_occluded(const struct rs_trace_frame *frame,
+                                           const struct rs_ray *ray,
+                                           struct rs_trace_counters *counters)
+{
+	if (frame->intersector)
+		return frame->intersector->occluded(frame->intersector->user, ray);
+	return rs__trace_occluded_local(frame->packed, frame->test, ray, counters);
+}
 
 enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs_packed *packed,
                                    const struct rs_trace_desc *desc, struct rs_trace_frame *out,

@@ -165,8 +165,7 @@ void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray
 		if (feeler.tmax == 0.0)
 			continue;
 		path->shadow_rays++;
-		if (frame->has_geometry &&
-		    rs__trace_occluded_local(frame->packed, frame->test, &feeler, &path->counters))
+		if (frame->has_geometry && rs_trace_frame_occluded(frame, &feeler, &path->counters))
 			continue;
 		double spec = 0.0;
 		if (s->specular > 0.0f) {

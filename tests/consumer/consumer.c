@@ -53,7 +53,7 @@ int main(void)
 	size_t count;
 	struct rs_packed packed;
 	if (rs_bvh_build(NULL, pos, 3, idx, 1, nodes, 8, order, &count, &err) ||
-	    rs_pack_layout(count, 1, 1, &packed, &err) || rs_pack_alloc(&packed, &err) ||
+	    rs_pack_layout(NULL, count, 1, 1, &packed, &err) || rs_pack_alloc(&packed, &err) ||
 	    rs_pack_scene(scene, nodes, count, order, &packed, &err))
 		return 3;
 	float rgb[8 * 8 * 3], depth[8 * 8];

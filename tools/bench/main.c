@@ -1,37 +1,22 @@
 /*
- * raystream-bench: the paper's Table 1 for this project. Hit numbers (mean box + triangle
- * tests per pixel over all rays of the pixel, 2 passes) per scene and builder beside the
- * paper's figures, and BVH build times (median of several builds).
- *
- * Hit numbers are means per pixel, so the flat builders, whose cost grows with the triangle
- * count, may be measured on a coarser image of the same camera (--flat-size): the mean is
- * the same in expectation, and the table says which size was used.
+ * raystream-bench: the paper's tables for this project.
+ *   --table 1 (default): hit numbers per scene and builder beside the paper's Table 1, the
+ *             triangle tests' speed against error, and BVH build times (table1.c).
+ *   --table 2: the paper's Table 2 on a render backend (fps, hit numbers, Mrays/s, time per
+ *             kernel for tree BVH 1 pass, raster + BVH 1 and 2 passes) beside the Embree
+ *             peer on the same rays when it was built (table2.c, embree/).
  */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-#include "raystream/rs_render.h"
+#include "bench.h"
+#include "raystream/rs_renderers.h"
 #include "tool_common.h"
 
-/* Bae & Hong, Table 1 (hit numbers, 2 passes); 0 = "overload" (not measured). */
-static const struct paper_row {
-	const char *scene;
-	double none, linear, tree;
-} paper[] = {
-    {"box", 174.652, 24.315, 3.407},     {"cow1", 12937.57, 1615.989, 49.053},
-    {"cow2", 26524.78, 3211.53, 68.417}, {"cow5", 0, 8007.67, 138.311},
-    {"cow9", 0, 14018.847, 238.444},     {"cow17", 0, 20760.26, 361.564},
-};
-static const enum rs_bvh_builder builders[] = {RS_BVH_NONE, RS_BVH_LINEAR, RS_BVH_PAPER,
-                                               RS_BVH_SAH};
-
-struct options {
-	uint32_t size, flat_size, none_max_tris, passes, lights, repeats, threads;
-	const char *only;
-};
+const char *const bench_scenes[BENCH_SCENE_COUNT] = {"box",  "cow1", "cow2",
+                                                     "cow5", "cow9", "cow17"};
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -39,112 +24,68 @@ static int cmp_double(const void *a, const void *b)
 	return x < y ? -1 : x > y;
 }
 
-static double median(double *v, uint32_t n)
+double bench_median(double *v, uint32_t n)
 {
 	qsort(v, n, sizeof *v, cmp_double);
 	return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/* Stats of one frame on the CPU reference with `desc` (the BVH is built again inside). */
-static enum rs_status render_cpu(const struct rs_scene *scene, const struct rs_render_desc *desc,
-                                 struct rs_render_stats *out_stats, struct rs_error *err)
+void bench_min_max(const double *v, uint32_t n, double *out_min, double *out_max)
 {
-	struct rs_renderer *renderer = NULL;
-	struct rs_frame frame = {0}; /* counts only: no image wanted */
-	enum rs_status status = rs_renderer_create_cpu(desc, &renderer, err);
-	if (status == RS_OK)
-		status = rs_renderer_set_scene(renderer, scene, err);
-	if (status == RS_OK)
-		status = rs_renderer_render(renderer, NULL, &frame, err);
-	if (status == RS_OK)
-		*out_stats = *rs_renderer_stats(renderer);
-	rs_renderer_destroy(&renderer);
-	return status;
-}
-
-static void print_paper(double v)
-{
-	if (v > 0)
-		printf(" %10.3f |", v);
-	else
-		printf(" %10s |", "overload");
-}
-
-static int bench_scene(const struct options *o, const struct paper_row *row, double *build_ms)
-{
-	struct rs_error err = {0};
-	struct rs_scene *scene = NULL;
-	if (rs_tool_load_scene(row->scene, &scene, &err) != RS_OK) {
-		fprintf(stderr, "raystream-bench: %s\n", err.message);
-		return 1;
+	*out_min = *out_max = v[0];
+	for (uint32_t i = 1; i < n; ++i) {
+		*out_min = v[i] < *out_min ? v[i] : *out_min;
+		*out_max = v[i] > *out_max ? v[i] : *out_max;
 	}
-	size_t tris = rs_scene_triangle_count(scene);
-	double hits[4], box[4];
-	uint32_t sizes[4];
-	for (int b = 0; b < 4; ++b) {
-		struct rs_bvh_desc desc = {.builder = builders[b]};
-		double times[32];
-		struct rs_render_accel accel;
-		for (uint32_t r = 0; r < o->repeats; ++r) {
-			if (rs_render_accel_build(scene, &desc, &accel, &err) != RS_OK) {
-				fprintf(stderr, "raystream-bench: %s\n", err.message);
-				rs_scene_destroy(&scene);
-				return 1;
-			}
-			times[r] = accel.build_ms;
-			if (r + 1 < o->repeats)
-				rs_render_accel_free(&accel);
-		}
-		build_ms[b] = median(times, o->repeats);
-		hits[b] = box[b] = NAN;
-		sizes[b] = builders[b] == RS_BVH_NONE || builders[b] == RS_BVH_LINEAR ? o->flat_size
-		                                                                      : o->size;
-		if (builders[b] == RS_BVH_NONE && tris > o->none_max_tris) {
-			rs_render_accel_free(&accel);
-			continue;
-		}
-		rs_render_accel_free(&accel);
-		struct rs_render_desc rd = {.width = sizes[b],
-		                            .height = sizes[b],
-		                            .passes = o->passes,
-		                            .lights = o->lights,
-		                            .counters = true,
-		                            .bvh = desc,
-		                            .threads = o->threads};
-		struct rs_render_stats st;
-		if (render_cpu(scene, &rd, &st, &err) != RS_OK) {
-			fprintf(stderr, "raystream-bench: %s\n", err.message);
-			rs_scene_destroy(&scene);
+}
+
+static void usage(void)
+{
+	puts("usage: raystream-bench [--table 1|2] [--size N] [--lights N] [--repeats N]\n"
+	     "                       [--threads N] [--scene NAME]\n"
+	     "  table 1: [--flat-size N] [--passes N] [--none-max-triangles N]\n"
+	     "  table 2: [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah]\n"
+	     "           [--peer embree|none]\n"
+	     "Scenes: box, cow1, cow2, cow5, cow9, cow17 (default all).");
+}
+
+static int bad(const char *what, const char *value)
+{
+	fprintf(stderr, "raystream-bench: %s%s%s\n", what, value ? " " : "", value ? value : "");
+	return 2;
+}
+
+static int parse_builder(const char *v, enum rs_bvh_builder *out)
+{
+	static const char *const names[] = {"none", "linear", "paper", "sah"};
+	static const enum rs_bvh_builder ids[] = {RS_BVH_NONE, RS_BVH_LINEAR, RS_BVH_PAPER,
+	                                          RS_BVH_SAH};
+	for (int i = 0; i < 4; ++i)
+		if (!strcmp(v, names[i])) {
+			*out = ids[i];
 			return 1;
 		}
-		hits[b] = st.total_per_pixel;
-		box[b] = st.box_per_pixel;
-	}
-	printf("| %-5s | %6zu |", row->scene, tris);
-	for (int b = 0; b < 4; ++b) {
-		if (isnan(hits[b]))
-			printf(" %10s |", "skipped");
-		else
-			printf(" %10.3f |", hits[b]);
-		if (b < 3)
-			print_paper(b == 0 ? row->none : b == 1 ? row->linear : row->tree);
-	}
-	printf(" %5.1f%% | %6.3f |\n", 100.0 * hits[3] / hits[2], box[3]);
-	fflush(stdout);
-	rs_scene_destroy(&scene);
 	return 0;
 }
 
-static int parse(int argc, char **argv, struct options *o)
+static int parse(int argc, char **argv, struct bench_options *o)
 {
-	*o = (struct options){.size = 512,
-	                      .flat_size = 64,
-	                      .none_max_tris = 30000,
-	                      .passes = 2,
-	                      .lights = 1,
-	                      .repeats = 5};
+	*o = (struct bench_options){.table = 1,
+	                            .size = 512,
+	                            .flat_size = 64,
+	                            .none_max_tris = 30000,
+	                            .passes = 2,
+	                            .lights = 1,
+	                            .repeats = 5,
+	                            .backend = "cpu",
+	                            .builder = RS_BVH_SAH,
+	                            .peer = true};
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+		if (!strcmp(a, "--help")) {
+			usage();
+			exit(0);
+		}
 		uint32_t *dst = !strcmp(a, "--size")                 ? &o->size
 		                : !strcmp(a, "--flat-size")          ? &o->flat_size
 		                : !strcmp(a, "--passes")             ? &o->passes
@@ -152,38 +93,51 @@ static int parse(int argc, char **argv, struct options *o)
 		                : !strcmp(a, "--repeats")            ? &o->repeats
 		                : !strcmp(a, "--threads")            ? &o->threads
 		                : !strcmp(a, "--none-max-triangles") ? &o->none_max_tris
+		                : !strcmp(a, "--table")              ? &o->table
 		                                                     : NULL;
-		if (!strcmp(a, "--help")) {
-			puts(
-			    "usage: raystream-bench [--size N] [--flat-size N] [--passes N] "
-			    "[--lights N]"
-			    " [--repeats N] [--threads N] [--none-max-triangles N] [--scene NAME]");
-			exit(0);
-		}
-		if (!v) {
-			fprintf(stderr, "raystream-bench: unknown option or missing value: %s\n",
-			        a);
-			return 2;
-		}
+		int known = dst || !strcmp(a, "--scene") || !strcmp(a, "--backend") ||
+		            !strcmp(a, "--bvh") || !strcmp(a, "--peer");
+		if (!known)
+			return bad("unknown option:", a);
+		if (!v)
+			return bad("missing value for", a);
 		++i;
 		if (!strcmp(a, "--scene")) {
 			o->only = v;
-			continue;
-		}
-		uint32_t max = dst == &o->repeats         ? 32
-		               : dst == &o->none_max_tris ? 1u << 24
-		                                          : 16384;
-		if (!dst || !rs_tool_parse_u32(v, 1, max, dst)) {
-			fprintf(stderr, "raystream-bench: bad option %s %s\n", a, v);
-			return 2;
+		} else if (!strcmp(a, "--backend")) {
+			if (!rs_renderer_has_backend(v)) {
+				fprintf(
+				    stderr,
+				    "raystream-bench: unknown backend '%s' (this build has: %s)\n",
+				    v, rs_renderer_backends());
+				return 2;
+			}
+			o->backend = v;
+		} else if (!strcmp(a, "--bvh")) {
+			if (!parse_builder(v, &o->builder))
+				return bad("unknown BVH builder (none, linear, paper or sah):", v);
+		} else if (!strcmp(a, "--peer")) {
+			if (strcmp(v, "embree") != 0 && strcmp(v, "none") != 0)
+				return bad("--peer wants embree or none, not", v);
+			o->peer = !strcmp(v, "embree");
+		} else {
+			uint32_t max = dst == &o->repeats         ? 32
+			               : dst == &o->table         ? 2
+			               : dst == &o->none_max_tris ? 1u << 24
+			               : dst == &o->lights        ? 64
+			                                          : 16384;
+			if (!rs_tool_parse_u32(v, 1, max, dst)) {
+				fprintf(stderr, "raystream-bench: bad option %s %s\n", a, v);
+				return 2;
+			}
 		}
 	}
 	if (o->only) {
 		size_t s = 0;
-		while (s < sizeof paper / sizeof paper[0] && strcmp(o->only, paper[s].scene) != 0)
+		while (s < BENCH_SCENE_COUNT && strcmp(o->only, bench_scenes[s]) != 0)
 			++s;
 		/* An unknown name would otherwise print an empty table and exit 0. */
-		if (s == sizeof paper / sizeof paper[0]) {
+		if (s == BENCH_SCENE_COUNT) {
 			fprintf(stderr,
 			        "raystream-bench: unknown scene '%s' (box, cow1, cow2, cow5, "
 			        "cow9 or cow17)\n",
@@ -198,99 +152,11 @@ static int parse(int argc, char **argv, struct options *o)
 	return 0;
 }
 
-/* Speed against error of the two triangle tests in one run: Moller-Trumbore against the
- * watertight test, whose image is taken as the reference (it cannot miss through edges). */
-static int bench_triangle_tests(const struct options *o, const char *name)
-{
-	struct rs_error err = {0};
-	struct rs_scene *scene = NULL;
-	size_t n = (size_t)o->size * o->size;
-	float *rgb[2] = {malloc(n * 3 * sizeof(float)), malloc(n * 3 * sizeof(float))};
-	float *depth[2] = {malloc(n * sizeof(float)), malloc(n * sizeof(float))};
-	struct rs_bvh_desc bvh = {.builder = RS_BVH_SAH};
-	int code = 1;
-	if (!rgb[0] || !rgb[1] || !depth[0] || !depth[1])
-		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
-	else if (rs_tool_load_scene(name, &scene, &err) == RS_OK)
-		code = 0;
-	double ms[2] = {0, 0};
-	for (int t = 0; t < 2 && code == 0; ++t) {
-		struct rs_render_desc rd = {.width = o->size,
-		                            .height = o->size,
-		                            .passes = o->passes,
-		                            .lights = o->lights,
-		                            .triangle_test = t ? RS_TRIANGLE_WATERTIGHT
-		                                               : RS_TRIANGLE_MOLLER_TRUMBORE,
-		                            .bvh = bvh,
-		                            .threads = o->threads};
-		struct rs_renderer *renderer = NULL;
-		struct rs_frame frame = {.rgb = rgb[t], .depth = depth[t]};
-		double times[32];
-		if (rs_renderer_create_cpu(&rd, &renderer, &err) != RS_OK ||
-		    rs_renderer_set_scene(renderer, scene, &err) != RS_OK)
-			code = 1;
-		for (uint32_t r = 0; r < o->repeats && code == 0; ++r) {
-			double t0 = rs_tool_now_ms();
-			if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
-				code = 1;
-			times[r] = rs_tool_now_ms() - t0;
-		}
-		rs_renderer_destroy(&renderer);
-		ms[t] = code == 0 ? median(times, o->repeats) : 0.0;
-	}
-	if (code == 0) {
-		struct rs_image_diff c, d;
-		rs_image_compare(rgb[0], rgb[1], o->size, o->size, 3, 1.0, 1.0 / 255.0, &c);
-		rs_image_compare(depth[0], depth[1], o->size, o->size, 1, 1.0, 1e-6, &d);
-		printf("| %-5s | %.1f | %.1f | %.3f | %.2f | %.4f | %.4f%% | %zu | %.2e |\n", name,
-		       ms[0], ms[1], ms[1] / ms[0], c.psnr_db, c.max_abs_error, 100.0 * c.bad_share,
-		       d.mismatched, d.max_abs_error);
-	} else {
-		fprintf(stderr, "raystream-bench: %s\n", err.message);
-	}
-	for (int t = 0; t < 2; ++t) {
-		free(rgb[t]);
-		free(depth[t]);
-	}
-	rs_scene_destroy(&scene);
-	return code;
-}
-
 int main(int argc, char **argv)
 {
-	struct options o;
+	struct bench_options o;
 	int code = parse(argc, argv, &o);
 	if (code)
 		return code;
-	printf("Hit numbers, %u pass(es), %u light(s): sah/paper at %ux%u, none/linear at %ux%u "
-	       "(none skipped above %u triangles)\n\n",
-	       o.passes, o.lights, o.size, o.size, o.flat_size, o.flat_size, o.none_max_tris);
-	printf("| scene | tris | none | paper's none | linear | paper's linear | paper tree | "
-	       "paper's tree | sah | sah / paper tree | sah box tests |\n");
-	printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-	double build[6][4];
-	int rows = 0;
-	const char *names[6];
-	for (size_t s = 0; s < sizeof paper / sizeof paper[0]; ++s) {
-		if (o.only && strcmp(o.only, paper[s].scene) != 0)
-			continue;
-		if (bench_scene(&o, &paper[s], build[rows]))
-			return 1;
-		names[rows++] = paper[s].scene;
-	}
-	printf("\nTriangle test, speed against error: Moller-Trumbore vs watertight (reference), "
-	       "sah, %ux%u, %u pass(es), %u light(s), %u thread(s), median of %u renders\n\n",
-	       o.size, o.size, o.passes, o.lights, o.threads, o.repeats);
-	printf("| scene | MT ms | watertight ms | watertight/MT | PSNR dB | max err | pixels off "
-	       "> 1/255 | depth hit/miss mismatches | depth max err |\n"
-	       "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-	for (int r = 0; r < rows; ++r)
-		if (bench_triangle_tests(&o, names[r]))
-			return 1;
-	printf("\nBVH build time, ms (median of %u builds, one thread)\n\n", o.repeats);
-	printf("| scene | none | linear | paper | sah |\n|---|---:|---:|---:|---:|\n");
-	for (int r = 0; r < rows; ++r)
-		printf("| %-5s | %.3f | %.3f | %.3f | %.3f |\n", names[r], build[r][0], build[r][1],
-		       build[r][2], build[r][3]);
-	return 0;
+	return o.table == 2 ? bench_table2(&o) : bench_table1(&o);
 }

@@ -2,8 +2,11 @@
  * @file rs_pack.h
  * The scene and its BVH packed into RGBA32F textures, exactly as the GLES kernels read
  * them and as the CPU reference tracer traverses them. Integers are stored as floats
- * (exact below 2^24). Items are laid out RS_PACK_ROW_ITEMS per texture row; item k's
- * texel j sits at x = (k % RS_PACK_ROW_ITEMS) * texels_per_item + j, y = k / RS_PACK_ROW_ITEMS.
+ * (exact below 2^24). Items are laid out `row_items` per texture row (a packing parameter,
+ * struct rs_pack_desc, chosen so a row fits the device's texture size limit); item k's
+ * texel j sits at x = (k % row_items) * texels_per_item + j, y = k / row_items. A texture
+ * with fewer items than row_items is one row of exactly its items, so every texture is
+ * `width / texels_per_item` items wide, without padding at row ends.
  *
  * nodes (3 texels per node, pre-order):   t0 = (lo.xyz, escape)
  *                                          t1 = (hi.xyz, level)       level 0 = leaf
@@ -36,7 +39,11 @@
 extern "C" {
 #endif
 
-#define RS_PACK_ROW_ITEMS 1024u
+/** Texels per texture side that OpenGL ES 3.0 guarantees (GL_MAX_TEXTURE_SIZE's minimum):
+ * the default limit, so a scene packed with defaults loads on every GLES 3.0 device. */
+#define RS_PACK_DEFAULT_MAX_TEXTURE_SIZE 2048u
+/** Widest item: the texels per row must hold one item of every kind. */
+#define RS_PACK_MAX_ITEM_TEXELS 3u
 #define RS_PACK_NODE_TEXELS 3u
 #define RS_PACK_TRIANGLE_TEXELS 3u
 #define RS_PACK_NORMAL_TEXELS 3u
@@ -51,6 +58,16 @@ struct rs_texture {
 	uint32_t height;
 };
 
+/** Packing options; zero-initialised means defaults. */
+struct rs_pack_desc {
+	/** Largest texture side in texels, as the device reports it (GL_MAX_TEXTURE_SIZE);
+	 * 0 -> RS_PACK_DEFAULT_MAX_TEXTURE_SIZE (2048). Rows and row width stay within it. */
+	uint32_t max_texture_size;
+	/** Items per texture row; 0 -> the largest power of two that fits (max_texture_size / 3
+	 * rounded down: 512 at 2048), so kernels address items by mask and shift. */
+	uint32_t row_items;
+};
+
 /** Everything the kernels read; caller-owned storage. */
 struct rs_packed {
 	struct rs_texture nodes;
@@ -60,19 +77,33 @@ struct rs_packed {
 	uint32_t node_count;
 	uint32_t triangle_count;
 	uint32_t material_count;
+	uint32_t row_items;        /**< items per row of every texture (the kernels' row width) */
+	uint32_t max_texture_size; /**< the limit the layout was made for (resolved) */
 	double origin[3]; /**< world position of the packed frame's origin (set by packing) */
 };
 
-/** Texture size for `items` items of `texels_per_item` texels each. */
-void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t *out_width,
-                          uint32_t *out_height);
+/** Texture size for `items` items of `texels_per_item` texels each, `row_items` (> 0) per row:
+ * min(items, row_items) items wide (at least 1), as many rows as needed (at least 1). */
+void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t row_items,
+                          uint32_t *out_width, uint32_t *out_height);
 
 /**
- * Size the four textures for a scene and BVH: fills widths/heights and counts of *out and
- * sets texel pointers to NULL. RS_ERR_LIMIT when a count reaches RS_PACK_MAX_ITEMS.
+ * Size the four textures for a scene and BVH: fills widths/heights, counts and the resolved
+ * row_items and max_texture_size of *out and sets texel pointers to NULL. `desc` NULL means
+ * defaults. RS_ERR_LIMIT when a count reaches RS_PACK_MAX_ITEMS or a texture would need more
+ * rows than max_texture_size (the message names the limit); RS_ERR_INVALID when
+ * max_texture_size cannot hold one item (< 3) or row_items * 3 exceeds it.
  */
-enum rs_status rs_pack_layout(size_t node_count, size_t triangle_count, size_t material_count,
-                              struct rs_packed *out, struct rs_error *err);
+enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count,
+                              size_t triangle_count, size_t material_count, struct rs_packed *out,
+                              struct rs_error *err);
+
+/**
+ * Check that `packed` (not NULL) is laid out as rs_pack_layout() makes it for its counts and
+ * row_items and has every texel buffer: the condition for reading it through
+ * rs_pack_texel(). RS_ERR_INVALID naming the first texture that is not.
+ */
+enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *err);
 
 /**
  * Pack. `packed` must come from rs_pack_layout() with the same counts and have texel
@@ -89,13 +120,26 @@ enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err);
 /** Free buffers allocated by rs_pack_alloc() and zero the struct. */
 void rs_pack_free(struct rs_packed *packed);
 
-/** Texel j of item k of a packed texture (4 floats). */
+/** Where texel j of item k sits in a texture laid out `row_items` per row (what a kernel
+ * passes to texelFetch). */
+static inline void rs_pack_texel_xy(uint32_t row_items, uint32_t texels_per_item, uint32_t item,
+                                    uint32_t j, uint32_t *out_x, uint32_t *out_y)
+{
+	*out_x = (item % row_items) * texels_per_item + j;
+	*out_y = item / row_items;
+}
+
+/**
+ * Texel j of item k of a texture made by rs_pack_layout() (4 floats). Rows hold exactly
+ * width / texels_per_item items with no padding, so the texel at (x, y) of
+ * rs_pack_texel_xy() is the (k * texels_per_item + j)-th of the image for every row width:
+ * the CPU walks the very layout the kernels sample without a division per fetch.
+ * tests/test_pack.c checks the identity at several row widths.
+ */
 static inline const float *rs_pack_texel(const struct rs_texture *tex, uint32_t texels_per_item,
                                          uint32_t item, uint32_t j)
 {
-	uint32_t x = (item % RS_PACK_ROW_ITEMS) * texels_per_item + j;
-	uint32_t y = item / RS_PACK_ROW_ITEMS;
-	return tex->texels + ((size_t)y * tex->width + x) * 4u;
+	return tex->texels + ((size_t)item * texels_per_item + j) * 4u;
 }
 
 #ifdef __cplusplus

@@ -74,7 +74,12 @@ struct rs_render_desc {
 	uint32_t shadow_filter;   /**< box filter side in texels (1 = none); 0 -> 3 */
 	bool counters;            /**< count box and triangle tests (costs time on GPUs) */
 	struct rs_bvh_desc bvh;   /**< the BVH builder and its options */
-	uint32_t threads;         /**< CPU backend threads; 0 -> the machine's cores */
+	/** Texture layout. pack.max_texture_size 0: the device's limit, GL_MAX_TEXTURE_SIZE on
+	 * the GL backends and RS_PACK_DEFAULT_MAX_TEXTURE_SIZE (2048, GLES 3.0's minimum) on
+	 * the CPU; GL backends refuse a value above their device's. A scene that does not fit
+	 * is refused at set_scene with RS_ERR_LIMIT naming the limit. */
+	struct rs_pack_desc pack;
+	uint32_t threads; /**< CPU backend threads; 0 -> the machine's cores */
 	enum rs_kernel_chain chain;
 	enum rs_reflection_mode reflections;
 	/** GL backends: EGL platform to use ("surfaceless", "device", "gbm"); NULL: the
@@ -164,6 +169,14 @@ enum rs_status rs_renderer_create(const struct rs_renderer_ops *ops, void *impl,
 enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
                                       struct rs_error *err);
 
+/** The CPU backend with `intersector`'s ray queries in place of its BVH walk (NULL: as
+ * rs_renderer_create_cpu()): the reference's rays, paths, shading and threads over a peer's
+ * intersection code. The intersector must outlive the renderer; its prepare() runs at each
+ * set_scene. Box and triangle counts stay 0 (counters_valid false) under an intersector. */
+enum rs_status rs_renderer_create_cpu_with(const struct rs_render_desc *desc,
+                                           const struct rs_trace_intersector *intersector,
+                                           struct rs_renderer **out, struct rs_error *err);
+
 /** Destroy and set *renderer to NULL; NULL and *renderer == NULL are allowed. */
 void rs_renderer_destroy(struct rs_renderer **renderer);
 
@@ -194,10 +207,11 @@ const char *rs_renderer_last_error(const struct rs_renderer *renderer);
 /** Backend name ("cpu", "egl", "osmesa"). */
 const char *rs_renderer_backend(const struct rs_renderer *renderer);
 
-/** Fill the zero fields of `desc` with defaults (size stays 0 until a scene is known).
- * RS_ERR_INVALID for out-of-range values (unknown enums, passes > RS_TRACE_MAX_PASSES,
- * negative or non-finite epsilon, filter larger than the map, more threads than
- * RS_RENDER_MAX_THREADS). */
+/** Fill the zero fields of `desc` with defaults (size stays 0 until a scene is known;
+ * pack.max_texture_size stays 0, the backend's own limit). RS_ERR_INVALID for out-of-range
+ * values (unknown enums, passes > RS_TRACE_MAX_PASSES, negative or non-finite epsilon,
+ * filter larger than the map, more threads than RS_RENDER_MAX_THREADS, a texture limit
+ * under 3 texels or a row wider than it). */
 enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct rs_render_desc *out,
                                       struct rs_error *err);
 
@@ -211,10 +225,12 @@ struct rs_render_accel {
 	double pack_ms;
 };
 
-/** Build the BVH of `scene` with `bvh` (NULL: defaults) and pack it. Free with
- * rs_render_accel_free(), also after a failure (which leaves *out zeroed). */
+/** Build the BVH of `scene` with `bvh` and pack it with `pack` (either NULL: defaults;
+ * pack->max_texture_size 0: 2048). RS_ERR_LIMIT when the scene does not fit the texture
+ * limit. Free with rs_render_accel_free(), also after a failure (which leaves *out zeroed). */
 enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
-                                     struct rs_render_accel *out, struct rs_error *err);
+                                     const struct rs_pack_desc *pack, struct rs_render_accel *out,
+                                     struct rs_error *err);
 
 /** Free what rs_render_accel_build() allocated and zero the struct; NULL is allowed. */
 void rs_render_accel_free(struct rs_render_accel *accel);

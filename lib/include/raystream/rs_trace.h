@@ -102,6 +102,24 @@ enum rs_ray_state {
 	RS_RAY_DIFFUSE = -3,     /**< hit a surface that neither reflects nor refracts: finished */
 };
 
+/**
+ * Someone else's ray queries in place of the packed-BVH walk, under the reference's path
+ * logic (to run a peer library on exactly the reference's rays: raystream-bench's Embree
+ * peer). Rays arrive in the packed frame (relative to packed->origin, as the packed
+ * positions are). Both calls must honour ray->tmin < t < ray->tmax and ray->skip_slot, and
+ * hits must name the packed slot (the triangle's index in BVH slot order: shading reads the
+ * packed textures there). Called from every render thread at once, so it must be
+ * thread-safe. Box and triangle counts stay 0 under an intersector.
+ */
+struct rs_trace_intersector {
+	bool (*closest)(void *user, const struct rs_ray *ray, struct rs_hit *out_hit);
+	bool (*occluded)(void *user, const struct rs_ray *ray);
+	/** Optional: called by the CPU renderer (rs_renderer_create_cpu_with()) at set_scene
+	 * with the packed textures it will shade from, to build the peer's structure over the
+	 * same triangles in the same slots. rs_trace_render() never calls it. */
+	enum rs_status (*prepare)(void *user, const struct rs_packed *packed, struct rs_error *err);
+	void *user;
+};
 /** Default spawn offset scale S of docs/tracer.md R5: 2^-16 (128 fp32 ulps). */
 #define RS_TRACE_SPAWN_SCALE 0x1p-16
 
@@ -118,6 +136,8 @@ struct rs_trace_desc {
 	/** Camera to render from instead of the scene's (its size is used when width or
 	 * height is 0, like the scene camera's); NULL: the scene's. */
 	const struct rs_camera *camera;
+	/** Ray queries to use instead of walking `packed`'s BVH; NULL: the walk. */
+	const struct rs_trace_intersector *intersector;
 };
 
 /** Counts over the rendered pixels. Hit numbers are means per pixel over all its rays. */

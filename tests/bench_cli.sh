@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# Usage: bench_cli.sh BENCH_BINARY WORK_DIR. Checks the plumbing of raystream-bench --table 2
+# (no timing is asserted). Prints "N passed, N failed" and exits non-zero on any failure.
+source "$(dirname "$0")/cli_harness.sh"
+
+expect_fail() {
+  local name=$1 code=$2 regex=$3
+  shift 3
+  fails_cleanly "$name" "$code" "$regex" "$@" && ok "$name"
+}
+
+expect_fail "unknown table" 2 "--table" --table 3
+expect_fail "unknown backend" 2 "unknown backend 'vulkan'" --table 2 --backend vulkan
+expect_fail "unknown peer" 2 "--peer" --table 2 --peer optix
+expect_fail "unknown builder" 2 "BVH builder" --table 2 --bvh octree
+expect_fail "unknown scene" 2 "unknown scene" --table 2 --scene cow3
+
+for scene in box cow1; do
+  if ! "$bin" --table 2 --size 16 --repeats 2 --scene "$scene" >out.txt 2>err.txt; then
+    bad "$scene: exit $? ($(head -c 300 err.txt))"
+    continue
+  fi
+  # Every setting has its row; the CPU backend refuses raster and says so.
+  for setting in "tree BVH, 1 pass" "raster + BVH, 1 pass" "raster + BVH, 2 passes" \
+      "tree BVH, 2 passes"; do
+    if grep -Fq "| $scene" out.txt && grep -F "| $setting |" out.txt | grep -q "$scene"; then
+      ok "$scene: row '$setting'"
+    else
+      bad "$scene: no row '$setting'"
+    fi
+  done
+  if [ "$(grep -c "refused: .*raster" out.txt)" -eq 2 ]; then ok "$scene: raster refused"
+  else bad "$scene: raster rows not shown as refused"; fi
+  # The CPU backend is the reference: its traced images must match it exactly.
+  if [ "$(grep "tree BVH" out.txt | grep -c "inf dB, 0.000%, agrees")" -eq 2 ]; then
+    ok "$scene: cpu images equal the reference"
+  else bad "$scene: cpu image differs from the reference"; fi
+  grep -q "^renderer: CPU" out.txt && ok "$scene: renderer string" || bad "$scene: no renderer line"
+  grep -q "^load average at start" out.txt && ok "$scene: load average" || bad "$scene: no load average"
+  if grep -q "^Peer: Embree" out.txt; then
+    for passes in 1 2; do
+      row=$(grep -E "^\| $scene +\| $passes \|" out.txt)
+      if [ -z "$row" ]; then bad "$scene: no peer row for $passes pass(es)"; continue; fi
+      # Same work: the peer's image agrees with the reference, and both replays (one ray at a
+      # time, streams) find exactly the hits it found under the reference's paths, on as
+      # many rays as the backend traced.
+      if echo "$row" | grep -q "agrees"; then ok "$scene/$passes: Embree image agrees"
+      else bad "$scene/$passes: Embree image differs: $row"; fi
+      if echo "$row" | grep -Eq "\(([0-9]+); \1, \1\)"; then ok "$scene/$passes: replay hits equal"
+      else bad "$scene/$passes: replay hits differ: $row"; fi
+      sum=$(echo "$row" | awk -F'|' '{split($4, n, " "); print n[1] + n[3]}')
+      back=$(echo "$row" | awk -F'|' '{gsub(/ /, "", $10); print $10}')
+      # fp32 hits may send a rare path another way: the counts agree within 1%.
+      if [ -n "$sum" ] && [ -n "$back" ] && [ $(( (sum - back) * 100 )) -le "$back" ] &&
+          [ $(( (back - sum) * 100 )) -le "$back" ]; then
+        ok "$scene/$passes: the backend's rays ($back, peer $sum)"
+      else bad "$scene/$passes: peer traced $sum rays, the backend $back"; fi
+    done
+  else
+    grep -q "^Peer: not built" out.txt && ok "$scene: peer absence stated" || bad "$scene: no peer line"
+  fi
+done
+
+# A GL backend, when built: the raster settings run (not refused), every image agrees with
+# the reference, per-kernel rows come from stats.kernels[], and the renderer is named.
+if "$bin" --table 2 --backend egl --size 16 --repeats 1 --scene box --peer none \
+    >egl.txt 2>egl_err.txt; then
+  for setting in "tree BVH, 1 pass" "raster + BVH, 1 pass" "raster + BVH, 2 passes" \
+      "tree BVH, 2 passes"; do
+    row=$(grep -F "| $setting |" egl.txt | grep -E "^\| box +\|" | head -1)
+    if echo "$row" | grep -q "agrees"; then ok "egl: '$setting' agrees with the reference"
+    else bad "egl: '$setting': $row"; fi
+  done
+  grep -q "refused" egl.txt && bad "egl refused a setting" || ok "egl: nothing refused"
+  grep -Eq "^\| box +\| tree BVH, 1 pass \| [a-z]+ \| [0-9]+ \|" egl.txt &&
+    ok "egl: per-kernel rows" || bad "egl: no per-kernel rows"
+  grep -q "^renderer: " egl.txt && ! grep -q "^renderer: CPU" egl.txt &&
+    ok "egl: renderer string" || bad "egl: renderer string missing"
+elif grep -q "unknown backend 'egl'" egl_err.txt; then
+  ok "egl not in this build (GL checks skipped)"
+else
+  bad "egl: $(head -c 300 egl_err.txt)"
+fi
+finish
