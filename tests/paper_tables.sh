@@ -20,13 +20,16 @@ for f in 174.652 443.34 646.73 268.77 101.74 3.46 12.79; do
 done
 grep -Eq '^\| box +\| +153 \| +[0-9.]+ \|' tables.md && ok "Table 1 has our hit numbers" ||
   bad "Table 1 row: $(grep '^| box' tables.md | head -1)"
-grep -Eq '^\| box \| [0-9.]+ \([0-9.]+\) \| 443.34' tables.md && ok "Table 2 has our fps" ||
+# Table 2 from raystream-bench --table 2 (a row per setting) or, on a build without it,
+# from raystream-glbench (a row per scene): either way our fps beside the paper's 443.34
+grep -Eq '^\| box +\| tree BVH, 1 pass \| [0-9.]+ .*\| [0-9.]+ \| .*443\.34|^\| box \| [0-9.]+ \([0-9.]+\) \| 443\.34' tables.md &&
+  ok "Table 2 has our fps" ||
   bad "Table 2 row: $(grep '^| box' tables.md | tail -1)"
 grep -Eq '^\| ours, fps \| [0-9.]+ \| .* \| [0-9.]+ \(hit numbers [0-9.]+\) \| [0-9.]+ \|' tables.md &&
   ok "Table 3 has the ray tracer's fps" || bad "Table 3 row: $(grep '^| ours' tables.md)"
 grep -q "^Machine: " tables.md && grep -q "llvmpipe\|Renderers: egl: [^;]" tables.md &&
   ok "machine and renderer named" || bad "machine or renderer missing"
-[ "$(grep -c '^paper-tables: Table' stderr.txt)" -ge 6 ] && ok "progress shown" ||
+[ "$(grep -c '^paper-tables: Table' stderr.txt)" -ge 5 ] && ok "progress shown" ||
   bad "progress: $(cat stderr.txt)"
 if bash "$script" --frobnicate >stdout.txt 2>stderr.txt; then bad "bad option accepted"
 else grep -q "unknown option '--frobnicate'" stderr.txt && ok "bad option refused" ||
