@@ -3,6 +3,7 @@
  * centroid and image noise. A benchmark, not a test: nothing is asserted. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -139,6 +140,29 @@ static void project(const struct rs_optical_rig *rig, int v, const double X0[3],
 	*w = K[4] * X[1] / X[2] + K[5];
 }
 
+/* Solve one sample with the optical path's stated noise and compare with the true pose:
+ * false when the solver does not report it good; else the rotation error (rad) and the
+ * squared position error (m^2). */
+static bool solve_against(const struct rs_marker_sample *s, double sigma_m,
+                          const struct rs_pose_layout *L, const struct rs_pose *T,
+                          struct rs_pose_quality *q, double *out_rot, double *out_pos2)
+{
+	struct rs_pose_solver_desc sd = {.noise_sigma_m = sigma_m > 0 ? sigma_m : 1e-3};
+	struct rs_pose_solver *solver = NULL;
+	if (rs_pose_solver_create(&sd, L, &solver, NULL) != RS_OK)
+		return false;
+	struct rs_pose p;
+	rs_pose_solver_update(solver, s, &p, q);
+	rs_pose_solver_destroy(&solver);
+	if (q->status > RS_POSE_RELABELED)
+		return false;
+	*out_rot = rs_pose_angle_between(&p, T);
+	*out_pos2 = 0.0;
+	for (int a = 0; a < 3; ++a)
+		*out_pos2 += (p.position[a] - T->position[a]) * (p.position[a] - T->position[a]);
+	return true;
+}
+
 /* Centroids = true projections + Gaussian noise: solved fraction and pose errors against
  * what the tracker and solver state (marker sigma from the triangulation, the solver's
  * rotation_rms_rad for it). */
@@ -170,23 +194,13 @@ static void error_row(double baseline, double sigma_px, int trials)
 		struct rs_optical_quality oq;
 		rs_optical_tracker_process_blobs(t, b[0], 3, b[1], 3, 0.0, &s, &oq, NULL);
 		sig += oq.sigma_m * oq.sigma_m;
-		struct rs_pose_solver_desc sd = {.noise_sigma_m =
-		                                     oq.sigma_m > 0 ? oq.sigma_m : 1e-3};
-		struct rs_pose_solver *solver = NULL;
-		if (rs_pose_solver_create(&sd, &L, &solver, NULL) != RS_OK)
-			continue;
-		struct rs_pose p;
 		struct rs_pose_quality q;
-		rs_pose_solver_update(solver, &s, &p, &q);
-		rs_pose_solver_destroy(&solver);
-		if (q.status > RS_POSE_RELABELED)
+		double a, d2;
+		if (!solve_against(&s, oq.sigma_m, &L, &T, &q, &a, &d2))
 			continue;
 		++good;
-		double a = rs_pose_angle_between(&p, &T);
-		double d[3] = {p.position[0] - T.position[0], p.position[1] - T.position[1],
-		               p.position[2] - T.position[2]};
 		se_r += a * a;
-		se_p += d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+		se_p += d2;
 		st_r += q.rotation_rms_rad * q.rotation_rms_rad;
 		law_r += oq.rotation_rms_rad * oq.rotation_rms_rad;
 		law_p += oq.position_rms_m * oq.position_rms_m;
@@ -221,23 +235,13 @@ static void image_row(double grey, int trials)
 		struct rs_marker_sample s;
 		struct rs_optical_quality oq;
 		rs_optical_tracker_process(t, &a, &b, 0.0, &s, &oq, NULL);
-		struct rs_pose_solver_desc sd = {.noise_sigma_m =
-		                                     oq.sigma_m > 0 ? oq.sigma_m : 1e-3};
-		struct rs_pose_solver *solver = NULL;
-		if (rs_pose_solver_create(&sd, &L, &solver, NULL) != RS_OK)
-			continue;
-		struct rs_pose p;
 		struct rs_pose_quality q;
-		rs_pose_solver_update(solver, &s, &p, &q);
-		rs_pose_solver_destroy(&solver);
-		if (q.status > RS_POSE_RELABELED)
+		double e, d2;
+		if (!solve_against(&s, oq.sigma_m, &L, &T, &q, &e, &d2))
 			continue;
 		++good;
-		double e = rs_pose_angle_between(&p, &T);
-		double dd[3] = {p.position[0] - T.position[0], p.position[1] - T.position[1],
-		                p.position[2] - T.position[2]};
 		se_r += e * e;
-		se_p += dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2];
+		se_p += d2;
 	}
 	int n = good ? good : 1;
 	printf("| %.0f | %.1f %% | %.3f | %.3f |\n", grey, 100.0 * good / trials,
