@@ -166,6 +166,34 @@ void rs_scene_environment(const struct rs_scene *scene, struct rs_environment *o
 /** Bounds of all vertices, from the double positions (lo > hi when the scene is empty). */
 void rs_scene_bounds(const struct rs_scene *scene, struct rs_bounds *out);
 
+/** A reflective object (rs_scene_reflective_objects): a connected group of mirror triangles
+ * and a sphere that holds them, the capture point of its own cube map in inter-reflection
+ * environment mapping (DIGEST.md 4.2). */
+struct rs_scene_object {
+	double center[3];        /**< centre of the group's bounding box */
+	double radius;           /**< largest distance from `center` to one of its vertices */
+	uint32_t material;       /**< material of its first triangle */
+	uint32_t triangle_count; /**< triangles in the group */
+};
+
+/** rs_scene_reflective_objects: the object id of a triangle that reflects nothing. */
+#define RS_SCENE_NO_OBJECT UINT32_MAX
+
+/**
+ * Group the triangles whose material has reflectance > 0 into objects: two such triangles
+ * with the same material belong to one object when they share a vertex position (exactly,
+ * so seams of duplicated vertices do not split a mesh). Objects are numbered in the order
+ * of their lowest triangle. Writes the object of every triangle (RS_SCENE_NO_OBJECT for
+ * the rest) to object_of_triangle (rs_scene_triangle_count() entries; may be NULL) and
+ * the first `capacity` objects to `objects` (may be NULL when capacity is 0); *count gets
+ * the number of objects. RS_ERR_LIMIT when there are more than `capacity` (object_of_triangle
+ * and *count are still written), RS_ERR_NO_MEMORY when the scratch space cannot be had.
+ */
+enum rs_status rs_scene_reflective_objects(const struct rs_scene *scene,
+                                           uint32_t *object_of_triangle,
+                                           struct rs_scene_object *objects, size_t capacity,
+                                           size_t *count, struct rs_error *err);
+
 /**
  * Frame the camera the way the benchmark scenes do: look at the centre of `focus` from
  * `elevation_deg` above the horizontal on the +z side, at distance r / sin(fov_y / 2), with
