@@ -65,4 +65,62 @@ static inline void gl_reference(const struct rs_render_desc *desc, const struct 
 	rs_renderer_destroy(&cpu);
 }
 
+/* Six strongly different environment faces with two broad dark bands each, centred at
+ * `center` (off the capture points, so a face turned or mirrored in place shows). */
+static inline void gl_coloured_environment(struct rs_scene *s, const double center[3],
+                                           double half_size)
+{
+	struct rs_environment env = {.center = {center[0], center[1], center[2]},
+	                             .half_size = half_size,
+	                             .grid = 2,
+	                             .line_width = 0.3f,
+	                             .face_color = {{0.9f, 0.1f, 0.1f},
+	                                            {0.1f, 0.9f, 0.1f},
+	                                            {0.1f, 0.1f, 0.9f},
+	                                            {0.9f, 0.9f, 0.1f},
+	                                            {0.1f, 0.9f, 0.9f},
+	                                            {0.9f, 0.1f, 0.9f}}};
+	if (rs_scene_set_environment(s, &env, NULL) != RS_OK)
+		fail_msg("environment refused");
+}
+
+/* A UV sphere (48 slices, 24 rings, seam vertices repeated) of `material` added to `s`. */
+static inline void gl_add_sphere(struct rs_scene *s, const double centre[3], double radius,
+                                 uint32_t material)
+{
+	enum { SL = 48, RI = 24 };
+	double *pos = malloc(sizeof(double) * (SL + 1) * (RI + 1) * 3);
+	float *nrm = malloc(sizeof(float) * (SL + 1) * (RI + 1) * 3);
+	uint32_t *idx = malloc(sizeof(uint32_t) * SL * RI * 6);
+	if (!pos || !nrm || !idx)
+		fail_msg("out of memory for a sphere");
+	size_t v = 0, t = 0;
+	for (uint32_t i = 0; i <= RI; ++i)
+		for (uint32_t j = 0; j <= SL; ++j, ++v) {
+			double th = 3.14159265358979 * i / RI, ph = 6.28318530717959 * j / SL;
+			double n[3] = {sin(th) * cos(ph), cos(th), -sin(th) * sin(ph)};
+			for (int k = 0; k < 3; ++k) {
+				pos[3 * v + k] = centre[k] + radius * n[k];
+				nrm[3 * v + k] = (float)n[k];
+			}
+		}
+	for (uint32_t i = 0; i < RI; ++i)
+		for (uint32_t j = 0; j < SL; ++j, t += 2) {
+			uint32_t a = i * (SL + 1) + j, b = a + SL + 1;
+			uint32_t tri[6] = {a, b, a + 1, a + 1, b, b + 1};
+			memcpy(&idx[t * 3], tri, sizeof tri);
+		}
+	struct rs_mesh_desc m = {.positions_f64 = pos,
+	                         .vertex_count = v,
+	                         .normals = nrm,
+	                         .indices = idx,
+	                         .triangle_count = t,
+	                         .material = material};
+	if (rs_scene_add_mesh(s, &m, NULL) != RS_OK)
+		fail_msg("sphere mesh refused");
+	free(pos);
+	free(nrm);
+	free(idx);
+}
+
 #endif

@@ -12,50 +12,21 @@
 #include "test_gl_common.h"
 
 #define SIZE 64u
-#define SLICES 48u
-#define RINGS 24u
 
 /* A mirror sphere (radius 0.5 at the origin) under a far environment cube, seen from
  * +z; a tiny triangle behind the camera moves the capture point (the bounds centre) out
  * of the sphere, to (0, 0, 2.75). */
 static struct rs_scene *sphere_scene(void)
 {
-	static double pos[(SLICES + 1) * (RINGS + 1) * 3];
-	static float nrm[(SLICES + 1) * (RINGS + 1) * 3];
-	static uint32_t idx[SLICES * RINGS * 6];
 	struct rs_scene *s = NULL;
 	assert_int_equal(rs_scene_create(NULL, &s, NULL), RS_OK);
-	size_t v = 0, t = 0;
-	for (uint32_t i = 0; i <= RINGS; ++i)
-		for (uint32_t j = 0; j <= SLICES; ++j, ++v) {
-			double th = 3.14159265358979 * i / RINGS,
-			       ph = 6.28318530717959 * j / SLICES;
-			double n[3] = {sin(th) * cos(ph), cos(th), -sin(th) * sin(ph)};
-			for (int k = 0; k < 3; ++k) {
-				pos[3 * v + k] = 0.5 * n[k];
-				nrm[3 * v + k] = (float)n[k];
-			}
-		}
-	for (uint32_t i = 0; i < RINGS; ++i)
-		for (uint32_t j = 0; j < SLICES; ++j) {
-			uint32_t a = i * (SLICES + 1) + j, b = a + SLICES + 1;
-			uint32_t tri[6] = {a, b, a + 1, a + 1, b, b + 1};
-			for (int k = 0; k < 6; ++k)
-				idx[t * 3 + (size_t)k] = tri[k];
-			t += 2;
-		}
 	static const struct rs_material mirror = {.reflectance = 1.0f};
 	static const struct rs_material grey = {.diffuse = {0.5f, 0.5f, 0.5f}};
 	uint32_t m_mirror, m_grey;
 	assert_int_equal(rs_scene_add_material(s, &mirror, &m_mirror, NULL), RS_OK);
 	assert_int_equal(rs_scene_add_material(s, &grey, &m_grey, NULL), RS_OK);
-	struct rs_mesh_desc sphere = {.positions_f64 = pos,
-	                              .vertex_count = v,
-	                              .normals = nrm,
-	                              .indices = idx,
-	                              .triangle_count = t,
-	                              .material = m_mirror};
-	assert_int_equal(rs_scene_add_mesh(s, &sphere, NULL), RS_OK);
+	static const double origin[3] = {0, 0, 0};
+	gl_add_sphere(s, origin, 0.5, m_mirror);
 	static const double dot[9] = {0, 0, 6, 0.01, 0, 6, 0, 0.01, 6};
 	static const uint32_t dot_idx[3] = {0, 1, 2};
 	struct rs_mesh_desc tiny = {.positions_f64 = dot,
@@ -74,17 +45,8 @@ static struct rs_scene *sphere_scene(void)
 	/* Two broad dark bands a face, off the faces' centres (the cube's centre is not the
 	 * capture point), so a face turned or mirrored in place shows; thin grid lines would
 	 * alias differently in a 64-texel face and in traced pixels. */
-	struct rs_environment env = {.center = {60, 30, -40},
-	                             .half_size = 200.0,
-	                             .grid = 2,
-	                             .line_width = 0.3f,
-	                             .face_color = {{0.9f, 0.1f, 0.1f},
-	                                            {0.1f, 0.9f, 0.1f},
-	                                            {0.1f, 0.1f, 0.9f},
-	                                            {0.9f, 0.9f, 0.1f},
-	                                            {0.1f, 0.9f, 0.9f},
-	                                            {0.9f, 0.1f, 0.9f}}};
-	assert_int_equal(rs_scene_set_environment(s, &env, NULL), RS_OK);
+	static const double env_center[3] = {60, 30, -40};
+	gl_coloured_environment(s, env_center, 200.0);
 	struct rs_light light = {{5, 5, 5}, {1, 1, 1}};
 	assert_int_equal(rs_scene_add_light(s, &light, NULL), RS_OK);
 	return s;

@@ -61,7 +61,8 @@ static void mirrors_become_one_object_each(void **state)
 		assert_int_equal(o[i].triangle_count, 12);
 		assert_int_equal(o[i].material, 1);
 		assert_true(fabs(o[i].center[0] - (3.5 + 3.0 * i)) < 1e-12);
-		assert_true(fabs(o[i].center[1] - 0.5) < 1e-12 && fabs(o[i].center[2] - 0.5) < 1e-12);
+		assert_true(fabs(o[i].center[1] - 0.5) < 1e-12 &&
+		            fabs(o[i].center[2] - 0.5) < 1e-12);
 		assert_true(fabs(o[i].radius - sqrt(0.75)) < 1e-12);
 	}
 	rs_scene_destroy(&s);

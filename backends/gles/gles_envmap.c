@@ -3,6 +3,7 @@
  * traced image of 1 pass (local shading, shadows, environment) seen with a 90-degree
  * camera; from the second pass on, rays read it by direction instead of being traced. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -18,37 +19,47 @@ static const double faces[6][3][3] = {
 
 void rs_gles_envmap_uniforms(const struct gles *g, GLuint prog, uint32_t pass)
 {
-	rs_gles_bind(&g->gl, prog, UNIT_ENVMAP, "u_envmap", GL_TEXTURE_CUBE_MAP, g->envmap);
-	rs_gles_uniform_i(&g->gl, prog, "u_envmap_on", g->envmap_ready && pass > 0);
+	const struct rs_gl *gl = &g->gl;
+	rs_gles_bind(gl, prog, UNIT_ENVMAP, "u_envmap", GL_TEXTURE_CUBE_MAP, g->envmap);
+	rs_gles_uniform_i(gl, prog, "u_envmap_on", g->envmap_ready && pass > 0);
+	if (g->desc.reflections != RS_REFLECT_INTERREFLECT)
+		return;
+	rs_gles_bind_2d(gl, prog, UNIT_OBJECTS, "u_objects", g->object_tex);
+	rs_gles_uniform_i(gl, prog, "u_objmap_on", g->objmap_read >= 0);
+	/* Unused samplers still need a cube map bound: the first set stands in before any. */
+	int set = g->objmap_read >= 0 ? g->objmap_read : 0;
+	for (uint32_t o = 0; o < RS_RENDER_MAX_MIRROR_OBJECTS; ++o) {
+		char name[16];
+		snprintf(name, sizeof name, "u_objmap%u", o);
+		rs_gles_bind(gl, prog, UNIT_OBJMAP + (int)o, name, GL_TEXTURE_CUBE_MAP,
+		             g->objmap[set][o]);
+	}
 }
 
-enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, struct rs_error *err)
+enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float near,
+                                    uint32_t passes, GLuint tex, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	uint32_t n = g->desc.width;
-	if (g->desc.height != n)
-		return rs_error_set(err, RS_ERR_UNSUPPORTED,
-		                    "gles: environment mapping needs a square image (its cube "
-		                    "faces are the frame's size), not %ux%u",
-		                    g->desc.width, g->desc.height);
 	size_t floats = (size_t)n * n * 3;
 	float *rgb = malloc(floats * sizeof(float)), *face = malloc(floats * sizeof(float));
 	enum rs_status st = RS_OK;
 	if (!rgb || !face)
-		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for the cube map");
-	struct rs_bounds b;
-	rs_scene_bounds(scene, &b);
-	gl->GenTextures(1, &g->envmap);
-	uint32_t passes = g->desc.passes;
-	g->desc.passes = 1; /* the faces: what the centre sees directly */
-	g->envmap_ready = false;
+		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for a cube map");
+	uint32_t keep_passes = g->desc.passes;
+	float keep_near = g->capture_near;
+	enum rs_primary_mode keep_primary = g->desc.primary;
+	g->desc.passes = passes;
+	g->capture_near = near;
+	if (near > 0.0f) /* the raster pass has no start distance */
+		g->desc.primary = RS_PRIMARY_TRACE;
 	for (int f = 0; f < 6 && st == RS_OK; ++f) {
 		/* up = -t: image row 0 is the face's t = 0 row; the camera's right (forward x
 		 * up) is then either +s or -s, and the columns are mirrored when it is -s. */
 		struct rs_camera cam = {.fov_y_deg = 90.0, .width = n, .height = n};
 		const double *ax = faces[f][0], *sd = faces[f][1], *td = faces[f][2];
 		for (int a = 0; a < 3; ++a) {
-			cam.eye[a] = 0.5 * (b.lo[a] + b.hi[a]);
+			cam.eye[a] = eye[a];
 			cam.target[a] = cam.eye[a] + ax[a];
 			cam.up[a] = -td[a];
 		}
@@ -66,12 +77,14 @@ enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, stru
 				       3 * sizeof(float));
 		if (st == RS_OK) {
 			gl->ActiveTexture(GL_TEXTURE0 + UNIT_ENVMAP);
-			gl->BindTexture(GL_TEXTURE_CUBE_MAP, g->envmap);
+			gl->BindTexture(GL_TEXTURE_CUBE_MAP, tex);
 			gl->TexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)f, 0, GL_RGB16F,
 			               (GLsizei)n, (GLsizei)n, 0, GL_RGB, GL_FLOAT, face);
 		}
 	}
-	g->desc.passes = passes;
+	g->desc.passes = keep_passes;
+	g->capture_near = keep_near;
+	g->desc.primary = keep_primary;
 	if (st == RS_OK) {
 		gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
 		gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -79,8 +92,27 @@ enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, stru
 		gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 		st = rs_gles_check(gl, "environment map", err);
 	}
-	g->envmap_ready = st == RS_OK;
 	free(rgb);
 	free(face);
+	return st;
+}
+
+enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, struct rs_error *err)
+{
+	if (g->desc.height != g->desc.width)
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                    "gles: environment mapping needs a square image (its cube "
+		                    "faces are the frame's size), not %ux%u",
+		                    g->desc.width, g->desc.height);
+	struct rs_bounds b;
+	rs_scene_bounds(scene, &b);
+	double centre[3];
+	for (int a = 0; a < 3; ++a)
+		centre[a] = 0.5 * (b.lo[a] + b.hi[a]);
+	g->envmap_ready = false;
+	g->gl.GenTextures(1, &g->envmap);
+	/* The faces: what the centre sees directly (1 pass). */
+	enum rs_status st = rs_gles_capture_cube(g, centre, 0.0f, 1, g->envmap, err);
+	g->envmap_ready = st == RS_OK;
 	return st;
 }

@@ -8,8 +8,6 @@
 
 #include "gles_internal.h"
 
-static void kernel_time(struct rs_render_stats *stats, const char *name, double ms);
-
 /* Attach `n` colour targets and draw the fullscreen triangle with `prog`. */
 static enum rs_status draw(struct gles *g, const char *name, const GLuint *targets, int n,
                            struct rs_render_stats *stats, double t0, struct rs_error *err)
@@ -26,7 +24,7 @@ static enum rs_status draw(struct gles *g, const char *name, const GLuint *targe
 		                    "gles: the %s kernel's render targets are not complete", name);
 	gl->DrawArrays(GL_TRIANGLES, 0, 3);
 	gl->Finish();
-	kernel_time(stats, name, rs_gles_now_ms() - t0);
+	rs_gles_kernel_time(stats, name, rs_gles_now_ms() - t0);
 #ifndef NDEBUG
 	return rs_gles_check(gl, name, err);
 #else
@@ -35,7 +33,7 @@ static enum rs_status draw(struct gles *g, const char *name, const GLuint *targe
 #endif
 }
 
-static void kernel_time(struct rs_render_stats *stats, const char *name, double ms)
+void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms)
 {
 	uint32_t k = 0;
 	while (k < stats->kernel_count && strcmp(stats->kernels[k].name, name) != 0)
@@ -97,7 +95,7 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 	if (st != RS_OK)
 		return st;
 	gl->Finish();
-	kernel_time(stats, "raster", rs_gles_now_ms() - t0);
+	rs_gles_kernel_time(stats, "raster", rs_gles_now_ms() - t0);
 	return rs_gles_check(gl, "raster", err);
 }
 
@@ -123,9 +121,10 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 	GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC], g->cnt[0]};
 	gl->UseProgram(g->prog[PROG_RAYGEN]);
 	rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
+	rs_gles_uniform_f(gl, g->prog[PROG_RAYGEN], "u_near", g->capture_near);
 	enum rs_status st = draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
 	/* Environment mapping switches tracing off per pass: the separate chain only. */
-	bool envmap = g->desc.reflections == RS_REFLECT_ENVMAP;
+	bool envmap = g->desc.reflections != RS_REFLECT_TRACE;
 	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters && !envmap;
 	/* With the env map every path ends in the second pass: later ones would be empty. */
 	uint32_t count = envmap && g->desc.passes > 2 ? 2 : g->desc.passes;

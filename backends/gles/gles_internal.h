@@ -6,6 +6,7 @@
 
 #include "gl_api.h"
 #include "raystream/rs_gles.h"
+#include "raystream/rs_scene.h"
 
 /* Per-pixel state textures (ping-pong pairs). */
 enum { ST_ORIG = 0, ST_DIR = 1, ST_ACC = 2, ST_COUNT = 3 };
@@ -23,7 +24,9 @@ enum {
 	UNIT_CNT,
 	UNIT_SHADOW,
 	UNIT_ENVMAP,
-	UNIT_COUNT
+	UNIT_OBJECTS, /* RS_REFLECT_INTERREFLECT: scene triangle -> object (R32F) */
+	UNIT_OBJMAP,  /* ... and RS_RENDER_MAX_MIRROR_OBJECTS cube maps from here on */
+	UNIT_COUNT = UNIT_OBJMAP + RS_RENDER_MAX_MIRROR_OBJECTS
 };
 
 enum {
@@ -61,6 +64,14 @@ struct gles {
 	GLuint shadow, shadow_depth; /* shadow maps: R32F array (6 faces a light), depth */
 	GLuint envmap;               /* RS_REFLECT_ENVMAP: RGB16F cube map (gles_envmap.c) */
 	bool envmap_ready;           /* captured: later passes read it instead of tracing */
+	/* RS_REFLECT_INTERREFLECT (gles_interreflect.c): the objects, their triangle -> object
+	 * texture, two sets of cube maps (bounce k writes one set and reads the other), the set
+	 * the next pass reads (-1: none yet), and the capture rays' start distance. */
+	struct rs_scene_object objects[RS_RENDER_MAX_MIRROR_OBJECTS];
+	uint32_t object_count;
+	GLuint object_tex, objmap[2][RS_RENDER_MAX_MIRROR_OBJECTS];
+	int objmap_read;
+	float capture_near;
 	double bounds_center[3], bounds_radius; /* raster primary: clip planes per camera */
 	GLuint prog[PROG_COUNT];
 	uint32_t light_count;
@@ -86,6 +97,9 @@ void rs__gles_override_kernel(const char *name, const char *source);
 /* Check glGetError after `what`; RS_ERR_NO_MEMORY for GL_OUT_OF_MEMORY, else RS_ERR_DEVICE. */
 enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err);
 
+/* Add `ms` to the kernel timing `name` of `stats` (a new entry while there is room). */
+void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms);
+
 /* Monotonic clock in milliseconds. */
 double rs_gles_now_ms(void);
 
@@ -101,8 +115,20 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);
  * 1 pass, 90 degrees, the frame's square size). */
 enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, struct rs_error *err);
 
-/* RS_REFLECT_ENVMAP: the cube map and whether pass `pass` reads it, for `prog`. */
+/* RS_REFLECT_ENVMAP and _INTERREFLECT: the cube maps and whether pass `pass` reads them. */
 void rs_gles_envmap_uniforms(const struct gles *g, GLuint prog, uint32_t pass);
+
+/* Render the 6 faces of cube map `tex` from `eye` (traced frames of `passes` passes, 90
+ * degrees, the frame's square size; primary rays start `near` from the eye). */
+enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float near,
+                                    uint32_t passes, GLuint tex, struct rs_error *err);
+
+/* RS_REFLECT_INTERREFLECT, set_scene: group the mirrors, upload the triangle -> object
+ * texture, make the cube maps (gles_interreflect.c). */
+enum rs_status rs_gles_interreflect_setup(struct gles *g, const struct rs_scene *scene,
+                                          struct rs_error *err);
+/* RS_REFLECT_INTERREFLECT, every frame: capture the objects' maps, bounce by bounce. */
+enum rs_status rs_gles_interreflect_capture(struct gles *g, struct rs_error *err);
 
 /* Bind `tex` (target GL_TEXTURE_2D or GL_TEXTURE_2D_ARRAY) to `unit` as sampler `name`. */
 void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,

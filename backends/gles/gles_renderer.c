@@ -25,8 +25,13 @@ static void delete_scene(struct gles *g)
 	gl->DeleteRenderbuffers(2, rbs);
 	gl->DeleteTextures(1, &g->shadow);
 	gl->DeleteTextures(1, &g->envmap);
-	g->depth = g->shadow_depth = g->shadow = g->envmap = 0;
+	gl->DeleteTextures(1, &g->object_tex);
+	gl->DeleteTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
+	memset(g->objmap, 0, sizeof g->objmap);
+	g->depth = g->shadow_depth = g->shadow = g->envmap = g->object_tex = 0;
 	g->envmap_ready = false;
+	g->object_count = 0;
+	g->objmap_read = -1;
 	rs_render_accel_free(&g->accel);
 	free(g->scratch);
 	g->scratch = NULL;
@@ -157,19 +162,20 @@ static int row_shift(uint32_t items)
 static enum rs_status build_programs(struct gles *g, const struct rs_scene *scene,
                                      struct rs_error *err)
 {
-	char defines[320];
+	char defines[384];
 	snprintf(defines, sizeof defines,
 	         "#define RS_ROW_ITEMS %u\n#define RS_ROW_SHIFT %d\n"
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
-	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n",
+	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n#define RS_INTERREFLECT %d\n",
 	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP,
-	         g->desc.reflections == RS_REFLECT_ENVMAP);
+	         g->desc.reflections != RS_REFLECT_TRACE,
+	         g->desc.reflections == RS_REFLECT_INTERREFLECT);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
-	char full[384];
+	char full[448];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
 	         g->light_count ? g->light_count : 1u);
 	static const char *const files[PROG_COUNT][4] = {
@@ -260,8 +266,12 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 		st = upload(g, err);
 	if (st == RS_OK && desc->shadows == RS_SHADOW_MAP)
 		st = rs_gles_shadow_maps(g, err);
-	if (st == RS_OK && desc->reflections == RS_REFLECT_ENVMAP)
+	bool interreflect = desc->reflections == RS_REFLECT_INTERREFLECT;
+	/* Inter-reflection: rays that leave no mirror object read the classic map. */
+	if (st == RS_OK && (desc->reflections == RS_REFLECT_ENVMAP || interreflect))
 		st = rs_gles_envmap(g, scene, err);
+	if (st == RS_OK && interreflect)
+		st = rs_gles_interreflect_setup(g, scene, err);
 	if (st == RS_OK) {
 		struct rs_camera cam;
 		rs_camera_resolve(rs_scene_camera(scene), &cam);
@@ -288,7 +298,19 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 	enum rs_status st = g->cops->make_current(g->ctx, err);
 	if (st != RS_OK)
 		return st;
-	st = rs_gles_frame(g, camera, frame, stats, err);
+	/* Inter-reflection maps are dynamic: captured for every frame (and counted in its time,
+	 * which is what Table 3 compares); a 1-pass frame reads none. */
+	double t0 = rs_gles_now_ms(), capture_ms = 0.0;
+	if (g->desc.reflections == RS_REFLECT_INTERREFLECT && g->desc.passes > 1) {
+		st = rs_gles_interreflect_capture(g, err);
+		capture_ms = rs_gles_now_ms() - t0;
+	}
+	if (st == RS_OK)
+		st = rs_gles_frame(g, camera, frame, stats, err);
+	if (st == RS_OK && capture_ms > 0.0) {
+		stats->render_ms += capture_ms;
+		rs_gles_kernel_time(stats, "envmap capture", capture_ms);
+	}
 	g->cops->release(g->ctx);
 	return st;
 }

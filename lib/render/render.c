@@ -66,9 +66,15 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 	if (d.shadows != RS_SHADOW_RAYS && d.shadows != RS_SHADOW_MAP)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown shadow mode %d",
 		                    (int)d.shadows);
-	if (d.reflections != RS_REFLECT_TRACE && d.reflections != RS_REFLECT_ENVMAP)
+	if (d.reflections != RS_REFLECT_TRACE && d.reflections != RS_REFLECT_ENVMAP &&
+	    d.reflections != RS_REFLECT_INTERREFLECT)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown reflection mode %d",
 		                    (int)d.reflections);
+	if (d.reflection_bounces == 0)
+		d.reflection_bounces = 1;
+	if (d.reflection_bounces > RS_RENDER_MAX_BOUNCES)
+		return rs_error_set(err, RS_ERR_INVALID, "render: %u reflection bounces (1..%u)",
+		                    d.reflection_bounces, RS_RENDER_MAX_BOUNCES);
 	if (d.chain != RS_CHAIN_FUSED && d.chain != RS_CHAIN_SEPARATE)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown kernel chain %d",
 		                    (int)d.chain);

@@ -237,7 +237,8 @@ enum rs_status rs_renderer_create_cpu_with(const struct rs_render_desc *desc,
 	if (desc && desc->shadows == RS_SHADOW_MAP)
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "render: the cpu backend has exact shadow rays only (no maps)");
-	if (desc && desc->reflections == RS_REFLECT_ENVMAP)
+	if (desc && (desc->reflections == RS_REFLECT_ENVMAP ||
+	             desc->reflections == RS_REFLECT_INTERREFLECT))
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "render: the cpu backend traces reflections only (no env map)");
 	if (intersector && (!intersector->closest || !intersector->occluded))

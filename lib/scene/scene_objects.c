@@ -124,7 +124,8 @@ enum rs_status rs_scene_reflective_objects(const struct rs_scene *scene,
 			const double *v = &pos[3 * (size_t)idx[3 * t + (size_t)c]];
 			double dx = v[0] - objects[o].center[0], dy = v[1] - objects[o].center[1],
 			       dz = v[2] - objects[o].center[2];
-			objects[o].radius = fmax(objects[o].radius, sqrt(dx * dx + dy * dy + dz * dz));
+			objects[o].radius =
+			    fmax(objects[o].radius, sqrt(dx * dx + dy * dy + dz * dz));
 		}
 	}
 	if (st == RS_OK && object_of_triangle)
@@ -134,7 +135,7 @@ enum rs_status rs_scene_reflective_objects(const struct rs_scene *scene,
 	free(corners);
 	free(object);
 	if (st == RS_OK && n > capacity)
-		st = rs_error_set(err, RS_ERR_LIMIT, "scene: %zu reflective objects, room for %zu", n,
-		                  capacity);
+		st = rs_error_set(err, RS_ERR_LIMIT, "scene: %zu reflective objects, room for %zu",
+		                  n, capacity);
 	return st;
 }

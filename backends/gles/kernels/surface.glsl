@@ -291,6 +291,34 @@ float rs_next_ray(Ray r, Hit h, Surf s, out Ray next, out float weight)
 uniform samplerCube u_envmap; // RS_REFLECT_ENVMAP: the cube map captured at the centre
 uniform int u_envmap_on;      // 1 from the second pass on: misses read u_envmap
 #endif
+#if RS_INTERREFLECT
+uniform sampler2D u_objects;   // scene triangle id -> mirror object (-1: none), rows of 2048
+uniform samplerCube u_objmap0; // the objects' maps (GLSL ES 3.00 indexes sampler arrays
+uniform samplerCube u_objmap1; // by constants only, hence one uniform each)
+uniform samplerCube u_objmap2;
+uniform samplerCube u_objmap3;
+uniform int u_objmap_on; // 1 once a bounce is captured
+
+// What a ray leaving triangle slot `slot` along d sees: its mirror object's own map, or
+// the classic map when it left no mirror object (or none is captured yet).
+vec3 rs_mapped(int slot, vec3 d)
+{
+	int o = -1;
+	if (slot >= 0 && u_objmap_on != 0) {
+		int id = int(rs_tri(slot, 0).w);
+		o = int(texelFetch(u_objects, ivec2(id % 2048, id / 2048), 0).r);
+	}
+	if (o == 0)
+		return textureLod(u_objmap0, d, 0.0).rgb;
+	if (o == 1)
+		return textureLod(u_objmap1, d, 0.0).rgb;
+	if (o == 2)
+		return textureLod(u_objmap2, d, 0.0).rgb;
+	if (o == 3)
+		return textureLod(u_objmap3, d, 0.0).rgb;
+	return textureLod(u_envmap, d, 0.0).rgb;
+}
+#endif
 
 // One path step after the intersection: environment for a miss (state -1 resolved to -2),
 // else local shading and the next ray. orig = (origin, skip slot), dir = (direction,
@@ -301,8 +329,13 @@ void rs_path_step(inout vec4 orig, inout vec4 dir, inout vec4 acc, Hit h, inout 
 	float throughput = dir.w;
 	if (h.slot < 0) {
 #if RS_ENVMAP
+#if RS_INTERREFLECT
+		acc.rgb += throughput * (u_envmap_on != 0 ? rs_mapped(r.skip, r.d)
+		                                          : rs_environment(r.o, r.d));
+#else
 		acc.rgb += throughput * (u_envmap_on != 0 ? texture(u_envmap, r.d).rgb
 		                                          : rs_environment(r.o, r.d));
+#endif
 #else
 		acc.rgb += throughput * rs_environment(r.o, r.d);
 #endif

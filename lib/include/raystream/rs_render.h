@@ -56,7 +56,19 @@ enum rs_reflection_mode {
 	 * the frame's size, which must be square); later rays read it by direction and stop.
 	 * No inter- or self-reflection, parallax error away from the centre. */
 	RS_REFLECT_ENVMAP = 1,
+	/** Inter-reflection environment mapping (GL backends only): a cube map per reflective
+	 * object (rs_scene_reflective_objects, at most RS_RENDER_MAX_MIRROR_OBJECTS), captured
+	 * from its bounding-sphere centre every frame with capture rays starting on that sphere
+	 * (the object does not see itself), rs_render_desc.reflection_bounces times: bounce k
+	 * sees the scene and the maps of bounce k-1. Rays leaving an object read its own map by
+	 * direction; rays leaving other surfaces read the classic map. Square frames only. */
+	RS_REFLECT_INTERREFLECT = 2,
 };
+
+/** Most reflective objects RS_REFLECT_INTERREFLECT maps (GLES 3.0 has 16 texture units). */
+#define RS_RENDER_MAX_MIRROR_OBJECTS 4u
+/** Largest rs_render_desc.reflection_bounces. */
+#define RS_RENDER_MAX_BOUNCES 8u
 
 /** Largest rs_render_desc.threads. */
 #define RS_RENDER_MAX_THREADS 256u
@@ -82,6 +94,8 @@ struct rs_render_desc {
 	uint32_t threads; /**< CPU backend threads; 0 -> the machine's cores */
 	enum rs_kernel_chain chain;
 	enum rs_reflection_mode reflections;
+	/** RS_REFLECT_INTERREFLECT: cube-map captures per frame, 1..8; 0 -> 1. */
+	uint32_t reflection_bounces;
 	/** GL backends: EGL platform to use ("surfaceless", "device", "gbm"); NULL: the
 	 * RS_EGL_PLATFORM environment variable, else the first that works in that order.
 	 * Read only while the renderer is created. */

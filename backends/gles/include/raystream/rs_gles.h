@@ -8,11 +8,11 @@
  * GL state: every call makes the context current, draws into the renderer's own
  * framebuffers and textures and releases the context before returning. It changes and
  * does not restore: the bound program, vertex array, framebuffer and renderbuffer, the
- * viewport, the textures bound to units 0..10 (2D, 2D-array and, with RS_REFLECT_ENVMAP, cube-map
- * targets) and the active texture unit, GL_PACK_ALIGNMENT (4), depth function and mask, and
- * disables GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_SCISSOR_TEST, GL_DITHER (which would change
- * results). A context the caller shares must be set up again by the caller after a render
- * (docs/gles.md).
+ * viewport, the textures bound to units 0..15 (2D, 2D-array and, with RS_REFLECT_ENVMAP or
+ * RS_REFLECT_INTERREFLECT, cube-map targets) and the active texture unit, GL_PACK_ALIGNMENT (4),
+ * depth function and mask, and disables GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_SCISSOR_TEST,
+ * GL_DITHER (which would change results). A context the caller shares must be set up again by the
+ * caller after a render (docs/gles.md).
  */
 #ifndef RS_GLES_H
 #define RS_GLES_H
