@@ -95,8 +95,8 @@ static void closer_to_tracing_than_the_classic_map(void **state)
 
 /* Mean absolute difference between a and b over the pixels where b1 and b2 differ by
  * more than 8/255 in some channel; *count gets how many. */
-static double mean_where_differ(const float *a, const float *b, const float *b1,
-                                const float *b2, size_t *count)
+static double mean_where_differ(const float *a, const float *b, const float *b1, const float *b2,
+                                size_t *count)
 {
 	double sum = 0.0;
 	*count = 0;
@@ -126,8 +126,10 @@ static void second_bounce_shows_where_spheres_see_each_other(void **state)
 	render(s, RS_REFLECT_TRACE, 2, 0, t2);
 	render(s, RS_REFLECT_TRACE, 3, 0, t3);
 	size_t n = 0;
-	double e1t2 = mean_where_differ(b1, t2, b1, b2, &n), e2t2 = mean_where_differ(b2, t2, b1, b2, &n);
-	double e1t3 = mean_where_differ(b1, t3, b1, b2, &n), e2t3 = mean_where_differ(b2, t3, b1, b2, &n);
+	double e1t2 = mean_where_differ(b1, t2, b1, b2, &n),
+	       e2t2 = mean_where_differ(b2, t2, b1, b2, &n);
+	double e1t3 = mean_where_differ(b1, t3, b1, b2, &n),
+	       e2t3 = mean_where_differ(b2, t3, b1, b2, &n);
 	print_message("bounces 1 vs 2 differ on %zu pixels; mean error there vs traced 2 passes: "
 	              "%.4f / %.4f, vs 3 passes: %.4f / %.4f\n",
 	              n, e1t2, e2t2, e1t3, e2t3);

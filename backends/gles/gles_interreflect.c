@@ -20,21 +20,22 @@ enum rs_status rs_gles_interreflect_setup(struct gles *g, const struct rs_scene 
 	size_t rows = tris ? (tris + OBJECT_ROW - 1) / OBJECT_ROW : 1;
 	if (rows > (size_t)g->max_tex)
 		return rs_error_set(err, RS_ERR_LIMIT,
-		                    "gles: %zu triangles need a %ux%zu object texture (limit %d)", tris,
-		                    OBJECT_ROW, rows, (int)g->max_tex);
+		                    "gles: %zu triangles need a %ux%zu object texture (limit %d)",
+		                    tris, OBJECT_ROW, rows, (int)g->max_tex);
 	uint32_t *of = malloc((tris ? tris : 1) * sizeof(uint32_t));
 	float *texels = calloc(rows * OBJECT_ROW, sizeof(float));
 	enum rs_status st = RS_OK;
 	if (!of || !texels)
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory grouping mirrors");
 	if (st == RS_OK) {
-		st = rs_scene_reflective_objects(scene, of, g->objects, RS_RENDER_MAX_MIRROR_OBJECTS,
-		                                 &count, err);
+		st = rs_scene_reflective_objects(scene, of, g->objects,
+		                                 RS_RENDER_MAX_MIRROR_OBJECTS, &count, err);
 		if (st == RS_ERR_LIMIT)
-			rs_error_set(err, RS_ERR_LIMIT,
-			             "gles: inter-reflection maps at most %u mirror objects, the scene "
-			             "has %zu",
-			             RS_RENDER_MAX_MIRROR_OBJECTS, count);
+			rs_error_set(
+			    err, RS_ERR_LIMIT,
+			    "gles: inter-reflection maps at most %u mirror objects, the scene "
+			    "has %zu",
+			    RS_RENDER_MAX_MIRROR_OBJECTS, count);
 	}
 	for (size_t i = 0; st == RS_OK && i < rows * OBJECT_ROW; ++i)
 		texels[i] = i < tris && of[i] != RS_SCENE_NO_OBJECT ? (float)of[i] : -1.0f;
@@ -54,10 +55,12 @@ enum rs_status rs_gles_interreflect_setup(struct gles *g, const struct rs_scene 
 			for (uint32_t o = count; o < RS_RENDER_MAX_MIRROR_OBJECTS; ++o) {
 				gl->BindTexture(GL_TEXTURE_CUBE_MAP, g->objmap[s][o]);
 				for (GLenum f = 0; f < 6; ++f)
-					gl->TexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, GL_RGB16F, 1, 1,
-					               0, GL_RGB, GL_FLOAT, black);
-				gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-				gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+					gl->TexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0,
+					               GL_RGB16F, 1, 1, 0, GL_RGB, GL_FLOAT, black);
+				gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER,
+				                  GL_NEAREST);
+				gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER,
+				                  GL_NEAREST);
 			}
 		g->objmap_read = -1;
 		st = rs_gles_check(gl, "inter-reflection textures", err);

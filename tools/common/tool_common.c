@@ -132,3 +132,31 @@ enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_
 	free(line);
 	return status;
 }
+
+int rs_tool_parse_reflections(const char *text, enum rs_reflection_mode *mode, uint32_t *bounces)
+{
+	*bounces = 0;
+	if (strcmp(text, "trace") == 0)
+		*mode = RS_REFLECT_TRACE;
+	else if (strcmp(text, "envmap") == 0)
+		*mode = RS_REFLECT_ENVMAP;
+	else if (strcmp(text, "interreflect") == 0)
+		*mode = RS_REFLECT_INTERREFLECT;
+	else if (strncmp(text, "interreflect:", 13) == 0 &&
+	         rs_tool_parse_u32(text + 13, 1, RS_RENDER_MAX_BOUNCES, bounces))
+		*mode = RS_REFLECT_INTERREFLECT;
+	else
+		return 0;
+	return 1;
+}
+
+const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size)
+{
+	if (desc->reflections == RS_REFLECT_INTERREFLECT)
+		snprintf(out, size, "interreflect:%u",
+		         desc->reflection_bounces ? desc->reflection_bounces : 1u);
+	else
+		snprintf(out, size, "%s",
+		         desc->reflections == RS_REFLECT_ENVMAP ? "envmap" : "trace");
+	return out;
+}

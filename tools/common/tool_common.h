@@ -10,6 +10,7 @@
 #include "raystream/rs_image.h"
 #include "raystream/rs_load.h"
 #include "raystream/rs_pack.h"
+#include "raystream/rs_render.h"
 #include "raystream/rs_scene.h"
 #include "raystream/rs_scenegen.h"
 #include "raystream/rs_status.h"
@@ -28,6 +29,12 @@ int rs_tool_cmp_double(const void *a, const void *b);
 int rs_tool_parse_u32(const char *text, uint32_t min, uint32_t max, uint32_t *out);
 /* "WxH" with both sides in [1, RS_IMAGE_MAX_SIDE]. */
 int rs_tool_parse_size(const char *text, uint32_t *out_w, uint32_t *out_h);
+
+/* --reflections: "trace", "envmap" or "interreflect[:BOUNCES]" (1..RS_RENDER_MAX_BOUNCES;
+ * without it 0, the default). Returns 1, or 0 when `text` is none of these. */
+int rs_tool_parse_reflections(const char *text, enum rs_reflection_mode *mode, uint32_t *bounces);
+/* The same spelling for a descriptor ("interreflect:2"), into out (size bytes). */
+const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size);
 
 /*
  * Path of cow.obj: $RS_DATA_DIR/cow.obj, else the source tree's data/, else the installed

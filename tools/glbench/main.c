@@ -17,7 +17,7 @@ static int usage(void)
 	fprintf(stderr, "usage: raystream-glbench [--backend egl|osmesa|cpu] [--size N] "
 	                "[--passes N] [--lights N] [--frames N] [--chain fused|separate] "
 	                "[--primary trace|raster] [--shadows rays|map:RES:FILTER] "
-	                "[--reflections trace|envmap] SCENE...\n");
+	                "[--reflections trace|envmap|interreflect[:BOUNCES]] SCENE...\n");
 	return 2;
 }
 
@@ -65,15 +65,18 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	qsort(ms, frames, sizeof ms[0], rs_tool_cmp_double);
 	qsort(cpu, frames, sizeof cpu[0], rs_tool_cmp_double);
 	double med = ms[frames / 2];
-	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s: cpu %.1f ms (%.1f-%.1f), wall "
+	char refl[32] = "";
+	if (desc.reflections != RS_REFLECT_TRACE) {
+		refl[0] = ' ';
+		rs_tool_reflections_name(&desc, refl + 1, sizeof refl - 1);
+	}
+	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s%s: cpu %.1f ms (%.1f-%.1f), wall "
 	       "%.1f ms (%.1f-%.1f) = %.2f fps, %.2f Mrays/s (%llu rays), hit numbers %.1f;",
 	       name, s->backend, desc.width, desc.height, desc.passes, desc.lights,
 	       desc.chain == RS_CHAIN_SEPARATE ? "separate" : "fused",
 	       desc.primary == RS_PRIMARY_RASTER ? "raster" : "trace",
-	       desc.shadows == RS_SHADOW_MAP
-	           ? "map"
-	           : (desc.reflections == RS_REFLECT_ENVMAP ? "rays envmap" : "rays"),
-	       cpu[frames / 2], cpu[0], cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
+	       desc.shadows == RS_SHADOW_MAP ? "map" : "rays", refl, cpu[frames / 2], cpu[0],
+	       cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
 	       (double)rays / (med * 1000.0), (unsigned long long)rays, hits);
 	for (uint32_t k = 0; k < s->kernel_count; ++k) {
 		qsort(kms[k], frames, sizeof kms[k][0], rs_tool_cmp_double);
@@ -123,10 +126,9 @@ int main(int argc, char **argv)
 			desc.primary = RS_PRIMARY_TRACE;
 		else if (strcmp(a, "--primary") == 0 && strcmp(v, "raster") == 0)
 			desc.primary = RS_PRIMARY_RASTER;
-		else if (strcmp(a, "--reflections") == 0 && strcmp(v, "trace") == 0)
-			desc.reflections = RS_REFLECT_TRACE;
-		else if (strcmp(a, "--reflections") == 0 && strcmp(v, "envmap") == 0)
-			desc.reflections = RS_REFLECT_ENVMAP;
+		else if (strcmp(a, "--reflections") == 0 &&
+		         rs_tool_parse_reflections(v, &desc.reflections, &desc.reflection_bounces))
+			;
 		else if (strcmp(a, "--shadows") == 0 && strcmp(v, "rays") == 0)
 			desc.shadows = RS_SHADOW_RAYS;
 		else if (strcmp(a, "--shadows") == 0 && sscanf(v, "map:%u:%u", &res, &filter) == 2)

@@ -18,6 +18,7 @@ struct options {
 	enum rs_triangle_test triangle_test;
 	enum rs_primary_mode primary;
 	enum rs_reflection_mode reflections;
+	uint32_t bounces; /* --reflections interreflect:N */
 	enum rs_shadow_mode shadows;
 	uint32_t shadow_map_size, shadow_filter;
 	uint32_t passes, lights, width, height, threads;
@@ -30,7 +31,7 @@ static void usage(FILE *to)
 	      "         [--lights N] [--size WxH] [--out FILE.png] [--stats FILE.json]\n"
 	      "         [--depth FILE.pfm] [--triangle-test watertight|mt] [--threads N]\n"
 	      "         [--primary trace|raster] [--shadows rays|map[:RESOLUTION[:FILTER]]]\n"
-	      "         [--reflections trace|envmap]\n"
+	      "         [--reflections trace|envmap|interreflect[:BOUNCES]]\n"
 	      "Renders with the chosen backend (default cpu, the double-precision reference).\n"
 	      "FILE is an OBJ or PLY mesh; a FILE.json beside it (from raystream-scene) sets\n"
 	      "camera, lights and environment. --triangle-test defaults to watertight; mt is the\n"
@@ -124,12 +125,9 @@ static int parse_args(int argc, char **argv, struct options *o)
 			else
 				return fail_usage("--primary wants trace or raster, not '%s'", v);
 		} else if (!strcmp(a, "--reflections")) {
-			if (!strcmp(v, "trace"))
-				o->reflections = RS_REFLECT_TRACE;
-			else if (!strcmp(v, "envmap"))
-				o->reflections = RS_REFLECT_ENVMAP;
-			else
-				return fail_usage("--reflections wants trace or envmap, not '%s'",
+			if (!rs_tool_parse_reflections(v, &o->reflections, &o->bounces))
+				return fail_usage("--reflections wants trace, envmap or "
+				                  "interreflect[:1..8], not '%s'",
 				                  v);
 		} else if (!strcmp(a, "--shadows")) {
 			if (parse_shadows(v, o) != 0)
@@ -247,6 +245,7 @@ static int run(const struct options *o)
 	    .triangle_test = o->triangle_test,
 	    .primary = o->primary,
 	    .reflections = o->reflections,
+	    .reflection_bounces = o->bounces,
 	    .shadows = o->shadows,
 	    .shadow_map_size = o->shadow_map_size,
 	    .shadow_filter = o->shadow_filter,

@@ -112,6 +112,14 @@ static void settings(struct report *rep, const struct options *o)
 		d.shadow_filter = 3;
 		snprintf(label, sizeof label, "%s trace 2p envmap map %u/3", b, d.shadow_map_size);
 		add(rep, b, d, label);
+		/* inter-reflection: a map per mirror object, re-captured every frame */
+		for (uint32_t k = 1; k <= 2; ++k) {
+			d = base;
+			d.reflections = RS_REFLECT_INTERREFLECT;
+			d.reflection_bounces = k;
+			snprintf(label, sizeof label, "%s trace 2p interreflect:%u", b, k);
+			add(rep, b, d, label);
+		}
 	}
 	d = base;
 	d.bvh.builder = RS_BVH_PAPER;
