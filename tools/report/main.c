@@ -278,8 +278,9 @@ static void describe_machine(struct report *rep)
 	if (f)
 		fclose(f);
 	rep->load1 = load[0];
-	snprintf(rep->machine, sizeof rep->machine, "%s, %ld cores, %s",
-	         uname(&u) == 0 ? u.machine : "?", sysconf(_SC_NPROCESSORS_ONLN), model);
+	int n = snprintf(rep->machine, sizeof rep->machine, "%s, %ld cores, %s",
+	                 uname(&u) == 0 ? u.machine : "?", sysconf(_SC_NPROCESSORS_ONLN), model);
+	(void)(n >= (int)sizeof rep->machine); /* a long CPU model name is cut: a label only */
 }
 
 int main(int argc, char **argv)
@@ -329,8 +330,21 @@ int main(int argc, char **argv)
 	for (uint32_t i = 0; i < rep.count; ++i) {
 		struct report_row *row = &rep.rows[i];
 		bool own = i == 1 || (i > 0 && strcmp(row->backend, rep.rows[i - 1].backend) != 0);
-		if (measure(scene, row, o.frames, img, own ? rep.renderer : NULL,
-		            sizeof rep.renderer, &err) != RS_OK) {
+		enum rs_status ms = measure(scene, row, o.frames, img, own ? rep.renderer : NULL,
+		                            sizeof rep.renderer, &err);
+		if (ms == RS_ERR_UNSUPPORTED || ms == RS_ERR_LIMIT) {
+			/* A setting this scene cannot have (more mirror objects than the
+			 * inter-reflection maps hold) is a row of the report, not a failure. */
+			row->refused = true;
+			snprintf(row->why, sizeof row->why, "%s", err.message);
+			row->ms_med = row->ms_min = row->ms_max = row->cpu_med = NAN;
+			row->diff.bad_share = NAN;
+			pts[i] = (struct rs_report_point){NAN, NAN};
+			fprintf(stderr, "[%u/%u] %-28s refused: %s\n", i + 1, rep.count, row->label,
+			        row->why);
+			continue;
+		}
+		if (ms != RS_OK) {
 			rs_error_prefix(&err, err.status, "%s", row->label);
 			goto done;
 		}

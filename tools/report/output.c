@@ -76,6 +76,19 @@ static void csv(const struct report *rep, struct text *t)
 		const struct rs_render_desc *d = &r->desc;
 		bool map = d->shadows == RS_SHADOW_MAP;
 		char refl[32];
+		if (r->refused) {
+			put(t,
+			    "%s,%s,%s,%s,%u,%u,%u,%s,%s,%s,refused,refused,refused,refused,"
+			    "refused,refused,refused,refused,0\n",
+			    r->label, r->backend,
+			    d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
+			    map ? "map" : "rays", map ? d->shadow_map_size : 0,
+			    map ? d->shadow_filter : 0, d->passes, bvh_name(d->bvh.builder),
+			    d->triangle_test == RS_TRIANGLE_MOLLER_TRUMBORE ? "moller"
+			                                                    : "watertight",
+			    rs_tool_reflections_name(d, refl, sizeof refl));
+			continue;
+		}
 		put(t, "%s,%s,%s,%s,%u,%u,%u,%s,%s,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.6g,%.6g,%.6g,%d\n",
 		    r->label, r->backend, d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
 		    map ? "map" : "rays", map ? d->shadow_map_size : 0, map ? d->shadow_filter : 0,
@@ -102,6 +115,10 @@ static void markdown(const struct report *rep, struct text *t)
 	    rep->by_cpu ? "CPU" : "wall");
 	for (uint32_t i = 0; i < rep->count; ++i) {
 		const struct report_row *r = &rep->rows[i];
+		if (r->refused) {
+			put(t, "| %s | refused: %s | | | | | | | |\n", r->label, r->why);
+			continue;
+		}
 		put(t, "| %s | %.1f | %.1f-%.1f | %.1f | %.2f | %.5f | %.4f | %.3f %% | %s |\n",
 		    r->label, r->ms_med, r->ms_min, r->ms_max, r->cpu_med, r->diff.psnr_db,
 		    r->diff.mean_abs_error, r->diff.max_abs_error, 100.0 * r->diff.bad_share,
@@ -112,7 +129,8 @@ static void markdown(const struct report *rep, struct text *t)
 		       "shows as "
 		       "64/255):\n\n");
 		for (uint32_t i = 0; i < rep->count; ++i)
-			put(t, "- `diff-%02u.png`: %s\n", i, rep->rows[i].label);
+			if (!rep->rows[i].refused)
+				put(t, "- `diff-%02u.png`: %s\n", i, rep->rows[i].label);
 	}
 	struct rs_report_point pts[REPORT_MAX_ROWS];
 	for (uint32_t i = 0; i < rep->count; ++i)
@@ -158,21 +176,24 @@ static enum rs_status plot(const struct report *rep, const char *dir, struct rs_
 	        "$all << EOD\n",
 	        tmp, title, rep->by_cpu ? "process CPU" : "wall");
 	const struct report_row *order[REPORT_MAX_ROWS];
+	uint32_t shown = 0;
 	for (uint32_t i = 0; i < rep->count; ++i) {
 		const struct report_row *r = &rep->rows[i];
-		order[i] = r;
+		if (r->refused)
+			continue;
+		order[shown++] = r;
 		fprintf(gp, "%.6g %.6g \"%s\"\n", report_time(rep, r), 100.0 * r->diff.bad_share,
 		        r->label);
 	}
 	fprintf(gp, "EOD\n$front << EOD\n");
-	for (uint32_t i = 1; i < rep->count; ++i) /* by time, for the front's line */
+	for (uint32_t i = 1; i < shown; ++i) /* by time, for the front's line */
 		for (uint32_t j = i;
 		     j > 0 && report_time(rep, order[j]) < report_time(rep, order[j - 1]); --j) {
 			const struct report_row *t = order[j];
 			order[j] = order[j - 1];
 			order[j - 1] = t;
 		}
-	for (uint32_t i = 0; i < rep->count; ++i)
+	for (uint32_t i = 0; i < shown; ++i)
 		if (order[i]->front)
 			fprintf(gp, "%.6g %.6g\n", report_time(rep, order[i]),
 			        100.0 * order[i]->diff.bad_share);

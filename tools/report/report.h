@@ -16,10 +16,12 @@ struct report_row {
 	char label[48];
 	const char *backend;
 	struct rs_render_desc desc;
-	double ms_med, ms_min, ms_max; /* wall time of rs_renderer_render, readback included */
-	double cpu_med;                /* process CPU time per frame (all threads) */
-	struct rs_image_diff diff;     /* last frame against the CPU reference */
-	bool front;                    /* on the Pareto front of (ms_med, bad share) */
+	double ms_med, ms_min, ms_max;  /* wall time of rs_renderer_render, readback included */
+	double cpu_med;                 /* process CPU time per frame (all threads) */
+	struct rs_image_diff diff;      /* last frame against the CPU reference */
+	bool front;                     /* on the Pareto front of (ms_med, bad share) */
+	bool refused;                   /* the backend refused the setting for this scene */
+	char why[RS_ERROR_MESSAGE_MAX]; /* its one-line reason */
 };
 
 struct report {
