@@ -21,8 +21,6 @@ struct bench_options {
 #define BENCH_SCENE_COUNT 6
 extern const char *const bench_scenes[BENCH_SCENE_COUNT];
 
-/* Median of v[0..n) (sorts v in place); n >= 1. */
-double bench_median(double *v, uint32_t n);
 /* Smallest and largest of v[0..n). */
 void bench_min_max(const double *v, uint32_t n, double *out_min, double *out_max);
 

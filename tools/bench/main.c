@@ -18,18 +18,6 @@
 const char *const bench_scenes[BENCH_SCENE_COUNT] = {"box",  "cow1", "cow2",
                                                      "cow5", "cow9", "cow17"};
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
-}
-
-double bench_median(double *v, uint32_t n)
-{
-	qsort(v, n, sizeof *v, cmp_double);
-	return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 void bench_min_max(const double *v, uint32_t n, double *out_min, double *out_max)
 {
 	*out_min = *out_max = v[0];

@@ -79,7 +79,7 @@ static int bench_scene(const struct bench_options *o, const struct paper_row *ro
 			if (r + 1 < o->repeats)
 				rs_render_accel_free(&accel);
 		}
-		build_ms[b] = bench_median(times, o->repeats);
+		build_ms[b] = rs_tool_median(times, o->repeats);
 		hits[b] = box[b] = NAN;
 		sizes[b] = builders[b] == RS_BVH_NONE || builders[b] == RS_BVH_LINEAR ? o->flat_size
 		                                                                      : o->size;
@@ -157,7 +157,7 @@ static int bench_triangle_tests(const struct bench_options *o, const char *name)
 			times[r] = rs_tool_now_ms() - t0;
 		}
 		rs_renderer_destroy(&renderer);
-		ms[t] = code == 0 ? bench_median(times, o->repeats) : 0.0;
+		ms[t] = code == 0 ? rs_tool_median(times, o->repeats) : 0.0;
 	}
 	if (code == 0) {
 		struct rs_image_diff c, d;

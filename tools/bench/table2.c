@@ -203,7 +203,7 @@ static int run_setting(const struct bench_options *o, const struct rs_scene *sce
 	r->hits_valid = r->stats.counters_valid;
 	double ms[T2_MAX_REPEATS];
 	memcpy(ms, r->ms, o->repeats * sizeof *ms);
-	r->ms_median = bench_median(ms, o->repeats);
+	r->ms_median = rs_tool_median(ms, o->repeats);
 	bench_min_max(r->ms, o->repeats, &r->ms_min, &r->ms_max);
 	struct rs_render_stats counted = {0};
 	int code = r->hits_valid ? 0 : count_hits(o, scene, set, r, &counted);
@@ -263,7 +263,7 @@ static void print_kernels(const struct bench_options *o, uint32_t scenes)
 				bench_min_max(v, o->repeats, &lo, &hi);
 				double tmp[T2_MAX_REPEATS];
 				memcpy(tmp, v, o->repeats * sizeof *tmp);
-				med = bench_median(tmp, o->repeats);
+				med = rs_tool_median(tmp, o->repeats);
 				printf("| %-5s | %s | %s | %u | %.2f (%.2f–%.2f) | %.0f%% |\n",
 				       results[i].name, t2_settings[si].name, name,
 				       k < n ? r->kernels[k].calls : 1u, med, lo, hi,

@@ -18,7 +18,7 @@
 static void summary(double *v, uint32_t n, double *med, double *lo, double *hi)
 {
 	bench_min_max(v, n, lo, hi);
-	*med = bench_median(v, n);
+	*med = rs_tool_median(v, n);
 }
 
 static int peer_passes(const struct bench_options *o, struct t2_scene *sc, uint32_t passes,

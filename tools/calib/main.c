@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 
 #include "raystream/rs_optical.h"
+#include "tool_common.h"
 
 #define TOOL "raystream-calib"
 
@@ -34,17 +35,6 @@ static int die_usage(const char *msg, const char *arg)
 	fprintf(stderr, TOOL ": error: %s%s%s (try --help)\n", msg, arg ? ": " : "",
 	        arg ? arg : "");
 	return 2;
-}
-
-static int parse_int(const char *s, int lo, int hi, int *out)
-{
-	char *end = NULL;
-	errno = 0;
-	long v = strtol(s, &end, 10);
-	if (!s[0] || *end || errno || v < lo || v > hi)
-		return 0;
-	*out = (int)v;
-	return 1;
 }
 
 static int synth(const char *dir, int views, const struct rs_optical_board *b)
@@ -190,11 +180,15 @@ int main(int argc, char **argv)
 			if (*end || !(b.square_m > 0 && b.square_m < 10))
 				return die_usage("square must be 0 to 10 m", v);
 		} else if (!strcmp(a, "--max")) {
-			if (!parse_int(v, 5, 10000, &max))
+			uint32_t n;
+			if (!rs_tool_parse_u32(v, 5, 10000, &n))
 				return die_usage("max must be 5 to 10000", v);
+			max = (int)n;
 		} else if (!strcmp(a, "--views")) {
-			if (!parse_int(v, 1, 1000, &views))
+			uint32_t n;
+			if (!rs_tool_parse_u32(v, 1, 1000, &n))
 				return die_usage("views must be 1 to 1000", v);
+			views = (int)n;
 		} else if (!strcmp(a, "--synth")) {
 			synth_dir = v;
 		} else if (a[0] == '-' && a[1]) {

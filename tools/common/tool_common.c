@@ -33,6 +33,12 @@ int rs_tool_cmp_double(const void *a, const void *b)
 	return x < y ? -1 : x > y;
 }
 
+double rs_tool_median(double *v, uint32_t n)
+{
+	qsort(v, n, sizeof *v, rs_tool_cmp_double);
+	return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 int rs_tool_parse_u32(const char *text, uint32_t min, uint32_t max, uint32_t *out)
 {
 	if (!text || !*text || *text == '-' || *text == '+')

@@ -24,6 +24,8 @@ double rs_tool_cpu_ms(void);
 
 /* qsort comparator for doubles, ascending. */
 int rs_tool_cmp_double(const void *a, const void *b);
+/* Median of v[0..n) (n > 0; the mean of the middle two when n is even). Sorts v in place. */
+double rs_tool_median(double *v, uint32_t n);
 
 /* Strict number parsing: the whole string, in [min, max]. */
 int rs_tool_parse_u32(const char *text, uint32_t min, uint32_t max, uint32_t *out);
