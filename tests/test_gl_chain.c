@@ -1,7 +1,8 @@
 /* The GL kernel chain beyond the image: GPU hit counters against the CPU's (same BVH,
  * within 0.1%; with both slab ends widened (docs/tracer.md R3) they agree exactly on Box
  * and to 0.005% on Cow1: what is left is fp32 against double at grazing box tests), fused
- * and separate chains alike, RGBA8 as rs_image_quantize() rounds, per-frame cameras, per-kernel
+ * and separate chains alike, the paper's chain (environment, shading and next ray apart)
+ * against the fused one, RGBA8 as rs_image_quantize() rounds, per-frame cameras, per-kernel
  * timings. EGL (llvmpipe in CI); skipped without a context. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -95,6 +96,161 @@ static void fused_and_separate_chains_render_alike(void **state)
 	rs_scene_destroy(&scene);
 }
 
+/* A frame of `scene` with `desc` on EGL: colour, depth, and the stats copied out. */
+static bool chain_frame(const struct rs_render_desc *desc, const struct rs_scene *scene, float *rgb,
+                        float *depth, struct rs_render_stats *stats)
+{
+	struct rs_renderer *r = gl_open("egl", desc);
+	if (!r)
+		return false;
+	gl_render(r, scene, rgb, depth);
+	*stats = *rs_renderer_stats(r);
+	rs_renderer_destroy(&r);
+	return true;
+}
+
+static const struct rs_render_kernel_time *kernel(const struct rs_render_stats *s, const char *name)
+{
+	for (uint32_t k = 0; k < s->kernel_count; ++k)
+		if (strcmp(s->kernels[k].name, name) == 0)
+			return &s->kernels[k];
+	return NULL;
+}
+
+/* The paper's chain (environment, shading and next ray each a pass) against the fused one:
+ * the same fp32 functions on the same values, the state kept in RGBA32F between passes, so
+ * the images agree to float rounding (tolerance 1e-5 of linear colour; measured 0 on
+ * llvmpipe) and the depths exactly. */
+static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shadows)
+{
+	struct rs_render_desc desc = {.width = SIZE,
+	                              .height = SIZE,
+	                              .passes = 2,
+	                              .lights = 2,
+	                              .shadows = shadows,
+	                              .shadow_map_size = 256,
+	                              .shadow_filter = 3};
+	struct rs_scene *scene = gl_scene(name);
+	static float a[SIZE * SIZE * 3], b[SIZE * SIZE * 3], da[SIZE * SIZE], db[SIZE * SIZE];
+	struct rs_render_stats sa, sb;
+	desc.chain = RS_CHAIN_PAPER;
+	if (!chain_frame(&desc, scene, a, da, &sa))
+		skip();
+	static const char *const names[] = {"raygen", "intersect", "environment", "shading",
+	                                    "next ray"};
+	for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
+		const struct rs_render_kernel_time *t = kernel(&sa, names[k]);
+		assert_non_null(t);
+		assert_int_equal(t->calls, k == 0 ? 1 : desc.passes);
+	}
+	assert_null(kernel(&sa, "trace"));
+	assert_null(kernel(&sa, "shade"));
+	desc.chain = RS_CHAIN_FUSED;
+	assert_true(chain_frame(&desc, scene, b, db, &sb));
+	assert_non_null(kernel(&sb, "trace"));
+	struct rs_image_diff diff;
+	rs_image_compare(a, b, SIZE, SIZE, 3, 1.0, 1e-5, &diff);
+	print_message("%s %s: paper vs fused max |diff| %g\n", name,
+	              shadows == RS_SHADOW_MAP ? "map" : "rays", diff.max_abs_error);
+	assert_true(diff.max_abs_error <= 1e-5);
+	rs_image_compare(da, db, SIZE, SIZE, 1, 1.0, 0.0, &diff);
+	assert_int_equal(diff.mismatched, 0);
+	assert_true(diff.max_abs_error == 0.0);
+	/* and the picture is not empty: something was lit */
+	double sum = 0.0;
+	for (size_t i = 0; i < SIZE * SIZE * 3; ++i)
+		sum += a[i];
+	assert_true(sum > 0.01 * SIZE * SIZE);
+	rs_scene_destroy(&scene);
+}
+
+static void paper_chain_renders_box_as_fused_with_shadow_rays(void **state)
+{
+	paper_chain_matches_fused("box", RS_SHADOW_RAYS);
+}
+static void paper_chain_renders_cow1_as_fused_with_shadow_rays(void **state)
+{
+	paper_chain_matches_fused("cow1", RS_SHADOW_RAYS);
+}
+static void paper_chain_renders_box_as_fused_with_shadow_maps(void **state)
+{
+	paper_chain_matches_fused("box", RS_SHADOW_MAP);
+}
+static void paper_chain_renders_cow1_as_fused_with_shadow_maps(void **state)
+{
+	paper_chain_matches_fused("cow1", RS_SHADOW_MAP);
+}
+
+/* With counters the paper's chain counts what the separate chain counts, exactly (the same
+ * traversals), and its image is the fused chain's. */
+static void paper_chain_counts_as_the_separate_chain(const char *name)
+{
+	struct rs_render_desc desc = {
+	    .width = SIZE, .height = SIZE, .passes = 2, .lights = 2, .counters = true};
+	struct rs_scene *scene = gl_scene(name);
+	static float a[SIZE * SIZE * 3], b[SIZE * SIZE * 3], f[SIZE * SIZE * 3];
+	static float da[SIZE * SIZE], db[SIZE * SIZE];
+	struct rs_render_stats sa, sb, sf;
+	desc.chain = RS_CHAIN_PAPER;
+	if (!chain_frame(&desc, scene, a, da, &sa))
+		skip();
+	desc.chain = RS_CHAIN_SEPARATE;
+	assert_true(chain_frame(&desc, scene, b, db, &sb));
+	assert_true(sa.counters_valid && sb.counters_valid);
+	assert_true(sa.box_tests > 0 && sa.shadow_rays > 0);
+	assert_int_equal(sa.box_tests, sb.box_tests);
+	assert_int_equal(sa.triangle_tests, sb.triangle_tests);
+	assert_int_equal(sa.shadow_rays, sb.shadow_rays);
+	assert_int_equal(sa.secondary_rays, sb.secondary_rays);
+	desc.chain = RS_CHAIN_FUSED;
+	desc.counters = false;
+	assert_true(chain_frame(&desc, scene, f, db, &sf));
+	struct rs_image_diff diff;
+	rs_image_compare(a, f, SIZE, SIZE, 3, 1.0, 1e-5, &diff);
+	assert_true(diff.max_abs_error <= 1e-5);
+	rs_scene_destroy(&scene);
+}
+
+static void paper_chain_counts_box_as_the_separate_chain(void **state)
+{
+	paper_chain_counts_as_the_separate_chain("box");
+}
+static void paper_chain_counts_cow1_as_the_separate_chain(void **state)
+{
+	paper_chain_counts_as_the_separate_chain("cow1");
+}
+
+/* Environment mapping switches tracing off from the second pass on, in the intersection
+ * kernel, and reads the map in the environment kernel: the paper's chain gives the
+ * separate chain's image (the default chain there). */
+static void paper_chain_renders_environment_maps_as_the_separate_chain(void **state)
+{
+	struct rs_render_desc desc = {.width = SIZE,
+	                              .height = SIZE,
+	                              .passes = 3,
+	                              .lights = 2,
+	                              .reflections = RS_REFLECT_ENVMAP};
+	struct rs_scene *scene = gl_scene("cow1");
+	static float a[SIZE * SIZE * 3], b[SIZE * SIZE * 3], t[SIZE * SIZE * 3];
+	static float da[SIZE * SIZE], db[SIZE * SIZE];
+	struct rs_render_stats sa, sb;
+	desc.chain = RS_CHAIN_PAPER;
+	if (!chain_frame(&desc, scene, a, da, &sa))
+		skip();
+	assert_int_equal(kernel(&sa, "environment")->calls, 2);
+	desc.chain = RS_CHAIN_SEPARATE;
+	assert_true(chain_frame(&desc, scene, b, db, &sb));
+	struct rs_image_diff diff;
+	rs_image_compare(a, b, SIZE, SIZE, 3, 1.0, 1e-5, &diff);
+	assert_true(diff.max_abs_error <= 1e-5);
+	/* and the map was read: tracing the reflections gives another picture */
+	desc.reflections = RS_REFLECT_TRACE;
+	assert_true(chain_frame(&desc, scene, t, db, &sb));
+	rs_image_compare(a, t, SIZE, SIZE, 3, 1.0, 1e-5, &diff);
+	assert_true(diff.max_abs_error > 1e-3);
+	rs_scene_destroy(&scene);
+}
+
 static void rgba8_is_the_quantized_colour(void **state)
 {
 	struct rs_render_desc desc = {.width = SIZE, .height = SIZE};
@@ -156,6 +312,13 @@ int main(void)
 	    cmocka_unit_test(gpu_counters_equal_the_cpu_reference_on_box),
 	    cmocka_unit_test(gpu_counters_equal_the_cpu_reference_on_cow1),
 	    cmocka_unit_test(fused_and_separate_chains_render_alike),
+	    cmocka_unit_test(paper_chain_renders_box_as_fused_with_shadow_rays),
+	    cmocka_unit_test(paper_chain_renders_cow1_as_fused_with_shadow_rays),
+	    cmocka_unit_test(paper_chain_renders_box_as_fused_with_shadow_maps),
+	    cmocka_unit_test(paper_chain_renders_cow1_as_fused_with_shadow_maps),
+	    cmocka_unit_test(paper_chain_counts_box_as_the_separate_chain),
+	    cmocka_unit_test(paper_chain_counts_cow1_as_the_separate_chain),
+	    cmocka_unit_test(paper_chain_renders_environment_maps_as_the_separate_chain),
 	    cmocka_unit_test(rgba8_is_the_quantized_colour),
 	    cmocka_unit_test(a_per_frame_camera_renders_as_the_cpu_does),
 	};

@@ -1,5 +1,6 @@
-/* One frame of the kernel chain: ray generation, then per pass either intersect + shade
- * (the separate chain) or one fused kernel, then display; ping-pong float targets hold the
+/* One frame of the kernel chain: ray generation, then per pass one fused kernel, or
+ * intersect + shade (the separate chain), or intersect and the paper's environment, shading
+ * and next-ray kernels (gles_paper.c), then display; ping-pong float targets hold the
  * per-pixel state; readback of colour, depth and counters. Each pass is timed with a
  * glFinish after it (the per-kernel times of the stats; llvmpipe runs passes one by one
  * anyway, a GPU loses a little overlap). */
@@ -8,9 +9,8 @@
 
 #include "gles_internal.h"
 
-/* Attach `n` colour targets and draw the fullscreen triangle with `prog`. */
-static enum rs_status draw(struct gles *g, const char *name, const GLuint *targets, int n,
-                           struct rs_render_stats *stats, double t0, struct rs_error *err)
+enum rs_status rs_gles_draw(struct gles *g, const char *name, const GLuint *targets, int n,
+                            struct rs_render_stats *stats, double t0, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	static const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
@@ -99,83 +99,98 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 	return rs_gles_check(gl, "raster", err);
 }
 
-static void state_inputs(const struct gles *g, GLuint prog, int cur, int cc)
+void rs_gles_state_inputs(const struct gles *g, GLuint prog, const struct rs_gles_cursor *c)
 {
 	const struct rs_gl *gl = &g->gl;
-	rs_gles_bind_2d(gl, prog, UNIT_ORIG, "u_orig", g->state[cur][ST_ORIG]);
-	rs_gles_bind_2d(gl, prog, UNIT_DIR, "u_dir", g->state[cur][ST_DIR]);
-	rs_gles_bind_2d(gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
+	rs_gles_bind_2d(gl, prog, UNIT_ORIG, "u_orig", g->state[c->st[ST_ORIG]][ST_ORIG]);
+	rs_gles_bind_2d(gl, prog, UNIT_DIR, "u_dir", g->state[c->st[ST_DIR]][ST_DIR]);
+	rs_gles_bind_2d(gl, prog, UNIT_ACC, "u_acc", g->state[c->st[ST_ACC]][ST_ACC]);
 	if (g->desc.counters)
-		rs_gles_bind_2d(gl, prog, UNIT_CNT, "u_cnt", g->cnt[cc]);
+		rs_gles_bind_2d(gl, prog, UNIT_CNT, "u_cnt", g->cnt[c->cnt]);
 }
 
-/* Every pass of the chain; returns the index of the state pair and counter texture
- * holding the result. */
+/* The shade kernel of the separate chain: environment, shading and next ray in one pass. */
+static enum rs_status shade(struct gles *g, uint32_t pass, GLuint hit, struct rs_gles_cursor *c,
+                            struct rs_render_stats *stats, struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	bool counters = g->desc.counters;
+	GLuint prog = g->prog[PROG_SHADE];
+	gl->UseProgram(prog);
+	rs_gles_scene_uniforms(g, prog);
+	if (g->desc.reflections != RS_REFLECT_TRACE)
+		rs_gles_envmap_uniforms(g, prog, pass);
+	rs_gles_state_inputs(g, prog, c);
+	rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_hit", hit);
+	GLuint out[4] = {g->state[1 - c->st[ST_ORIG]][ST_ORIG], g->state[1 - c->st[ST_DIR]][ST_DIR],
+	                 g->state[1 - c->st[ST_ACC]][ST_ACC], g->cnt[1 - c->cnt]};
+	enum rs_status st =
+	    rs_gles_draw(g, "shade", out, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
+	for (int s = 0; s < ST_COUNT; ++s)
+		c->st[s] = 1 - c->st[s];
+	if (counters)
+		c->cnt = 1 - c->cnt;
+	return st;
+}
+
+/* Every pass of the chain; *out says which texture of each pair holds the result. */
 static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
-                             struct rs_render_stats *stats, int *out_cur, int *out_cc,
+                             struct rs_render_stats *stats, struct rs_gles_cursor *out,
                              struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	bool counters = g->desc.counters;
-	int cur = 0, cc = 0;
+	struct rs_gles_cursor c = {{0, 0, 0}, 0};
 	GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC], g->cnt[0]};
 	gl->UseProgram(g->prog[PROG_RAYGEN]);
 	rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
 	rs_gles_uniform_f(gl, g->prog[PROG_RAYGEN], "u_near", g->capture_near);
-	enum rs_status st = draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
-	/* Environment mapping switches tracing off per pass: the separate chain only. */
+	enum rs_status st =
+	    rs_gles_draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
+	/* Environment mapping switches tracing off per pass: the separate chains only. */
 	bool envmap = g->desc.reflections != RS_REFLECT_TRACE;
 	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters && !envmap;
 	/* With the env map every path ends in the second pass: later ones would be empty. */
 	uint32_t count = envmap && g->desc.passes > 2 ? 2 : g->desc.passes;
 	for (uint32_t pass = 0; st == RS_OK && pass < count; ++pass) {
 		GLuint hit = g->hit[pass == 0 ? 0 : 1];
-		int nxt = 1 - cur;
 		double t0 = rs_gles_now_ms();
 		bool rasterized = pass == 0 && g->desc.primary == RS_PRIMARY_RASTER;
 		if (fused && !rasterized) {
 			GLuint prog = g->prog[PROG_FUSED];
 			gl->UseProgram(prog);
 			rs_gles_scene_uniforms(g, prog);
-			state_inputs(g, prog, cur, cc);
-			GLuint out[4] = {g->state[nxt][ST_ORIG], g->state[nxt][ST_DIR],
-			                 g->state[nxt][ST_ACC], hit};
-			st = draw(g, "trace", out, 4, stats, t0, err);
-			cur = nxt;
+			rs_gles_state_inputs(g, prog, &c);
+			GLuint o[4] = {g->state[1 - c.st[ST_ORIG]][ST_ORIG],
+			               g->state[1 - c.st[ST_DIR]][ST_DIR],
+			               g->state[1 - c.st[ST_ACC]][ST_ACC], hit};
+			st = rs_gles_draw(g, "trace", o, 4, stats, t0, err);
+			for (int s = 0; s < ST_COUNT; ++s)
+				c.st[s] = 1 - c.st[s];
 			continue;
 		}
-		GLuint prog = g->prog[PROG_INTERSECT];
 		if (rasterized) {
 			st = raster(g, camera, hit, stats, err);
 		} else {
+			GLuint prog = g->prog[PROG_INTERSECT];
 			gl->UseProgram(prog);
 			rs_gles_scene_uniforms(g, prog);
 			if (envmap)
 				rs_gles_envmap_uniforms(g, prog, pass);
-			state_inputs(g, prog, cur, cc);
-			GLuint out_i[2] = {hit, g->cnt[1 - cc]};
-			st = draw(g, "intersect", out_i, counters ? 2 : 1, stats, t0, err);
+			rs_gles_state_inputs(g, prog, &c);
+			GLuint out_i[2] = {hit, g->cnt[1 - c.cnt]};
+			st = rs_gles_draw(g, "intersect", out_i, counters ? 2 : 1, stats, t0, err);
 			if (counters)
-				cc = 1 - cc;
+				c.cnt = 1 - c.cnt;
 		}
 		if (st != RS_OK)
 			break;
-		prog = g->prog[PROG_SHADE];
-		gl->UseProgram(prog);
-		rs_gles_scene_uniforms(g, prog);
-		if (envmap)
-			rs_gles_envmap_uniforms(g, prog, pass);
-		state_inputs(g, prog, cur, cc);
-		rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_hit", hit);
-		GLuint out_s[4] = {g->state[nxt][ST_ORIG], g->state[nxt][ST_DIR],
-		                   g->state[nxt][ST_ACC], g->cnt[1 - cc]};
-		st = draw(g, "shade", out_s, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
-		if (counters)
-			cc = 1 - cc;
-		cur = nxt;
+		if (g->desc.chain == RS_CHAIN_PAPER)
+			st = rs_gles_paper_segment(g, pass, hit, &c, stats, err);
+		else
+			st = shade(g, pass, hit, &c, stats, err);
 	}
-	*out_cur = cur;
-	*out_cc = cc;
+	*out = c;
 	return st;
 }
 
@@ -189,8 +204,9 @@ static void read_floats(struct gles *g, GLuint tex)
 	               g->scratch);
 }
 
-static enum rs_status readback(struct gles *g, const struct rs_frame *frame, int cur, int cc,
-                               struct rs_render_stats *stats, struct rs_error *err)
+static enum rs_status readback(struct gles *g, const struct rs_frame *frame,
+                               const struct rs_gles_cursor *cur, struct rs_render_stats *stats,
+                               struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	size_t n = (size_t)g->desc.width * g->desc.height;
@@ -207,7 +223,7 @@ static enum rs_status readback(struct gles *g, const struct rs_frame *frame, int
 		               GL_UNSIGNED_BYTE, frame->rgba8);
 	}
 	if (frame->rgb) {
-		read_floats(g, g->state[cur][ST_ACC]);
+		read_floats(g, g->state[cur->st[ST_ACC]][ST_ACC]);
 		for (size_t i = 0; i < n; ++i)
 			for (int c = 0; c < 3; ++c)
 				frame->rgb[3 * i + c] = g->scratch[4 * i + c];
@@ -226,7 +242,7 @@ static enum rs_status readback(struct gles *g, const struct rs_frame *frame, int
 		}
 	}
 	if (g->desc.counters) {
-		read_floats(g, g->cnt[cc]);
+		read_floats(g, g->cnt[cur->cnt]);
 		uint64_t sum[4] = {0, 0, 0, 0};
 		for (size_t i = 0; i < n; ++i)
 			for (int c = 0; c < 4; ++c)
@@ -258,13 +274,13 @@ enum rs_status rs_gles_warm_up(struct gles *g, const struct rs_camera *camera, s
 {
 	frame_state(g, 1, 1);
 	struct rs_render_stats stats = {0};
-	int cur = 0, cc = 0;
-	enum rs_status st = passes(g, camera, &stats, &cur, &cc, err);
+	struct rs_gles_cursor c;
+	enum rs_status st = passes(g, camera, &stats, &c, err);
 	if (st == RS_OK) {
 		GLuint prog = g->prog[PROG_DISPLAY];
 		g->gl.UseProgram(prog);
-		rs_gles_bind_2d(&g->gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
-		st = draw(g, "display", &g->color, 1, &stats, rs_gles_now_ms(), err);
+		rs_gles_bind_2d(&g->gl, prog, UNIT_ACC, "u_acc", g->state[c.st[ST_ACC]][ST_ACC]);
+		st = rs_gles_draw(g, "display", &g->color, 1, &stats, rs_gles_now_ms(), err);
 	}
 	return st;
 }
@@ -276,13 +292,13 @@ enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
 	const struct rs_gl *gl = &g->gl;
 	frame_state(g, (GLsizei)g->desc.width, (GLsizei)g->desc.height);
 	double t0 = rs_gles_now_ms();
-	int cur = 0, cc = 0;
-	enum rs_status st = passes(g, camera, stats, &cur, &cc, err);
+	struct rs_gles_cursor c;
+	enum rs_status st = passes(g, camera, stats, &c, err);
 	if (st == RS_OK && frame->rgba8) {
 		GLuint prog = g->prog[PROG_DISPLAY];
 		gl->UseProgram(prog);
-		rs_gles_bind_2d(gl, prog, UNIT_ACC, "u_acc", g->state[cur][ST_ACC]);
-		st = draw(g, "display", &g->color, 1, stats, rs_gles_now_ms(), err);
+		rs_gles_bind_2d(gl, prog, UNIT_ACC, "u_acc", g->state[c.st[ST_ACC]][ST_ACC]);
+		st = rs_gles_draw(g, "display", &g->color, 1, stats, rs_gles_now_ms(), err);
 	}
 	stats->render_ms = rs_gles_now_ms() - t0;
 	stats->pixels = (uint64_t)g->desc.width * g->desc.height;
@@ -290,7 +306,7 @@ enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
 	if (st != RS_OK)
 		return st;
 	double t1 = rs_gles_now_ms();
-	st = readback(g, frame, cur, cc, stats, err);
+	st = readback(g, frame, &c, stats, err);
 	stats->readback_ms = rs_gles_now_ms() - t1;
 	return st;
 }

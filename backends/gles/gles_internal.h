@@ -37,6 +37,9 @@ enum {
 	PROG_DISPLAY,
 	PROG_RASTER,
 	PROG_SHADOW,
+	PROG_ENVIRONMENT, /* RS_CHAIN_PAPER: environment, shading, next ray apart */
+	PROG_SHADING,
+	PROG_NEXTRAY,
 	PROG_COUNT
 };
 
@@ -102,6 +105,26 @@ void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double
 
 /* Monotonic clock in milliseconds. */
 double rs_gles_now_ms(void);
+
+/* Which texture of each ping-pong pair holds the current per-pixel state: g->state[st[s]][s]
+ * and g->cnt[cnt] (a kernel that writes a texture writes the other one of its pair). */
+struct rs_gles_cursor {
+	int st[ST_COUNT];
+	int cnt;
+};
+
+/* Attach `n` colour targets, draw the fullscreen triangle with the bound program, finish
+ * and add the time since `t0` to kernel `name` of `stats` (gles_frame.c). */
+enum rs_status rs_gles_draw(struct gles *g, const char *name, const GLuint *targets, int n,
+                            struct rs_render_stats *stats, double t0, struct rs_error *err);
+/* Bind the per-pixel state `c` points at as u_orig, u_dir, u_acc (and u_cnt). */
+void rs_gles_state_inputs(const struct gles *g, GLuint prog, const struct rs_gles_cursor *c);
+
+/* RS_CHAIN_PAPER: the environment, shading and next-ray passes of segment `pass` after its
+ * hits are in `hit`; advances `c` (gles_paper.c). */
+enum rs_status rs_gles_paper_segment(struct gles *g, uint32_t pass, GLuint hit,
+                                     struct rs_gles_cursor *c, struct rs_render_stats *stats,
+                                     struct rs_error *err);
 
 /* One frame: passes, display, readback (gles_frame.c). */
 enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,

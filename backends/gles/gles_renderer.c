@@ -186,14 +186,22 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    {"display.glsl"},
 	    {"common.glsl", "camera.glsl", "raster.glsl"},
 	    {"shadow.glsl"},
+	    {"common.glsl", "surface.glsl", "environment.glsl"},
+	    {"common.glsl", "surface.glsl", "shading.glsl"},
+	    {"common.glsl", "surface.glsl", "nextray.glsl"},
 	};
-	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1};
+	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1, 3, 3, 3};
+	bool paper = g->desc.chain == RS_CHAIN_PAPER;
 	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
 	                                             "raster_vertex.glsl"};
 	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
 	for (int i = 0; i < PROG_COUNT; ++i) {
-		if (i == PROG_FUSED && g->desc.counters)
+		if (i == PROG_FUSED && (g->desc.counters || paper))
 			continue; /* counters run the separate chain (render targets) */
+		if (i == PROG_SHADE && paper)
+			continue;
+		if ((i == PROG_ENVIRONMENT || i == PROG_SHADING || i == PROG_NEXTRAY) && !paper)
+			continue;
 		if (i == PROG_RASTER && g->desc.primary != RS_PRIMARY_RASTER)
 			continue;
 		if (i == PROG_SHADOW && g->desc.shadows != RS_SHADOW_MAP)

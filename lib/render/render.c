@@ -75,7 +75,7 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 	if (d.reflection_bounces > RS_RENDER_MAX_BOUNCES)
 		return rs_error_set(err, RS_ERR_INVALID, "render: %u reflection bounces (1..%u)",
 		                    d.reflection_bounces, RS_RENDER_MAX_BOUNCES);
-	if (d.chain != RS_CHAIN_FUSED && d.chain != RS_CHAIN_SEPARATE)
+	if (d.chain != RS_CHAIN_FUSED && d.chain != RS_CHAIN_SEPARATE && d.chain != RS_CHAIN_PAPER)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown kernel chain %d",
 		                    (int)d.chain);
 	if (d.shadow_map_size == 0)

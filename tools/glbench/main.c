@@ -15,7 +15,7 @@
 static int usage(void)
 {
 	fprintf(stderr, "usage: raystream-glbench [--backend egl|osmesa|cpu] [--size N] "
-	                "[--passes N] [--lights N] [--frames N] [--chain fused|separate] "
+	                "[--passes N] [--lights N] [--frames N] [--chain fused|separate|paper] "
 	                "[--primary trace|raster] [--shadows rays|map:RES:FILTER] "
 	                "[--reflections trace|envmap|interreflect[:BOUNCES]] SCENE...\n");
 	return 2;
@@ -73,7 +73,9 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s%s: cpu %.1f ms (%.1f-%.1f), wall "
 	       "%.1f ms (%.1f-%.1f) = %.2f fps, %.2f Mrays/s (%llu rays), hit numbers %.1f;",
 	       name, s->backend, desc.width, desc.height, desc.passes, desc.lights,
-	       desc.chain == RS_CHAIN_SEPARATE ? "separate" : "fused",
+	       desc.chain == RS_CHAIN_PAPER      ? "paper"
+	       : desc.chain == RS_CHAIN_SEPARATE ? "separate"
+	                                         : "fused",
 	       desc.primary == RS_PRIMARY_RASTER ? "raster" : "trace",
 	       desc.shadows == RS_SHADOW_MAP ? "map" : "rays", refl, cpu[frames / 2], cpu[0],
 	       cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
@@ -122,6 +124,8 @@ int main(int argc, char **argv)
 			desc.chain = RS_CHAIN_FUSED;
 		else if (strcmp(a, "--chain") == 0 && strcmp(v, "separate") == 0)
 			desc.chain = RS_CHAIN_SEPARATE;
+		else if (strcmp(a, "--chain") == 0 && strcmp(v, "paper") == 0)
+			desc.chain = RS_CHAIN_PAPER;
 		else if (strcmp(a, "--primary") == 0 && strcmp(v, "trace") == 0)
 			desc.primary = RS_PRIMARY_TRACE;
 		else if (strcmp(a, "--primary") == 0 && strcmp(v, "raster") == 0)

@@ -44,8 +44,14 @@ enum rs_shadow_mode {
 
 /** How the GL backends chain their kernels. */
 enum rs_kernel_chain {
-	RS_CHAIN_FUSED = 0,    /**< adjacent kernels fused where that measures faster */
-	RS_CHAIN_SEPARATE = 1, /**< the paper's chain: one pass per kernel */
+	/** One trace pass per ray segment (intersection, environment, shading and next ray);
+	 * with counters or environment maps the separate chain (render targets). */
+	RS_CHAIN_FUSED = 0,
+	/** Two passes per segment: intersection, then environment, shading and next ray. */
+	RS_CHAIN_SEPARATE = 1,
+	/** The paper's chain: ray generation, then intersection, environment, shading and next
+	 * ray, each its own pass, per segment (kernel times named apart in the stats). */
+	RS_CHAIN_PAPER = 2,
 };
 
 /** Where reflected and refracted rays (passes after the first) find their colour. */
