@@ -17,5 +17,6 @@ enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *
 	memcpy(&gl->name, &p, sizeof p);
 	RS_GL_FUNCS(RS_GL_LOAD)
 #undef RS_GL_LOAD
+	rs__gl_fault_hook(gl);
 	return RS_OK;
 }

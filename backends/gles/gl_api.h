@@ -7,6 +7,7 @@
 
 #define GL_GLES_PROTOTYPES 0
 #include <GLES3/gl3.h>
+#include <stdbool.h>
 
 #include "raystream/rs_status.h"
 
@@ -92,5 +93,24 @@ struct rs_gl {
 /* Fill *gl through `get`; RS_ERR_UNSUPPORTED naming the first entry point missing. */
 enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *name), void *ctx,
                           struct rs_error *err);
+
+/* Test seam (gl_fault.c; this header is private and never installed): out of GPU memory on
+ * demand. rs__gl_fault_wrap(true) makes every table loaded from then on wrap the allocating
+ * entry points (glTexImage2D/3D, glRenderbufferStorage, glGenFramebuffers,
+ * glGenVertexArrays) and track live texture, renderbuffer, framebuffer and vertex array
+ * names; it resets the counts. rs__gl_fault_fail_at(n) restarts the allocation count: the
+ * n-th allocation from now (1-based; 0: none) is not made and the next glGetError reports
+ * GL_OUT_OF_MEMORY. One wrapped renderer at a time. */
+void rs__gl_fault_wrap(bool on);
+void rs__gl_fault_fail_at(long n);
+struct rs__gl_fault_counts {
+	long allocations; /* since rs__gl_fault_fail_at */
+	bool fired;       /* the n-th allocation was reached and failed */
+	long textures, renderbuffers, framebuffers, vertex_arrays; /* live names */
+	bool overflow; /* more live names than the seam tracks: counts unreliable */
+};
+void rs__gl_fault_counts(struct rs__gl_fault_counts *out);
+/* Called by rs_gl_load: wraps `gl` while armed. */
+void rs__gl_fault_hook(struct rs_gl *gl);
 
 #endif

@@ -80,6 +80,8 @@ enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float n
 			gl->BindTexture(GL_TEXTURE_CUBE_MAP, tex);
 			gl->TexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)f, 0, GL_RGB16F,
 			               (GLsizei)n, (GLsizei)n, 0, GL_RGB, GL_FLOAT, face);
+			st = rs_gles_allocated(gl, "an environment cube map face", GL_RGB16F,
+			                       (GLsizei)n, (GLsizei)n, 1, err);
 		}
 	}
 	g->desc.passes = keep_passes;

@@ -100,6 +100,13 @@ void rs__gles_override_kernel(const char *name, const char *source);
 /* Check glGetError after `what`; RS_ERR_NO_MEMORY for GL_OUT_OF_MEMORY, else RS_ERR_DEVICE. */
 enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err);
 
+/* Read glGetError right after allocating `what` (internal `format`, w x h x layers texels;
+ * format 0: an object without storage): RS_ERR_NO_MEMORY "gles: out of GPU memory for
+ * <what> (<size> <format>, <KiB or MiB>)" for GL_OUT_OF_MEMORY, RS_ERR_DEVICE for another error
+ * (gles_alloc.c). What was made before stays in the renderer for delete_scene(). */
+enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenum format, GLsizei w,
+                                 GLsizei h, GLsizei layers, struct rs_error *err);
+
 /* Add `ms` to the kernel timing `name` of `stats` (a new entry while there is room). */
 void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms);
 

@@ -48,22 +48,29 @@ enum rs_status rs_gles_interreflect_setup(struct gles *g, const struct rs_scene 
 		gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 		gl->TexImage2D(GL_TEXTURE_2D, 0, GL_R32F, (GLsizei)OBJECT_ROW, (GLsizei)rows, 0,
 		               GL_RED, GL_FLOAT, texels);
+		st = rs_gles_allocated(gl, "the triangle -> mirror object texture", GL_R32F,
+		                       (GLsizei)OBJECT_ROW, (GLsizei)rows, 1, err);
+		g->objmap_read = -1;
+	}
+	if (st == RS_OK) {
 		/* Every sampler needs a complete cube map bound: 1x1 black for unused slots. */
 		static const float black[3] = {0.0f, 0.0f, 0.0f};
 		gl->GenTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
 		for (int s = 0; s < 2; ++s)
-			for (uint32_t o = count; o < RS_RENDER_MAX_MIRROR_OBJECTS; ++o) {
+			for (uint32_t o = count; st == RS_OK && o < RS_RENDER_MAX_MIRROR_OBJECTS;
+			     ++o) {
 				gl->BindTexture(GL_TEXTURE_CUBE_MAP, g->objmap[s][o]);
-				for (GLenum f = 0; f < 6; ++f)
+				for (GLenum f = 0; st == RS_OK && f < 6; ++f) {
 					gl->TexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0,
 					               GL_RGB16F, 1, 1, 0, GL_RGB, GL_FLOAT, black);
+					st = rs_gles_allocated(gl, "an unused mirror cube map face",
+					                       GL_RGB16F, 1, 1, 1, err);
+				}
 				gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER,
 				                  GL_NEAREST);
 				gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER,
 				                  GL_NEAREST);
 			}
-		g->objmap_read = -1;
-		st = rs_gles_check(gl, "inter-reflection textures", err);
 	}
 	free(of);
 	free(texels);

@@ -217,29 +217,49 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	return RS_OK;
 }
 
+/* Each allocation is checked on its own (rs_gles_allocated), so out of GPU memory names
+ * the texture; what was made stays in g for delete_scene(). */
 static enum rs_status upload(struct gles *g, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	const struct rs_packed *p = &g->accel.packed;
 	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
-	for (int i = 0; i < 4; ++i)
+	static const char *const names[4] = {
+	    "the scene's node texture", "the scene's triangle texture",
+	    "the scene's normal texture", "the scene's material texture"};
+	enum rs_status st = RS_OK;
+	for (int i = 0; st == RS_OK && i < 4; ++i) {
 		g->scene_tex[i] = texture(gl, GL_RGBA32F, (GLsizei)t[i]->width,
 		                          (GLsizei)t[i]->height, GL_FLOAT, t[i]->texels);
+		st = rs_gles_allocated(gl, names[i], GL_RGBA32F, (GLsizei)t[i]->width,
+		                       (GLsizei)t[i]->height, 1, err);
+	}
 	GLsizei w = (GLsizei)g->desc.width, h = (GLsizei)g->desc.height;
+	GLuint *targets[2 * (ST_COUNT + 2)];
+	int n = 0;
 	for (int k = 0; k < 2; ++k) {
 		for (int s = 0; s < ST_COUNT; ++s)
-			g->state[k][s] = texture(gl, GL_RGBA32F, w, h, GL_FLOAT, NULL);
-		g->hit[k] = texture(gl, GL_RGBA32F, w, h, GL_FLOAT, NULL);
+			targets[n++] = &g->state[k][s];
+		targets[n++] = &g->hit[k];
 		if (g->desc.counters)
-			g->cnt[k] = texture(gl, GL_RGBA32F, w, h, GL_FLOAT, NULL);
+			targets[n++] = &g->cnt[k];
 	}
-	g->color = texture(gl, GL_RGBA8, w, h, GL_UNSIGNED_BYTE, NULL);
-	if (g->desc.primary == RS_PRIMARY_RASTER) {
+	for (int i = 0; st == RS_OK && i < n; ++i) {
+		*targets[i] = texture(gl, GL_RGBA32F, w, h, GL_FLOAT, NULL);
+		st = rs_gles_allocated(gl, "a per-pixel state target", GL_RGBA32F, w, h, 1, err);
+	}
+	if (st == RS_OK) {
+		g->color = texture(gl, GL_RGBA8, w, h, GL_UNSIGNED_BYTE, NULL);
+		st = rs_gles_allocated(gl, "the display target", GL_RGBA8, w, h, 1, err);
+	}
+	if (st == RS_OK && g->desc.primary == RS_PRIMARY_RASTER) {
 		gl->GenRenderbuffers(1, &g->depth);
 		gl->BindRenderbuffer(GL_RENDERBUFFER, g->depth);
 		gl->RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+		st = rs_gles_allocated(gl, "the raster depth buffer", GL_DEPTH_COMPONENT32F, w, h,
+		                       1, err);
 	}
-	return rs_gles_check(gl, "uploading the scene", err);
+	return st;
 }
 
 static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
@@ -398,9 +418,16 @@ static enum rs_status probe(struct gles *g, struct rs_error *err)
 	const char *cap = getenv("RS_GLES_MAX_TEXTURE_SIZE");
 	if (cap && atoi(cap) > 0 && atoi(cap) < g->max_tex)
 		g->max_tex = atoi(cap);
+	enum rs_status st = rs_gles_check(gl, "probing the context", err);
+	if (st != RS_OK)
+		return st;
 	gl->GenVertexArrays(1, &g->vao);
-	gl->GenFramebuffers(1, &g->fbo);
-	return rs_gles_check(gl, "probing the context", err);
+	st = rs_gles_allocated(gl, "the vertex array object", 0, 0, 0, 0, err);
+	if (st == RS_OK) {
+		gl->GenFramebuffers(1, &g->fbo);
+		st = rs_gles_allocated(gl, "the framebuffer object", 0, 0, 0, 0, err);
+	}
+	return st;
 }
 
 static const struct rs_renderer_ops gles_ops_egl = {.name = "egl",

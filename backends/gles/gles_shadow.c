@@ -38,10 +38,15 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err)
 	gl->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 	gl->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R32F, size, size, layers, 0, GL_RED, GL_FLOAT,
 	               NULL);
+	enum rs_status st =
+	    rs_gles_allocated(gl, "the cube shadow maps", GL_R32F, size, size, layers, err);
+	if (st != RS_OK)
+		return st;
 	gl->GenRenderbuffers(1, &g->shadow_depth);
 	gl->BindRenderbuffer(GL_RENDERBUFFER, g->shadow_depth);
 	gl->RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, size, size);
-	enum rs_status st = rs_gles_check(gl, "allocating the shadow maps", err);
+	st = rs_gles_allocated(gl, "the shadow maps' depth buffer", GL_DEPTH_COMPONENT32F, size,
+	                       size, 1, err);
 	if (st != RS_OK || g->accel.packed.triangle_count == 0)
 		return st;
 
