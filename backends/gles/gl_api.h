@@ -75,6 +75,11 @@
 	  (GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,        \
 	   GLsizei depth, GLint border, GLenum format, GLenum type, const void *pixels))           \
 	X(void, TexParameteri, (GLenum target, GLenum pname, GLint param))                         \
+	X(void, TexStorage2D,                                                                      \
+	  (GLenum target, GLsizei levels, GLenum internalformat, GLsizei width, GLsizei height))   \
+	X(void, TexSubImage2D,                                                                     \
+	  (GLenum target, GLint level, GLint xoffset, GLint yoffset, GLsizei width,                \
+	   GLsizei height, GLenum format, GLenum type, const void *pixels))                        \
 	X(void, Uniform1f, (GLint location, GLfloat v0))                                           \
 	X(void, Uniform1i, (GLint location, GLint v0))                                             \
 	X(void, Uniform2f, (GLint location, GLfloat v0, GLfloat v1))                               \
