@@ -33,7 +33,15 @@ struct fixture {
 
 /* A scene of `tris` random triangles split over two meshes with different materials, packed
  * `row_items` per row (0: the default). */
-static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32_t row_items)
+/* Where the random triangles lie: scaled, shifted, or all in the plane z = shift. */
+struct shape {
+	double scale;
+	double shift;
+	bool flat;
+};
+
+static struct fixture make_shaped(size_t tris, enum rs_bvh_builder builder, uint32_t row_items,
+                                  enum rs_pack_nodes nodes, struct shape sh)
 {
 	struct fixture f = {0};
 	struct rs_error err;
@@ -54,8 +62,11 @@ static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32
 			continue;
 		float *pos = malloc(9 * n * sizeof(float));
 		uint32_t *idx = malloc(3 * n * sizeof(uint32_t));
-		for (size_t i = 0; i < 9 * n; i++)
-			pos[i] = (float)(rnd() * 50.0 + (i % 3 == 0 ? 0.0 : (double)(i / 9)));
+		for (size_t i = 0; i < 9 * n; i++) {
+			double v = rnd() * 50.0 + (i % 3 == 0 ? 0.0 : (double)(i / 9));
+			v = sh.flat && i % 3 == 2 ? 0.0 : v * sh.scale;
+			pos[i] = (float)(v + sh.shift);
+		}
 		for (size_t i = 0; i < 3 * n; i++)
 			idx[i] = (uint32_t)i;
 		struct rs_mesh_desc md = {.positions = pos,
@@ -75,13 +86,19 @@ static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32
 	                              rs_scene_vertex_count(f.scene), rs_scene_indices(f.scene),
 	                              tris, f.nodes, cap, f.order, &f.node_count, &err),
 	                 RS_OK);
-	struct rs_pack_desc pd = {.row_items = row_items};
+	struct rs_pack_desc pd = {.row_items = row_items, .nodes = nodes};
 	assert_int_equal(rs_pack_layout(&pd, f.node_count, tris, 2, &f.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_alloc(&f.packed, &err), RS_OK);
 	enum rs_status s = rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err);
 	if (s != RS_OK)
 		fail_msg("pack: %s", err.message);
 	return f;
+}
+
+static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32_t row_items)
+{
+	return make_shaped(tris, builder, row_items, RS_PACK_NODES_PAPER,
+	                   (struct shape){1.0, 0.0, false});
 }
 
 static struct fixture make(size_t tris, enum rs_bvh_builder builder)
@@ -130,8 +147,11 @@ static void default_layout_fits_gles3_minimum(void **state)
 	for (int i = 0; i < 4; i++) {
 		assert_true(t[i]->width <= 2048);
 		assert_true(t[i]->height <= 2048);
-		assert_int_equal(t[i]->width % 3, 0);
+		assert_int_equal(t[i]->width % (i == 0 ? 1 : 3), 0);
 	}
+	assert_int_equal(p.node_format, RS_PACK_NODES_COMPACT); /* the default: one texel */
+	assert_int_equal(p.nodes.format, RS_TEXEL_RGBA32UI);
+	assert_int_equal(p.nodes.width, 512);
 	assert_int_equal(p.nodes.height, (600000 + 511) / 512);
 	struct rs_pack_desc odd = {.max_texture_size = 3000}; /* 1000 fit: 512 */
 	assert_int_equal(rs_pack_layout(&odd, 10, 10, 1, &p, &err), RS_OK);
@@ -143,7 +163,11 @@ static void default_layout_fits_gles3_minimum(void **state)
 	struct rs_pack_desc big = {.max_texture_size = 16384};
 	assert_int_equal(rs_pack_layout(&big, 600000, 300000, 40, &p, &err), RS_OK);
 	assert_int_equal(p.row_items, 4096);
+	assert_int_equal(p.nodes.width, 4096);
+	struct rs_pack_desc paper = {.max_texture_size = 16384, .nodes = RS_PACK_NODES_PAPER};
+	assert_int_equal(rs_pack_layout(&paper, 600000, 300000, 40, &p, &err), RS_OK);
 	assert_int_equal(p.nodes.width, 4096 * 3);
+	assert_int_equal(p.nodes.format, RS_TEXEL_RGBA32F);
 }
 
 static void scene_over_the_texture_limit_is_refused_naming_it(void **state)
@@ -176,8 +200,11 @@ static void impossible_row_widths_are_invalid(void **state)
 	struct rs_pack_desc one = {.max_texture_size = 3};
 	assert_int_equal(rs_pack_layout(&one, 3, 3, 3, &p, &err), RS_OK);
 	assert_int_equal(p.row_items, 1);
-	assert_int_equal(p.nodes.width, 3);
+	assert_int_equal(p.nodes.width, 1);
 	assert_int_equal(p.nodes.height, 3);
+	struct rs_pack_desc bad = {.nodes = (enum rs_pack_nodes)7};
+	assert_int_equal(rs_pack_layout(&bad, 3, 3, 3, &p, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "node format"));
 }
 
 static void layout_refuses_2_pow_24(void **state)
@@ -208,6 +235,16 @@ static void assert_xy_is_linear(const struct rs_texture *t, uint32_t row_items,
 			                 rs_pack_texel(t, texels_per_item, k, j));
 		}
 	}
+}
+
+/* 1 when slot s ends a leaf (the triangle texture's last flag), else 0. */
+static float last_of_leaf(const struct fixture *f, uint32_t s)
+{
+	for (size_t i = 0; i < f->node_count; i++)
+		if (f->nodes[i].level == 0 && f->nodes[i].count > 0 &&
+		    f->nodes[i].first + f->nodes[i].count - 1 == s)
+			return 1.0f;
+	return 0.0f;
 }
 
 static void round_trip_rows(enum rs_bvh_builder builder, size_t tris, uint32_t row_items)
@@ -268,7 +305,9 @@ static void round_trip_rows(enum rs_bvh_builder builder, size_t tris, uint32_t r
 				assert_true(t[a] ==
 				            (float)(pos[3 * idx[3 * tri + k] + a] - p->origin[a]));
 			assert_memory_equal(nn, nrm + 3 * idx[3 * tri + k], 3 * sizeof(float));
-			float w = k == 0 ? (float)tri : k == 1 ? (float)mat[tri] : 0.0f;
+			float w = k == 0   ? (float)tri
+			          : k == 1 ? (float)mat[tri]
+			                   : last_of_leaf(&f, s);
 			assert_true(t[3] == w);
 			assert_true(nn[3] == 0.0f);
 		}
@@ -299,6 +338,88 @@ static void round_trip_linear_and_none(void **state)
 {
 	round_trip(RS_BVH_LINEAR, 9000);
 	round_trip(RS_BVH_NONE, 5);
+}
+
+/* A compact bound is origin + q * step exactly, q a 16-bit integer, step a power of two. */
+static void assert_on_grid(float v, float origin, float step)
+{
+	double q = ((double)v - origin) / step;
+	assert_true(q == floor(q) && q >= 0.0 && q <= RS_PACK_GRID_STEPS);
+	int e;
+	assert_true(frexp(step, &e) == 0.5);
+	assert_true((float)((double)origin + q * step) == v);
+}
+
+/* Compact nodes against the paper's exact ones for the same BVH: every box holds the tight
+ * box and is at most one grid step larger on each side, bounds sit exactly on the grid, and
+ * the topology (escape, leaf, first, count) decodes equal. */
+static void compact_matches(enum rs_bvh_builder builder, size_t tris, struct shape sh)
+{
+	uint64_t seed = rng_state; /* the same triangles in both */
+	struct fixture c = make_shaped(tris, builder, 0, RS_PACK_NODES_COMPACT, sh);
+	rng_state = seed;
+	struct fixture p = make_shaped(tris, builder, 0, RS_PACK_NODES_PAPER, sh);
+	assert_int_equal(c.node_count, p.node_count);
+	assert_int_equal(rs_pack_check(&c.packed, NULL), RS_OK);
+	const float *origin = c.packed.node_grid_origin, *step = c.packed.node_grid_step;
+	for (uint32_t i = 0; i < c.node_count; i++) {
+		struct rs_pack_node nc, np;
+		rs_pack_read_node(&c.packed, i, &nc);
+		rs_pack_read_node(&p.packed, i, &np);
+		bool empty = np.lo[0] > np.hi[0];
+		for (int a = 0; a < 3 && !empty; a++) {
+			assert_true(nc.lo[a] <= np.lo[a] && nc.hi[a] >= np.hi[a]);
+			assert_true((double)np.lo[a] - nc.lo[a] <= step[a]);
+			assert_true((double)nc.hi[a] - np.hi[a] <= step[a]);
+			assert_on_grid(nc.lo[a], origin[a], step[a]);
+			assert_on_grid(nc.hi[a], origin[a], step[a]);
+		}
+		if (empty)
+			assert_true(nc.lo[0] > nc.hi[0]); /* an empty box stays empty */
+		assert_int_equal(nc.escape, np.escape);
+		assert_int_equal(nc.leaf, np.leaf && np.count > 0);
+		if (nc.leaf) {
+			assert_int_equal(nc.first, np.first);
+			assert_int_equal(nc.count, np.count);
+		}
+	}
+	release(&c);
+	release(&p);
+}
+
+static void compact_nodes_hold_the_tight_boxes(void **state)
+{
+	struct shape plain = {1.0, 0.0, false};
+	compact_matches(RS_BVH_SAH, 3000, plain); /* > 512 items: crosses texture rows */
+	compact_matches(RS_BVH_PAPER, 1500, plain);
+	compact_matches(RS_BVH_LINEAR, 900, plain);
+	compact_matches(RS_BVH_NONE, 5, plain);
+}
+
+/* The grid stays exact and conservative far from the origin, at tiny and huge scales, and
+ * for a scene with no extent along one axis. */
+static void compact_nodes_survive_hard_scales(void **state)
+{
+	const struct shape shapes[] = {{1.0, 1.0e6, false},       {1.0e-30, 0.0, false},
+	                               {1.0e-30, 1.0e-25, false}, {1.0e30, -1.0e33, false},
+	                               {1.0, 0.0, true},          {1.0, 123.456, true}};
+	for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
+		compact_matches(RS_BVH_SAH, 400, shapes[i]);
+}
+
+/* The compact format keeps no escape for a leaf: a tree whose leaf escapes elsewhere cannot
+ * be stored and is refused, naming the leaf. */
+static void compact_refuses_a_leaf_that_escapes_far(void **state)
+{
+	struct fixture f = make_shaped(20, RS_BVH_LINEAR, 0, RS_PACK_NODES_COMPACT,
+	                               (struct shape){1.0, 0.0, false});
+	struct rs_error err;
+	assert_true(f.node_count >= 2 && f.nodes[0].level == 0);
+	f.nodes[0].escape = 2;
+	assert_int_equal(rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err),
+	                 RS_ERR_BAD_DATA);
+	assert_non_null(strstr(err.message, "leaf 0"));
+	release(&f);
 }
 
 static void materials_resolve_defaults(void **state)
@@ -379,6 +500,9 @@ int main(void)
 	    cmocka_unit_test(round_trip_at_several_row_widths),
 	    cmocka_unit_test(round_trip_paper),
 	    cmocka_unit_test(round_trip_linear_and_none),
+	    cmocka_unit_test(compact_nodes_hold_the_tight_boxes),
+	    cmocka_unit_test(compact_nodes_survive_hard_scales),
+	    cmocka_unit_test(compact_refuses_a_leaf_that_escapes_far),
 	    cmocka_unit_test(materials_resolve_defaults),
 	    cmocka_unit_test(unused_texels_are_zero),
 	    cmocka_unit_test(pack_rejects_mismatch),

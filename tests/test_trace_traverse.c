@@ -449,10 +449,9 @@ static size_t ref_visit(struct ref_walk *rw, size_t i)
 		end++;
 	}
 	rw->boxes++;
-	const struct rs_texture *nodes = &rw->w->packed.nodes;
-	if (!rs_intersect_box(rs_pack_texel(nodes, RS_PACK_NODE_TEXELS, (uint32_t)i, 0),
-	                      rs_pack_texel(nodes, RS_PACK_NODE_TEXELS, (uint32_t)i, 1),
-	                      rw->ray.origin, rw->inv, rw->ray.tmin, rw->ray.tmax))
+	struct rs_pack_node box; /* only its bounds: the topology comes from the BVH */
+	rs_pack_read_node(&rw->w->packed, (uint32_t)i, &box);
+	if (!rs_intersect_box(box.lo, box.hi, rw->ray.origin, rw->inv, rw->ray.tmin, rw->ray.tmax))
 		return end;
 	if (n->level > 0) {
 		size_t c = ref_visit(rw, i + 1);

@@ -76,6 +76,11 @@
 	  (GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,        \
 	   GLsizei depth, GLint border, GLenum format, GLenum type, const void *pixels))           \
 	X(void, TexParameteri, (GLenum target, GLenum pname, GLint param))                         \
+	X(void, TexStorage2D,                                                                      \
+	  (GLenum target, GLsizei levels, GLenum internalformat, GLsizei width, GLsizei height))   \
+	X(void, TexSubImage2D,                                                                     \
+	  (GLenum target, GLint level, GLint xoffset, GLint yoffset, GLsizei width,                \
+	   GLsizei height, GLenum format, GLenum type, const void *pixels))                        \
 	X(void, Uniform1f, (GLint location, GLfloat v0))                                           \
 	X(void, Uniform1i, (GLint location, GLint v0))                                             \
 	X(void, Uniform2f, (GLint location, GLfloat v0, GLfloat v1))                               \
@@ -96,7 +101,7 @@ enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *
 
 /* Test seam (gl_fault.c; this header is private and never installed): out of GPU memory on
  * demand. rs__gl_fault_wrap(true) makes every table loaded from then on wrap the allocating
- * entry points (glTexImage2D/3D, glRenderbufferStorage, glGenFramebuffers,
+ * entry points (glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage, glGenFramebuffers,
  * glGenVertexArrays) and track live texture, renderbuffer, framebuffer and vertex array
  * names; it resets the counts. rs__gl_fault_fail_at(n) restarts the allocation count: the
  * n-th allocation from now (1-based; 0: none) is not made and the next glGetError reports

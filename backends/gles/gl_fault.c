@@ -1,7 +1,8 @@
 /* Test seam (gl_api.h, never installed): GPU out-of-memory on demand. When armed before a
  * renderer loads its GL table, the allocating entry points (texture and renderbuffer
- * storage, framebuffer and vertex array objects) are wrapped: allocation number N is not
- * made and glGetError reports GL_OUT_OF_MEMORY for it, as a driver that ran out would. The
+ * storage: glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage; framebuffer and vertex
+ * array objects) are wrapped: allocation number N is not made and glGetError reports
+ * GL_OUT_OF_MEMORY for it, as a driver that ran out would. The
  * wrappers also keep the set of live GL object names, so a test can see that a failed call
  * deletes what it made. One renderer at a time (the state is static). */
 #include <string.h>
@@ -97,15 +98,21 @@ static void GL_APIENTRY tex_image_2d(GLenum target, GLint level, GLint internal,
 }
 
 static void GL_APIENTRY tex_image_3d(GLenum target, GLint level, GLint internal, GLsizei w,
-                                     GLsizei h, GLsizei d, GLint border, GLenum format,
-                                     GLenum type, const void *pixels)
+                                     GLsizei h, GLsizei d, GLint border, GLenum format, GLenum type,
+                                     const void *pixels)
 {
 	if (allocate())
 		real.TexImage3D(target, level, internal, w, h, d, border, format, type, pixels);
 }
 
-static void GL_APIENTRY renderbuffer_storage(GLenum target, GLenum internal, GLsizei w,
-                                             GLsizei h)
+static void GL_APIENTRY tex_storage_2d(GLenum target, GLsizei levels, GLenum internal, GLsizei w,
+                                       GLsizei h)
+{
+	if (allocate())
+		real.TexStorage2D(target, levels, internal, w, h);
+}
+
+static void GL_APIENTRY renderbuffer_storage(GLenum target, GLenum internal, GLsizei w, GLsizei h)
 {
 	if (allocate())
 		real.RenderbufferStorage(target, internal, w, h);
@@ -142,6 +149,7 @@ void rs__gl_fault_hook(struct rs_gl *gl)
 	gl->GetError = get_error;
 	gl->TexImage2D = tex_image_2d;
 	gl->TexImage3D = tex_image_3d;
+	gl->TexStorage2D = tex_storage_2d;
 	gl->RenderbufferStorage = renderbuffer_storage;
 	gl->GenTextures = gen_Textures;
 	gl->DeleteTextures = delete_Textures;

@@ -14,6 +14,9 @@ static const char *format_name(GLenum format, double *bytes)
 	case GL_RGBA32F:
 		*bytes = 16.0;
 		return "RGBA32F";
+	case GL_RGBA32UI:
+		*bytes = 16.0;
+		return "RGBA32UI";
 	case GL_RGBA8:
 		*bytes = 4.0;
 		return "RGBA8";
@@ -32,8 +35,8 @@ static const char *format_name(GLenum format, double *bytes)
 	}
 }
 
-enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenum format,
-                                 GLsizei w, GLsizei h, GLsizei layers, struct rs_error *err)
+enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenum format, GLsizei w,
+                                 GLsizei h, GLsizei layers, struct rs_error *err)
 {
 	GLenum e = gl->GetError();
 	if (e == GL_NO_ERROR)
@@ -51,8 +54,8 @@ enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenu
 			snprintf(dims, sizeof dims, "%dx%dx%d", (int)w, (int)h, (int)layers);
 		else
 			snprintf(dims, sizeof dims, "%dx%d", (int)w, (int)h);
-		snprintf(size, sizeof size, " (%s %s, %.1f %s)", dims, name, mib ? kib / 1024.0 : kib,
-		         mib ? "MiB" : "KiB");
+		snprintf(size, sizeof size, " (%s %s, %.1f %s)", dims, name,
+		         mib ? kib / 1024.0 : kib, mib ? "MiB" : "KiB");
 	}
 	if (e == GL_OUT_OF_MEMORY)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of GPU memory for %s%s", what,

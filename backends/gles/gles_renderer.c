@@ -38,6 +38,8 @@ static void delete_scene(struct gles *g)
 	g->scene = NULL;
 }
 
+/* A one-level texture (immutable storage: drivers then know no other level is ever read,
+ * which llvmpipe uses to drop per-fetch level arithmetic). */
 static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h, GLenum type,
                       const void *data)
 {
@@ -48,8 +50,10 @@ static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h
 	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
 	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-	gl->TexImage2D(GL_TEXTURE_2D, 0, format, w, h, 0, format == GL_RGBA8 ? GL_RGBA : GL_RGBA,
-	               type, data);
+	gl->TexStorage2D(GL_TEXTURE_2D, 1, (GLenum)format, w, h);
+	if (data)
+		gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h,
+		                  format == GL_RGBA32UI ? GL_RGBA_INTEGER : GL_RGBA, type, data);
 	return t;
 }
 
@@ -162,20 +166,22 @@ static int row_shift(uint32_t items)
 static enum rs_status build_programs(struct gles *g, const struct rs_scene *scene,
                                      struct rs_error *err)
 {
-	char defines[384];
+	char defines[512];
 	snprintf(defines, sizeof defines,
 	         "#define RS_ROW_ITEMS %u\n#define RS_ROW_SHIFT %d\n"
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
-	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n#define RS_INTERREFLECT %d\n",
+	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n#define RS_INTERREFLECT %d\n"
+	         "#define RS_COMPACT_NODES %d\n",
 	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP,
 	         g->desc.reflections != RS_REFLECT_TRACE,
-	         g->desc.reflections == RS_REFLECT_INTERREFLECT);
+	         g->desc.reflections == RS_REFLECT_INTERREFLECT,
+	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
-	char full[448];
+	char full[576];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
 	         g->light_count ? g->light_count : 1u);
 	static const char *const files[PROG_COUNT][4] = {
@@ -229,9 +235,12 @@ static enum rs_status upload(struct gles *g, struct rs_error *err)
 	    "the scene's normal texture", "the scene's material texture"};
 	enum rs_status st = RS_OK;
 	for (int i = 0; st == RS_OK && i < 4; ++i) {
-		g->scene_tex[i] = texture(gl, GL_RGBA32F, (GLsizei)t[i]->width,
-		                          (GLsizei)t[i]->height, GL_FLOAT, t[i]->texels);
-		st = rs_gles_allocated(gl, names[i], GL_RGBA32F, (GLsizei)t[i]->width,
+		bool words = t[i]->format == RS_TEXEL_RGBA32UI;
+		GLenum format = words ? GL_RGBA32UI : GL_RGBA32F;
+		g->scene_tex[i] =
+		    texture(gl, (GLint)format, (GLsizei)t[i]->width, (GLsizei)t[i]->height,
+		            words ? GL_UNSIGNED_INT : GL_FLOAT, t[i]->texels);
+		st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
 		                       (GLsizei)t[i]->height, 1, err);
 	}
 	GLsizei w = (GLsizei)g->desc.width, h = (GLsizei)g->desc.height;

@@ -58,6 +58,8 @@ void rs_gles_scene_uniforms(const struct gles *g, GLuint prog)
 		rs_gles_bind_2d(gl, prog, UNIT_NODES + i, names[i], g->scene_tex[i]);
 	const struct rs_packed *p = &g->accel.packed;
 	rs_gles_uniform_i(gl, prog, "u_node_count", (GLint)p->node_count);
+	rs_gles_uniform_3fv(gl, prog, "u_grid_origin", 1, p->node_grid_origin);
+	rs_gles_uniform_3fv(gl, prog, "u_grid_step", 1, p->node_grid_step);
 	rs_gles_uniform_i(gl, prog, "u_tri_count", (GLint)p->triangle_count);
 	rs_gles_uniform_i(gl, prog, "u_material_count", (GLint)p->material_count);
 	rs_gles_uniform_f(gl, prog, "u_spawn_scale", g->spawn_scale);

@@ -1,11 +1,12 @@
-/* rs_pack: the scene and its BVH as RGBA32F texture images, the exact bytes the GLES
- * kernels sample and the CPU reference tracer walks. Integers are stored as floats, which
- * is why every count must stay below 2^24. */
+/* rs_pack: the scene and its BVH as texture images, the exact bytes the GLES kernels sample
+ * and the CPU reference tracer walks. Integers in float textures are stored as floats,
+ * which is why every count must stay below 2^24. The node texture is in pack_nodes.c. */
 #include "raystream/rs_pack.h"
 
-#include <float.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "pack_internal.h"
 
 void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t row_items,
                           uint32_t *out_width, uint32_t *out_height)
@@ -19,8 +20,14 @@ void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t row_i
 }
 
 static const char *const texture_names[4] = {"node", "triangle", "normal", "material"};
-static const uint32_t texture_texels[4] = {RS_PACK_NODE_TEXELS, RS_PACK_TRIANGLE_TEXELS,
-                                           RS_PACK_NORMAL_TEXELS, RS_PACK_MATERIAL_TEXELS};
+
+/* Texels per item of texture i (0: nodes, in their format). */
+static uint32_t texture_texels(int i, enum rs_pack_nodes nodes)
+{
+	static const uint32_t texels[4] = {RS_PACK_NODE_TEXELS, RS_PACK_TRIANGLE_TEXELS,
+	                                   RS_PACK_NORMAL_TEXELS, RS_PACK_MATERIAL_TEXELS};
+	return i == 0 && nodes == RS_PACK_NODES_COMPACT ? RS_PACK_COMPACT_NODE_TEXELS : texels[i];
+}
 
 /* The default row: the most items a row holds, rounded down to a power of two, so that
  * kernels address an item with a mask and a shift instead of an integer division. */
@@ -48,6 +55,10 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 		    max_side, RS_PACK_MAX_ITEM_TEXELS);
 	uint32_t row_items =
 	    desc && desc->row_items ? desc->row_items : widest_power_of_two(max_side);
+	enum rs_pack_nodes nodes = desc ? desc->nodes : RS_PACK_NODES_COMPACT;
+	if (nodes != RS_PACK_NODES_COMPACT && nodes != RS_PACK_NODES_PAPER)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: unknown node format %d",
+		                    (int)nodes);
 	if ((uint64_t)row_items * RS_PACK_MAX_ITEM_TEXELS > max_side)
 		return rs_error_set(
 		    err, RS_ERR_INVALID,
@@ -63,7 +74,7 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 	struct rs_texture *tex[4] = {&out->nodes, &out->triangles, &out->normals, &out->materials};
 	size_t items[4] = {node_count, triangle_count, triangle_count, material_count};
 	for (int i = 0; i < 4; i++) {
-		rs_pack_texture_size(items[i], texture_texels[i], row_items, &tex[i]->width,
+		rs_pack_texture_size(items[i], texture_texels(i, nodes), row_items, &tex[i]->width,
 		                     &tex[i]->height);
 		if (tex[i]->height > max_side) {
 			enum rs_status s = rs_error_set(
@@ -80,6 +91,8 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 	out->material_count = (uint32_t)material_count;
 	out->row_items = row_items;
 	out->max_texture_size = max_side;
+	out->node_format = nodes;
+	out->nodes.format = nodes == RS_PACK_NODES_COMPACT ? RS_TEXEL_RGBA32UI : RS_TEXEL_RGBA32F;
 	return RS_OK;
 }
 
@@ -94,8 +107,13 @@ enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *er
 	                   packed->material_count};
 	for (int i = 0; i < 4; i++) {
 		uint32_t w, h;
-		rs_pack_texture_size(items[i], texture_texels[i], packed->row_items, &w, &h);
-		if (!tex[i]->texels || tex[i]->width != w || tex[i]->height != h)
+		rs_pack_texture_size(items[i], texture_texels(i, packed->node_format),
+		                     packed->row_items, &w, &h);
+		enum rs_texel_format f = i == 0 && packed->node_format == RS_PACK_NODES_COMPACT
+		                             ? RS_TEXEL_RGBA32UI
+		                             : RS_TEXEL_RGBA32F;
+		if (!tex[i]->texels || tex[i]->width != w || tex[i]->height != h ||
+		    tex[i]->format != f)
 			return rs_error_set(err, RS_ERR_INVALID,
 			                    "pack: %s texture missing or not %ux%u as laid out for "
 			                    "%u items per row",
@@ -173,9 +191,16 @@ static enum rs_status check_packed(const struct rs_scene *scene, const struct rs
 			    err, RS_ERR_BAD_DATA,
 			    "pack: triangle order slot %zu names triangle %u of %zu", t,
 			    triangle_order[t], tris);
-	for (size_t i = 0; i < node_count; i++)
+	for (size_t i = 0; i < node_count; i++) {
 		if (nodes[i].escape > node_count || (size_t)nodes[i].first + nodes[i].count > tris)
 			return rs_error_set(err, RS_ERR_BAD_DATA, "pack: node %zu out of range", i);
+		/* the compact format stores no escape for a leaf: it must be the next node */
+		if (p->node_format == RS_PACK_NODES_COMPACT && nodes[i].level == 0 &&
+		    nodes[i].escape != i + 1)
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "pack: leaf %zu escapes to %u, not to the next node", i,
+			                    nodes[i].escape);
+	}
 	return RS_OK;
 }
 
@@ -203,44 +228,6 @@ static void pack_triangles(const struct rs_scene *scene, const uint32_t *triangl
 	}
 }
 
-static void grow_box(float *lo, float *hi, const float *plo, const float *phi)
-{
-	for (int a = 0; a < 3; a++) {
-		lo[a] = plo[a] < lo[a] ? plo[a] : lo[a];
-		hi[a] = phi[a] > hi[a] ? phi[a] : hi[a];
-	}
-}
-
-/* Tight node bounds of the packed vertices, children before parents (pre-order: children
- * follow their parent, the right child at the left child's escape). Node texels start
- * empty (lo = +FLT_MAX, hi = -FLT_MAX), which is what padding leaves keep. */
-static void node_bounds(const struct rs_bvh_node *nodes, size_t node_count,
-                        struct rs_packed *packed)
-{
-	for (size_t k = node_count; k-- > 0;) {
-		float *lo = texel(&packed->nodes, RS_PACK_NODE_TEXELS, (uint32_t)k, 0);
-		float *hi = texel(&packed->nodes, RS_PACK_NODE_TEXELS, (uint32_t)k, 1);
-		const struct rs_bvh_node *n = &nodes[k];
-		if (n->level == 0) {
-			for (uint32_t s = n->first; s < n->first + n->count; s++)
-				for (uint32_t j = 0; j < 3; j++) {
-					const float *v = texel(&packed->triangles,
-					                       RS_PACK_TRIANGLE_TEXELS, s, j);
-					grow_box(lo, hi, v, v);
-				}
-			continue;
-		}
-		/* a corrupt tree may not read outside its own subtree */
-		uint32_t end = n->escape < node_count ? n->escape : (uint32_t)node_count;
-		uint32_t child[2] = {(uint32_t)k + 1, k + 1 < end ? nodes[k + 1].escape : end};
-		for (int c = 0; c < 2; c++)
-			if (child[c] > k && child[c] < end)
-				grow_box(lo, hi,
-				         texel(&packed->nodes, RS_PACK_NODE_TEXELS, child[c], 0),
-				         texel(&packed->nodes, RS_PACK_NODE_TEXELS, child[c], 1));
-	}
-}
-
 enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_node *nodes,
                              size_t node_count, const uint32_t *triangle_order,
                              struct rs_packed *packed, struct rs_error *err)
@@ -259,16 +246,9 @@ enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_n
 	for (int a = 0; a < 3; a++)
 		packed->origin[a] = b.hi[a] >= b.lo[a] ? 0.5 * (b.lo[a] + b.hi[a]) : 0.0;
 	pack_triangles(scene, triangle_order, packed);
-	for (uint32_t i = 0; i < node_count; i++) {
-		const struct rs_bvh_node *n = &nodes[i];
-		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 0), FLT_MAX, FLT_MAX, FLT_MAX,
-		     (float)n->escape);
-		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 1), -FLT_MAX, -FLT_MAX, -FLT_MAX,
-		     (float)n->level);
-		set4(texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 2), (float)n->first,
-		     (float)n->count, (float)n->order, 0.0f);
-	}
-	node_bounds(nodes, node_count, packed);
+	s = rs__pack_nodes(nodes, node_count, packed, err);
+	if (s != RS_OK)
+		return s;
 
 	const struct rs_material *m = rs_scene_materials(scene);
 	for (uint32_t i = 0; i < packed->material_count; i++) {

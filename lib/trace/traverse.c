@@ -1,7 +1,7 @@
-/* Stackless traversal of the packed threaded BVH, reading only the float textures (as the
- * GLES kernel does), and brute force for checking it. Counting follows the paper: every
- * box tested is one test, every triangle tested is one test; a skipped slot (skip_slot)
- * is not tested and not counted. */
+/* Stackless traversal of the packed threaded BVH, reading only the textures (as the GLES
+ * kernel does, through rs_pack_read_node in either node format), and brute force for checking it.
+ * Counting follows the paper: every box tested is one test, every triangle tested is one test; a
+ * skipped slot (skip_slot) is not tested and not counted. */
 #include <math.h>
 
 #include "raystream/rs_trace.h"
@@ -83,25 +83,18 @@ static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
 	uint32_t n = packed->node_count;
 	uint32_t i = 0;
 	while (i < n) {
-		const float *t0 = rs_pack_texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 0);
-		const float *t1 = rs_pack_texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 1);
-		uint32_t escape = to_index(t0[3]);
-		/* A corrupt escape must not loop forever: never step backwards. */
-		escape = escape > i ? escape : i + 1;
+		struct rs_pack_node node;
+		rs_pack_read_node(packed, i, &node);
 		boxes++;
-		if (!rs_intersect_box(t0, t1, r.origin, inv, r.tmin, r.tmax)) {
-			i = escape;
+		if (!rs_intersect_box(node.lo, node.hi, r.origin, inv, r.tmin, r.tmax)) {
+			i = node.escape;
 			continue;
 		}
-		if (t1[3] != 0.0f) {
+		if (!node.leaf) {
 			i++;
 			continue;
 		}
-		const float *t2 = rs_pack_texel(&packed->nodes, RS_PACK_NODE_TEXELS, i, 2);
-		uint64_t first = to_index(t2[0]);
-		uint64_t end = first + to_index(t2[1]);
-		end = end < packed->triangle_count ? end : packed->triangle_count;
-		for (uint32_t slot = (uint32_t)first; slot < end; slot++) {
+		for (uint32_t slot = node.first; slot < node.first + node.count; slot++) {
 			if (slot == r.skip_slot)
 				continue;
 			double v[3][3], t, u, w;
@@ -118,7 +111,7 @@ static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
 				goto done;
 			r.tmax = t;
 		}
-		i = escape;
+		i = node.escape;
 	}
 done:
 	if (counters) {

@@ -1,12 +1,20 @@
 // common.glsl: the ray rules every kernel shares, in fp32, copied from the CPU reference
 // (lib/trace, docs/tracer.md): packed-texture access, slab and triangle tests, the
 // stackless walk of the threaded BVH, surface data, environment cube, spawn rule.
-// Inputs:  u_nodes, u_tris, u_normals, u_materials (packed RGBA32F, rs_pack.h),
-//          u_node_count, u_tri_count, u_material_count, u_spawn_scale (R5's S).
+// Inputs:  u_nodes (RGBA32UI compact nodes or RGBA32F paper nodes), u_tris, u_normals,
+//          u_materials (RGBA32F; layouts in rs_pack.h), u_node_count, u_tri_count,
+//          u_material_count, u_spawn_scale (R5's S), u_grid_origin, u_grid_step (compact).
 // Every position is in the packed frame (docs/tracer.md R1): the CPU moved the camera,
 // lights and environment by rs_packed.origin in double before handing them over.
-// Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY.
+// Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT,
+//          RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY, RS_COMPACT_NODES.
+#if RS_COMPACT_NODES
+uniform highp usampler2D u_nodes;
+uniform vec3 u_grid_origin;
+uniform vec3 u_grid_step;
+#else
 uniform sampler2D u_nodes;
+#endif
 uniform sampler2D u_tris;
 uniform sampler2D u_normals;
 uniform sampler2D u_materials;
@@ -23,6 +31,8 @@ const float RS_HUGE = 3.0e38;
 // double reference uses 16 double ulps).
 const float RS_BOX_GROW = 1.0 + 1.9073486e-6;
 const float RS_BOX_SHRINK = 1.0 - 1.9073486e-6;
+// 1/d for a zero direction component (rs_box): finite, so (lo - o) * inv is never NaN.
+const float RS_ZERO_INV = 1.0e30;
 const float RS_PARALLEL_EPS = 1.0e-13;
 // Ray states, the paper's numbers (docs/tracer.md).
 const float RS_STATE_ACTIVE = 0.0;
@@ -55,7 +65,6 @@ ivec2 rs_item(int item, int texels, int j)
 #endif
 }
 
-vec4 rs_node(int i, int j) { return texelFetch(u_nodes, rs_item(i, 3, j), 0); }
 vec4 rs_tri(int s, int j) { return texelFetch(u_tris, rs_item(s, 3, j), 0); }
 vec4 rs_normal(int s, int j) { return texelFetch(u_normals, rs_item(s, 3, j), 0); }
 vec4 rs_material(int m, int j) { return texelFetch(u_materials, rs_item(m, 3, j), 0); }
@@ -65,7 +74,6 @@ float rs_maxabs(vec3 a) { return max(max(abs(a.x), abs(a.y)), abs(a.z)); }
 // Per-ray values every box and triangle test reuses.
 struct Pre {
 	vec3 inv;
-	bvec3 zero; // direction component 0: the ray stays in that slab's plane
 	bvec3 pos; // inv >= 0: near is the lo plane
 	float dmax;
 	ivec3 k;   // watertight: (kx, ky, kz)
@@ -75,8 +83,7 @@ struct Pre {
 Pre rs_prepare(Ray r)
 {
 	Pre p;
-	p.zero = equal(r.d, vec3(0.0));
-	p.inv = mix(1.0 / r.d, vec3(0.0), p.zero);
+	p.inv = mix(1.0 / r.d, vec3(RS_ZERO_INV), equal(r.d, vec3(0.0)));
 	p.pos = greaterThanEqual(p.inv, vec3(0.0));
 	p.dmax = rs_maxabs(r.d);
 	int kz = 0;
@@ -95,24 +102,20 @@ Pre rs_prepare(Ray r)
 	return p;
 }
 
-// Slab test (R3), near/far picked by the direction's sign (an empty box stays empty), both
-// ends widened outwards by a constant factor (no division); a zero direction component
-// keeps the ray inside iff the origin is in that slab (selects, no branch: a branch in the
-// innermost loop measured slower on llvmpipe).
+// Slab test (R3), near/far picked by the direction's sign (an empty box stays empty), the
+// nearest far and farthest near widened outwards once (widening is monotone, so this is
+// widening every slab's). A zero direction component has inv = RS_ZERO_INV (rs_prepare):
+// inside its slab, near <= 0 <= far and the slab constrains nothing; outside by more than
+// tf / 1e30 the box is missed; closer than that it is entered (conservative: only a box
+// test more, never a lost hit). No NaN: inv is finite, so no 0 * inf.
 bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
 {
-	vec3 a = lo - r.o, b = hi - r.o;
-	vec3 t0 = a * p.inv, t1 = b * p.inv;
+	vec3 t0 = (lo - r.o) * p.inv, t1 = (hi - r.o) * p.inv;
 	vec3 near = mix(t1, t0, p.pos);
 	vec3 far = mix(t0, t1, p.pos);
-	near *= mix(vec3(RS_BOX_GROW), vec3(RS_BOX_SHRINK), greaterThan(near, vec3(0.0)));
-	far *= mix(vec3(RS_BOX_SHRINK), vec3(RS_BOX_GROW), greaterThan(far, vec3(0.0)));
-	bvec3 inside =
-	    bvec3(uvec3(lessThanEqual(a, vec3(0.0))) & uvec3(greaterThanEqual(b, vec3(0.0))));
-	near = mix(near, mix(vec3(RS_HUGE), vec3(-RS_HUGE), inside), p.zero);
-	far = mix(far, mix(vec3(-RS_HUGE), vec3(RS_HUGE), inside), p.zero);
-	float tn = max(max(near.x, near.y), max(near.z, 0.0));
+	float tn = max(max(near.x, near.y), max(near.z, 0.0)) * RS_BOX_SHRINK;
 	float tf = min(min(far.x, far.y), min(far.z, tmax));
+	tf *= tf > 0.0 ? RS_BOX_GROW : RS_BOX_SHRINK;
 	return tn <= tf;
 }
 
@@ -181,6 +184,38 @@ bool rs_better(float t, float id, Hit best, bool found, float tmax)
 	return found ? t < best.t || (t == best.t && id < best.id) : t < tmax;
 }
 
+// Node i as both formats decode it (rs_pack_read_node): bounds, and `next` = the escape
+// (the node after a miss, at least i + 1); `first` >= 0 for a leaf's first slot, else -1.
+struct Node {
+	vec3 lo;
+	vec3 hi;
+	int next;
+	int first;
+};
+
+Node rs_node(int i)
+{
+	Node n;
+#if RS_COMPACT_NODES
+	// One fetch. Bounds = origin + q * step are exact in fp32 (power-of-two step).
+	uvec4 q = texelFetch(u_nodes, rs_item(i, 1, 0), 0);
+	n.lo = u_grid_origin + vec3(uvec3(q.x & 0xffffu, q.x >> 16, q.y & 0xffffu)) * u_grid_step;
+	n.hi = u_grid_origin + vec3(uvec3(q.y >> 16, q.z & 0xffffu, q.z >> 16)) * u_grid_step;
+	bool leaf = q.w >= 0x80000000u;
+	n.next = leaf ? i + 1 : max(int(q.w), i + 1);
+	n.first = leaf ? int(q.w & 0x7fffffffu) : -1;
+#else
+	vec4 n0 = texelFetch(u_nodes, rs_item(i, 3, 0), 0);
+	vec4 n1 = texelFetch(u_nodes, rs_item(i, 3, 1), 0);
+	n.lo = n0.xyz;
+	n.hi = n1.xyz;
+	n.next = max(int(n0.w), i + 1);
+	vec2 slots = n1.w != 0.0 ? vec2(-1.0, 0.0) : texelFetch(u_nodes, rs_item(i, 3, 2), 0).xy;
+	n.first = slots.y > 0.0 ? int(slots.x) : -1; // an empty leaf tests nothing
+#endif
+	return n;
+}
+
 // Stackless walk of the threaded BVH (pre-order, escape indices). `any`: stop at the first
 // hit (shadow feelers). counts += (box tests, triangle tests), as the CPU counts them.
 bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
@@ -190,35 +225,34 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 	bool found = false;
 	int i = 0;
 	while (i < u_node_count) {
-		vec4 n0 = rs_node(i, 0), n1 = rs_node(i, 1);
-		int escape = max(int(n0.w), i + 1);
+		Node n = rs_node(i);
 		counts.x += 1.0;
-		if (!rs_box(n0.xyz, n1.xyz, r, p, h.t)) {
-			i = escape;
+		if (!rs_box(n.lo, n.hi, r, p, h.t)) {
+			i = n.next;
 			continue;
 		}
-		if (n1.w != 0.0) {
+		if (n.first < 0) {
 			i++;
 			continue;
 		}
-		vec4 n2 = rs_node(i, 2);
-		int first = int(n2.x);
-		int end = min(first + int(n2.y), u_tri_count);
-		for (int s = first; s < end; s++) {
-			if (s == r.skip)
-				continue;
-			counts.y += 1.0;
-			vec4 v0 = rs_tri(s, 0);
-			vec3 tuv;
-			if (!rs_triangle(v0.xyz, rs_tri(s, 1).xyz, rs_tri(s, 2).xyz, r, p, h.t, tuv) ||
-			    !rs_better(tuv.x, v0.w, h, found, r.tmax))
-				continue;
-			found = true;
-			h = Hit(tuv.x, tuv.y, tuv.z, s, v0.w);
-			if (any)
-				return true;
+		// A leaf's slots run to the one whose last flag (triangle texel 2's w) is set.
+		for (int s = n.first; s < u_tri_count; s++) {
+			vec4 v0 = rs_tri(s, 0), v2 = rs_tri(s, 2);
+			if (s != r.skip) {
+				counts.y += 1.0;
+				vec3 tuv;
+				if (rs_triangle(v0.xyz, rs_tri(s, 1).xyz, v2.xyz, r, p, h.t, tuv) &&
+				    rs_better(tuv.x, v0.w, h, found, r.tmax)) {
+					found = true;
+					h = Hit(tuv.x, tuv.y, tuv.z, s, v0.w);
+					if (any)
+						return true;
+				}
+			}
+			if (v2.w != 0.0)
+				break;
 		}
-		i = escape;
+		i = n.next;
 	}
 	return found;
 }

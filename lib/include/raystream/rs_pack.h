@@ -1,19 +1,29 @@
 /**
  * @file rs_pack.h
- * The scene and its BVH packed into RGBA32F textures, exactly as the GLES kernels read
- * them and as the CPU reference tracer traverses them. Integers are stored as floats
+ * The scene and its BVH packed into textures, exactly as the GLES kernels read them and as
+ * the CPU reference tracer traverses them. Integers in float textures are stored as floats
  * (exact below 2^24). Items are laid out `row_items` per texture row (a packing parameter,
  * struct rs_pack_desc, chosen so a row fits the device's texture size limit); item k's
  * texel j sits at x = (k % row_items) * texels_per_item + j, y = k / row_items. A texture
  * with fewer items than row_items is one row of exactly its items, so every texture is
  * `width / texels_per_item` items wide, without padding at row ends.
  *
- * nodes (3 texels per node, pre-order):   t0 = (lo.xyz, escape)
+ * nodes, two formats (rs_pack_desc.nodes), both the paper's threaded pre-order array with
+ * escape indices (a leaf's escape is always the next node, k + 1):
+ *   RS_PACK_NODES_COMPACT (default), 1 RGBA32UI texel per node, bounds on a 16-bit grid:
+ *                                          x = qlo.x | qlo.y << 16, y = qlo.z | qhi.x << 16,
+ *                                          z = qhi.y | qhi.z << 16,
+ *                                          w = leaf ? RS_PACK_LEAF_BIT | first : escape
+ *     bound = node_grid_origin + q * node_grid_step per axis, exact in fp32 (the step is a
+ *     power of two, see rs_packed); lo rounded down and hi up, so a compact box holds the
+ *     tight one. A leaf's triangles run from `first` to the slot whose last flag is set.
+ *     An empty leaf is stored as an interior node whose escape is k + 1.
+ *   RS_PACK_NODES_PAPER, 3 RGBA32F texels per node: t0 = (lo.xyz, escape)
  *                                          t1 = (hi.xyz, level)       level 0 = leaf
  *                                          t2 = (first, count, order, 0)
  * triangles (3 texels, BVH slot order):   t0 = (v0.xyz, scene triangle id)
  *                                          t1 = (v1.xyz, material id)
- *                                          t2 = (v2.xyz, 0)
+ *                                          t2 = (v2.xyz, last)  last = 1 on a leaf's last slot
  * normals (3 texels, BVH slot order):     (n0.xyz, 0), (n1.xyz, 0), (n2.xyz, 0)
  * materials (3 texels per material):      t0 = (diffuse.rgb, specular)
  *                                          t1 = (shininess, reflectance, transmittance, ior)
@@ -28,6 +38,7 @@
 #ifndef RS_PACK_H
 #define RS_PACK_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -45,17 +56,40 @@ extern "C" {
 /** Widest item: the texels per row must hold one item of every kind. */
 #define RS_PACK_MAX_ITEM_TEXELS 3u
 #define RS_PACK_NODE_TEXELS 3u
+#define RS_PACK_COMPACT_NODE_TEXELS 1u
+/** Compact node word w: set for a leaf, whose low bits are its first triangle slot. */
+#define RS_PACK_LEAF_BIT 0x80000000u
+/** Compact node bounds: grid positions per axis (16 bits). */
+#define RS_PACK_GRID_STEPS 65535u
 #define RS_PACK_TRIANGLE_TEXELS 3u
 #define RS_PACK_NORMAL_TEXELS 3u
 #define RS_PACK_MATERIAL_TEXELS 3u
 /** Largest item count whose indices are exact in a float. */
 #define RS_PACK_MAX_ITEMS (1u << 24)
 
-/** An RGBA32F texture image: width * height * 4 floats, row-major, caller-owned. */
+/** Texel formats of a packed texture. */
+enum rs_texel_format {
+	RS_TEXEL_RGBA32F = 0,  /**< four floats a texel: `texels` */
+	RS_TEXEL_RGBA32UI = 1, /**< four 32-bit unsigned integers a texel: `words` */
+};
+
+/** Node formats (rs_pack_desc.nodes); both are the paper's threaded pre-order BVH. */
+enum rs_pack_nodes {
+	/** One RGBA32UI texel a node: one texture fetch per box instead of two or three. */
+	RS_PACK_NODES_COMPACT = 0,
+	/** The paper's three RGBA32F texels a node, exact float bounds. */
+	RS_PACK_NODES_PAPER = 1,
+};
+
+/** A texture image: width * height * 4 values, row-major, caller-owned. */
 struct rs_texture {
-	float *texels;
+	union {
+		float *texels;   /**< RS_TEXEL_RGBA32F */
+		uint32_t *words; /**< RS_TEXEL_RGBA32UI (the same storage) */
+	};
 	uint32_t width;
 	uint32_t height;
+	enum rs_texel_format format;
 };
 
 /** Packing options; zero-initialised means defaults. */
@@ -66,6 +100,8 @@ struct rs_pack_desc {
 	/** Items per texture row; 0 -> the largest power of two that fits (max_texture_size / 3
 	 * rounded down: 512 at 2048), so kernels address items by mask and shift. */
 	uint32_t row_items;
+	/** Node format; 0 -> RS_PACK_NODES_COMPACT. */
+	enum rs_pack_nodes nodes;
 };
 
 /** Everything the kernels read; caller-owned storage. */
@@ -80,6 +116,22 @@ struct rs_packed {
 	uint32_t row_items;        /**< items per row of every texture (the kernels' row width) */
 	uint32_t max_texture_size; /**< the limit the layout was made for (resolved) */
 	double origin[3]; /**< world position of the packed frame's origin (set by packing) */
+	enum rs_pack_nodes node_format; /**< the nodes texture's format (resolved) */
+	/** Compact nodes: bound = grid_origin + q * grid_step (packed frame). The step is a power
+	 * of two and the origin a multiple of it below 2^23 steps, so every bound is exact in
+	 * fp32 however a GPU rounds (set by packing; 0 for paper nodes). */
+	float node_grid_origin[3];
+	float node_grid_step[3];
+};
+
+/** One node as both formats decode it (bounds in the packed frame). */
+struct rs_pack_node {
+	float lo[3];
+	float hi[3];
+	uint32_t escape; /**< next node when the box is missed (a leaf's: k + 1) */
+	bool leaf;
+	uint32_t first; /**< leaf: first triangle slot */
+	uint32_t count; /**< leaf: triangle slots (compact: up to the slot with the last flag) */
 };
 
 /** Texture size for `items` items of `texels_per_item` texels each, `row_items` (> 0) per row:
@@ -119,6 +171,13 @@ enum rs_status rs_pack_scene(const struct rs_scene *scene, const struct rs_bvh_n
 enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err);
 /** Free buffers allocated by rs_pack_alloc() and zero the struct. */
 void rs_pack_free(struct rs_packed *packed);
+
+/**
+ * Decode node k (< node_count) of a packed BVH in either format, as the kernels read it.
+ * Corrupt data never reads outside the textures: an escape is at least k + 1 and a leaf's
+ * slots end at triangle_count.
+ */
+void rs_pack_read_node(const struct rs_packed *packed, uint32_t k, struct rs_pack_node *out);
 
 /** Where texel j of item k sits in a texture laid out `row_items` per row (what a kernel
  * passes to texelFetch). */
