@@ -121,12 +121,14 @@ static const struct rs_render_kernel_time *kernel(const struct rs_render_stats *
  * the same fp32 functions on the same values, the state kept in RGBA32F between passes, so
  * the images agree to float rounding (tolerance 1e-5 of linear colour; measured 0 on
  * llvmpipe) and the depths exactly. */
-static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shadows)
+static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shadows,
+                                      enum rs_primary_mode primary)
 {
 	struct rs_render_desc desc = {.width = SIZE,
 	                              .height = SIZE,
 	                              .passes = 2,
 	                              .lights = 2,
+	                              .primary = primary,
 	                              .shadows = shadows,
 	                              .shadow_map_size = 256,
 	                              .shadow_filter = 3};
@@ -141,6 +143,12 @@ static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shad
 	for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
 		const struct rs_render_kernel_time *t = kernel(&sa, names[k]);
 		assert_non_null(t);
+		if (k == 1 && primary == RS_PRIMARY_RASTER) {
+			assert_non_null(kernel(&sa, "raster"));
+			assert_int_equal(kernel(&sa, "raster")->calls, 1);
+			assert_int_equal(t->calls, desc.passes - 1);
+			continue;
+		}
 		assert_int_equal(t->calls, k == 0 ? 1 : desc.passes);
 	}
 	assert_null(kernel(&sa, "trace"));
@@ -150,8 +158,9 @@ static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shad
 	assert_non_null(kernel(&sb, "trace"));
 	struct rs_image_diff diff;
 	rs_image_compare(a, b, SIZE, SIZE, 3, 1.0, 1e-5, &diff);
-	print_message("%s %s: paper vs fused max |diff| %g\n", name,
-	              shadows == RS_SHADOW_MAP ? "map" : "rays", diff.max_abs_error);
+	print_message("%s %s %s: paper vs fused max |diff| %g\n", name,
+	              shadows == RS_SHADOW_MAP ? "map" : "rays",
+	              primary == RS_PRIMARY_RASTER ? "raster" : "traced", diff.max_abs_error);
 	assert_true(diff.max_abs_error <= 1e-5);
 	rs_image_compare(da, db, SIZE, SIZE, 1, 1.0, 0.0, &diff);
 	assert_int_equal(diff.mismatched, 0);
@@ -166,19 +175,24 @@ static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shad
 
 static void paper_chain_renders_box_as_fused_with_shadow_rays(void **state)
 {
-	paper_chain_matches_fused("box", RS_SHADOW_RAYS);
+	paper_chain_matches_fused("box", RS_SHADOW_RAYS, RS_PRIMARY_TRACE);
 }
 static void paper_chain_renders_cow1_as_fused_with_shadow_rays(void **state)
 {
-	paper_chain_matches_fused("cow1", RS_SHADOW_RAYS);
+	paper_chain_matches_fused("cow1", RS_SHADOW_RAYS, RS_PRIMARY_TRACE);
 }
 static void paper_chain_renders_box_as_fused_with_shadow_maps(void **state)
 {
-	paper_chain_matches_fused("box", RS_SHADOW_MAP);
+	paper_chain_matches_fused("box", RS_SHADOW_MAP, RS_PRIMARY_TRACE);
 }
 static void paper_chain_renders_cow1_as_fused_with_shadow_maps(void **state)
 {
-	paper_chain_matches_fused("cow1", RS_SHADOW_MAP);
+	paper_chain_matches_fused("cow1", RS_SHADOW_MAP, RS_PRIMARY_TRACE);
+}
+/* The raster pass stands in for the first intersection kernel in either chain. */
+static void paper_chain_renders_cow1_as_fused_with_raster_primary(void **state)
+{
+	paper_chain_matches_fused("cow1", RS_SHADOW_RAYS, RS_PRIMARY_RASTER);
 }
 
 /* With counters the paper's chain counts what the separate chain counts, exactly (the same
@@ -316,6 +330,7 @@ int main(void)
 	    cmocka_unit_test(paper_chain_renders_cow1_as_fused_with_shadow_rays),
 	    cmocka_unit_test(paper_chain_renders_box_as_fused_with_shadow_maps),
 	    cmocka_unit_test(paper_chain_renders_cow1_as_fused_with_shadow_maps),
+	    cmocka_unit_test(paper_chain_renders_cow1_as_fused_with_raster_primary),
 	    cmocka_unit_test(paper_chain_counts_box_as_the_separate_chain),
 	    cmocka_unit_test(paper_chain_counts_cow1_as_the_separate_chain),
 	    cmocka_unit_test(paper_chain_renders_environment_maps_as_the_separate_chain),
