@@ -172,14 +172,14 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
 	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n#define RS_INTERREFLECT %d\n"
-	         "#define RS_COMPACT_NODES %d\n",
+	         "#define RS_COMPACT_NODES %d\n#define RS_NODE_ORDERS %u\n",
 	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP,
 	         g->desc.reflections != RS_REFLECT_TRACE,
 	         g->desc.reflections == RS_REFLECT_INTERREFLECT,
-	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT);
+	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT, g->accel.packed.node_orders);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
 	char full[576];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,

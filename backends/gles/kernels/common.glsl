@@ -7,7 +7,7 @@
 // Every position is in the packed frame (docs/tracer.md R1): the CPU moved the camera,
 // lights and environment by rs_packed.origin in double before handing them over.
 // Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT,
-//          RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY, RS_COMPACT_NODES.
+//          RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY, RS_COMPACT_NODES, RS_NODE_ORDERS.
 #if RS_COMPACT_NODES
 uniform highp usampler2D u_nodes;
 uniform vec3 u_grid_origin;
@@ -223,8 +223,18 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 	Pre p = rs_prepare(r);
 	h = Hit(r.tmax, 0.0, 0.0, -1, -1.0);
 	bool found = false;
+#if RS_NODE_ORDERS > 1
+	// The node order of the ray's major direction (rs_pack_node_order): near boxes first.
+	vec3 ad = abs(r.d);
+	int axis = ad.y > ad.x ? 1 : 0;
+	if (ad.z > ad[axis])
+		axis = 2;
+	int i = (2 * axis + (r.d[axis] < 0.0 ? 1 : 0)) * u_node_count;
+#else
 	int i = 0;
-	while (i < u_node_count) {
+#endif
+	int end = i + u_node_count;
+	while (i < end) {
 		Node n = rs_node(i);
 		counts.x += 1.0;
 		if (!rs_box(n.lo, n.hi, r, p, h.t)) {
