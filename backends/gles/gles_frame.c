@@ -118,14 +118,20 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 	const struct rs_gl *gl = &g->gl;
 	bool counters = g->desc.counters;
 	int cur = 0, cc = 0;
-	GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC], g->cnt[0]};
-	gl->UseProgram(g->prog[PROG_RAYGEN]);
-	rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
-	rs_gles_uniform_f(gl, g->prog[PROG_RAYGEN], "u_near", g->capture_near);
-	enum rs_status st = draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
 	/* Environment mapping switches tracing off per pass: the separate chain only. */
 	bool envmap = g->desc.reflections != RS_REFLECT_TRACE;
 	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters && !envmap;
+	/* The fused chain's first pass makes its own primary rays, unless they are rasterized. */
+	bool first_fused = fused && g->desc.primary != RS_PRIMARY_RASTER;
+	enum rs_status st = RS_OK;
+	if (!first_fused) {
+		GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC],
+		               g->cnt[0]};
+		gl->UseProgram(g->prog[PROG_RAYGEN]);
+		rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
+		rs_gles_uniform_f(gl, g->prog[PROG_RAYGEN], "u_near", g->capture_near);
+		st = draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
+	}
 	/* With the env map every path ends in the second pass: later ones would be empty. */
 	uint32_t count = envmap && g->desc.passes > 2 ? 2 : g->desc.passes;
 	for (uint32_t pass = 0; st == RS_OK && pass < count; ++pass) {
@@ -134,10 +140,15 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		double t0 = rs_gles_now_ms();
 		bool rasterized = pass == 0 && g->desc.primary == RS_PRIMARY_RASTER;
 		if (fused && !rasterized) {
-			GLuint prog = g->prog[PROG_FUSED];
+			GLuint prog = g->prog[pass == 0 ? PROG_FUSED_FIRST : PROG_FUSED];
 			gl->UseProgram(prog);
 			rs_gles_scene_uniforms(g, prog);
-			state_inputs(g, prog, cur, cc);
+			if (pass == 0) {
+				rs_gles_camera_uniforms(g, prog, camera);
+				rs_gles_uniform_f(gl, prog, "u_near", g->capture_near);
+			} else {
+				state_inputs(g, prog, cur, cc);
+			}
 			GLuint out[4] = {g->state[nxt][ST_ORIG], g->state[nxt][ST_DIR],
 			                 g->state[nxt][ST_ACC], hit};
 			st = draw(g, "trace", out, 4, stats, t0, err);

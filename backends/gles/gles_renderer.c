@@ -192,13 +192,16 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    {"display.glsl"},
 	    {"common.glsl", "camera.glsl", "raster.glsl"},
 	    {"shadow.glsl"},
+	    {"common.glsl", "surface.glsl", "camera.glsl", "fused.glsl"},
 	};
-	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1};
+	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1, 4};
+	char first[608];
+	snprintf(first, sizeof first, "%s#define RS_FIRST_PASS 1\n", full);
 	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
 	                                             "raster_vertex.glsl"};
 	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
 	for (int i = 0; i < PROG_COUNT; ++i) {
-		if (i == PROG_FUSED && g->desc.counters)
+		if ((i == PROG_FUSED || i == PROG_FUSED_FIRST) && g->desc.counters)
 			continue; /* counters run the separate chain (render targets) */
 		if (i == PROG_RASTER && g->desc.primary != RS_PRIMARY_RASTER)
 			continue;
@@ -207,8 +210,9 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 		const char *const *vs = i == PROG_RASTER   ? raster_vertex
 		                        : i == PROG_SHADOW ? shadow_vertex
 		                                           : NULL;
-		enum rs_status st = rs_gles_program(&g->gl, vs, i == PROG_SHADOW ? 2 : 3, files[i],
-		                                    counts[i], full, &g->prog[i], err);
+		enum rs_status st =
+		    rs_gles_program(&g->gl, vs, i == PROG_SHADOW ? 2 : 3, files[i], counts[i],
+		                    i == PROG_FUSED_FIRST ? first : full, &g->prog[i], err);
 		if (st != RS_OK)
 			return st;
 	}
