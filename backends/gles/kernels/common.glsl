@@ -218,6 +218,11 @@ Node rs_node(int i)
 
 // Stackless walk of the threaded BVH (pre-order, escape indices). `any`: stop at the first
 // hit (shadow feelers). counts += (box tests, triangle tests), as the CPU counts them.
+// Two loops, "while-while" (Aila & Laine 2009): the inner one walks boxes until this ray
+// reaches a leaf its box test lets in, then the leaf's triangles are tested. On SIMD
+// hardware that runs a group of pixels in lock step (llvmpipe: 8 lanes) the group meets the
+// triangle loop together instead of once per lane that happens to sit at a leaf: 1.8x faster
+// on Cow17 than one loop with the leaf inside (docs/benchmarks.md), same tests counted.
 bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 {
 	Pre p = rs_prepare(r);
@@ -235,18 +240,25 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 #endif
 	int end = i + u_node_count;
 	while (i < end) {
-		Node n = rs_node(i);
-		counts.x += 1.0;
-		if (!rs_box(n.lo, n.hi, r, p, h.t)) {
+		int first = -1;
+		while (i < end) {
+			Node n = rs_node(i);
+			counts.x += 1.0;
+			if (!rs_box(n.lo, n.hi, r, p, h.t)) {
+				i = n.next;
+				continue;
+			}
+			if (n.first < 0) {
+				i++;
+				continue;
+			}
+			first = n.first;
 			i = n.next;
-			continue;
+			break;
 		}
-		if (n.first < 0) {
-			i++;
-			continue;
-		}
-		// A leaf's slots run to the one whose last flag (triangle texel 2's w) is set.
-		for (int s = n.first; s < u_tri_count; s++) {
+		if (first < 0)
+			break;
+		for (int s = first; s < u_tri_count; s++) {
 			vec4 v0 = rs_tri(s, 0), v2 = rs_tri(s, 2);
 			if (s != r.skip) {
 				counts.y += 1.0;
@@ -262,7 +274,6 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 			if (v2.w != 0.0)
 				break;
 		}
-		i = n.next;
 	}
 	return found;
 }
