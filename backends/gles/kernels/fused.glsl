@@ -23,9 +23,13 @@ void main()
 	vec3 d = rs_camera_dir(gl_FragCoord.xy);
 	vec4 orig = vec4(u_eye + u_near * d, -1.0), dir = vec4(d, 1.0), acc = vec4(0.0);
 #else
+	// A finished path keeps only its colour: its ray is never read again (written as 0).
 	ivec2 px = ivec2(gl_FragCoord.xy);
-	vec4 orig = texelFetch(u_orig, px, 0), dir = texelFetch(u_dir, px, 0);
-	vec4 acc = texelFetch(u_acc, px, 0);
+	vec4 acc = texelFetch(u_acc, px, 0), orig = vec4(0.0), dir = vec4(0.0);
+	if (acc.w == RS_STATE_ACTIVE) {
+		orig = texelFetch(u_orig, px, 0);
+		dir = texelFetch(u_dir, px, 0);
+	}
 #endif
 	Hit h = Hit(RS_FAR, 0.0, 0.0, -2, -1.0);
 	if (acc.w == RS_STATE_ACTIVE) {
