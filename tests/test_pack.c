@@ -41,7 +41,7 @@ struct shape {
 };
 
 static struct fixture make_shaped(size_t tris, enum rs_bvh_builder builder, uint32_t row_items,
-                                  enum rs_pack_nodes nodes, struct shape sh)
+                                  struct rs_pack_desc pd, struct shape sh)
 {
 	struct fixture f = {0};
 	struct rs_error err;
@@ -86,7 +86,7 @@ static struct fixture make_shaped(size_t tris, enum rs_bvh_builder builder, uint
 	                              rs_scene_vertex_count(f.scene), rs_scene_indices(f.scene),
 	                              tris, f.nodes, cap, f.order, &f.node_count, &err),
 	                 RS_OK);
-	struct rs_pack_desc pd = {.row_items = row_items, .nodes = nodes};
+	pd.row_items = row_items;
 	assert_int_equal(rs_pack_layout(&pd, f.node_count, tris, 2, &f.packed, &err), RS_OK);
 	assert_int_equal(rs_pack_alloc(&f.packed, &err), RS_OK);
 	enum rs_status s = rs_pack_scene(f.scene, f.nodes, f.node_count, f.order, &f.packed, &err);
@@ -97,8 +97,9 @@ static struct fixture make_shaped(size_t tris, enum rs_bvh_builder builder, uint
 
 static struct fixture make_rows(size_t tris, enum rs_bvh_builder builder, uint32_t row_items)
 {
-	return make_shaped(tris, builder, row_items, RS_PACK_NODES_PAPER,
-	                   (struct shape){1.0, 0.0, false});
+	/* the paper's layout: three float texels, the builder's one order */
+	struct rs_pack_desc paper = {.nodes = RS_PACK_NODES_PAPER, .orders = RS_PACK_ORDERS_SINGLE};
+	return make_shaped(tris, builder, row_items, paper, (struct shape){1.0, 0.0, false});
 }
 
 static struct fixture make(size_t tris, enum rs_bvh_builder builder)
@@ -152,7 +153,12 @@ static void default_layout_fits_gles3_minimum(void **state)
 	assert_int_equal(p.node_format, RS_PACK_NODES_COMPACT); /* the default: one texel */
 	assert_int_equal(p.nodes.format, RS_TEXEL_RGBA32UI);
 	assert_int_equal(p.nodes.width, 512);
+	/* six orders of 600000 nodes would need 7032 rows: one order is packed instead */
+	assert_int_equal(p.node_orders, 1);
 	assert_int_equal(p.nodes.height, (600000 + 511) / 512);
+	assert_int_equal(rs_pack_layout(NULL, 100000, 50000, 4, &p, &err), RS_OK);
+	assert_int_equal(p.node_orders, 6);
+	assert_int_equal(p.nodes.height, (6 * 100000 + 511) / 512);
 	struct rs_pack_desc odd = {.max_texture_size = 3000}; /* 1000 fit: 512 */
 	assert_int_equal(rs_pack_layout(&odd, 10, 10, 1, &p, &err), RS_OK);
 	assert_int_equal(p.row_items, 512);
@@ -164,7 +170,9 @@ static void default_layout_fits_gles3_minimum(void **state)
 	assert_int_equal(rs_pack_layout(&big, 600000, 300000, 40, &p, &err), RS_OK);
 	assert_int_equal(p.row_items, 4096);
 	assert_int_equal(p.nodes.width, 4096);
-	struct rs_pack_desc paper = {.max_texture_size = 16384, .nodes = RS_PACK_NODES_PAPER};
+	struct rs_pack_desc paper = {.max_texture_size = 16384,
+	                             .nodes = RS_PACK_NODES_PAPER,
+	                             .orders = RS_PACK_ORDERS_SINGLE};
 	assert_int_equal(rs_pack_layout(&paper, 600000, 300000, 40, &p, &err), RS_OK);
 	assert_int_equal(p.nodes.width, 4096 * 3);
 	assert_int_equal(p.nodes.format, RS_TEXEL_RGBA32F);
@@ -205,6 +213,9 @@ static void impossible_row_widths_are_invalid(void **state)
 	struct rs_pack_desc bad = {.nodes = (enum rs_pack_nodes)7};
 	assert_int_equal(rs_pack_layout(&bad, 3, 3, 3, &p, &err), RS_ERR_INVALID);
 	assert_non_null(strstr(err.message, "node format"));
+	struct rs_pack_desc bad_orders = {.orders = (enum rs_pack_orders)9};
+	assert_int_equal(rs_pack_layout(&bad_orders, 3, 3, 3, &p, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "node orders"));
 }
 
 static void layout_refuses_2_pow_24(void **state)
@@ -356,13 +367,15 @@ static void assert_on_grid(float v, float origin, float step)
 static void compact_matches(enum rs_bvh_builder builder, size_t tris, struct shape sh)
 {
 	uint64_t seed = rng_state; /* the same triangles in both */
-	struct fixture c = make_shaped(tris, builder, 0, RS_PACK_NODES_COMPACT, sh);
+	struct fixture c = make_shaped(tris, builder, 0, (struct rs_pack_desc){0}, sh);
 	rng_state = seed;
-	struct fixture p = make_shaped(tris, builder, 0, RS_PACK_NODES_PAPER, sh);
+	struct fixture p =
+	    make_shaped(tris, builder, 0, (struct rs_pack_desc){.nodes = RS_PACK_NODES_PAPER}, sh);
 	assert_int_equal(c.node_count, p.node_count);
+	assert_int_equal(c.packed.node_orders, 6);
 	assert_int_equal(rs_pack_check(&c.packed, NULL), RS_OK);
 	const float *origin = c.packed.node_grid_origin, *step = c.packed.node_grid_step;
-	for (uint32_t i = 0; i < c.node_count; i++) {
+	for (uint32_t i = 0; i < 6 * c.node_count; i++) {
 		struct rs_pack_node nc, np;
 		rs_pack_read_node(&c.packed, i, &nc);
 		rs_pack_read_node(&p.packed, i, &np);
@@ -411,7 +424,8 @@ static void compact_nodes_survive_hard_scales(void **state)
  * be stored and is refused, naming the leaf. */
 static void compact_refuses_a_leaf_that_escapes_far(void **state)
 {
-	struct fixture f = make_shaped(20, RS_BVH_LINEAR, 0, RS_PACK_NODES_COMPACT,
+	struct fixture f = make_shaped(20, RS_BVH_LINEAR, 0,
+	                               (struct rs_pack_desc){.orders = RS_PACK_ORDERS_SINGLE},
 	                               (struct shape){1.0, 0.0, false});
 	struct rs_error err;
 	assert_true(f.node_count >= 2 && f.nodes[0].level == 0);
@@ -420,6 +434,60 @@ static void compact_refuses_a_leaf_that_escapes_far(void **state)
 	                 RS_ERR_BAD_DATA);
 	assert_non_null(strstr(err.message, "leaf 0"));
 	release(&f);
+}
+
+/* Each of the six orders is a pre-order of the same tree (subtrees nest, the same leaves),
+ * visiting at every interior node first the child whose box centre comes first along its
+ * direction; rs_pack_node_order() picks the order of a direction's major axis and sign. */
+static void directional_orders_visit_near_children_first(enum rs_bvh_builder builder)
+{
+	struct fixture f =
+	    make_shaped(2000, builder, 0, (struct rs_pack_desc){.nodes = RS_PACK_NODES_PAPER},
+	                (struct shape){1.0, 0.0, false});
+	const struct rs_packed *p = &f.packed;
+	uint32_t n = p->node_count;
+	assert_int_equal(p->node_orders, 6);
+	uint64_t leaves = 0, slots = 0;
+	for (uint32_t i = 0; i < n; i++)
+		if (f.nodes[i].level == 0) {
+			leaves += f.nodes[i].first * 2654435761u + 1u;
+			slots += f.nodes[i].count;
+		}
+	for (uint32_t d = 0; d < 6; d++) {
+		int axis = (int)d / 2;
+		uint64_t seen = 0, seen_slots = 0;
+		for (uint32_t k = d * n; k < (d + 1) * n; k++) {
+			struct rs_pack_node a;
+			rs_pack_read_node(p, k, &a);
+			assert_true(a.escape > k && a.escape <= (d + 1) * n);
+			if (a.leaf || a.escape == k + 1) {
+				seen += a.first * 2654435761u + 1u;
+				seen_slots += a.count;
+				continue;
+			}
+			struct rs_pack_node c0, c1;
+			rs_pack_read_node(p, k + 1, &c0);
+			assert_true(c0.escape < a.escape);
+			rs_pack_read_node(p, c0.escape, &c1);
+			assert_int_equal(c1.escape, a.escape); /* two children fill the subtree */
+			float m0 = c0.lo[axis] + c0.hi[axis], m1 = c1.lo[axis] + c1.hi[axis];
+			if (c0.lo[0] <= c0.hi[0] && c1.lo[0] <= c1.hi[0])
+				assert_true(d % 2 ? m0 >= m1 : m0 <= m1);
+		}
+		assert_true(seen == leaves && seen_slots == slots);
+	}
+	const double dirs[6][3] = {{1, 0.5, -0.5}, {-1, 0.9, 0},  {0.1, 2, 1},
+	                           {0, -1, 0.5},   {0.3, 0.3, 1}, {0.5, -0.5, -0.7}};
+	for (uint32_t d = 0; d < 6; d++)
+		assert_int_equal(rs_pack_node_order(dirs[d]), d);
+	release(&f);
+}
+
+static void directional_orders_are_preorders_near_child_first(void **state)
+{
+	directional_orders_visit_near_children_first(RS_BVH_SAH);
+	directional_orders_visit_near_children_first(RS_BVH_PAPER);
+	directional_orders_visit_near_children_first(RS_BVH_LINEAR);
 }
 
 static void materials_resolve_defaults(void **state)
@@ -503,6 +571,7 @@ int main(void)
 	    cmocka_unit_test(compact_nodes_hold_the_tight_boxes),
 	    cmocka_unit_test(compact_nodes_survive_hard_scales),
 	    cmocka_unit_test(compact_refuses_a_leaf_that_escapes_far),
+	    cmocka_unit_test(directional_orders_are_preorders_near_child_first),
 	    cmocka_unit_test(materials_resolve_defaults),
 	    cmocka_unit_test(unused_texels_are_zero),
 	    cmocka_unit_test(pack_rejects_mismatch),

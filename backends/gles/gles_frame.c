@@ -141,15 +141,20 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 	const struct rs_gl *gl = &g->gl;
 	bool counters = g->desc.counters;
 	struct rs_gles_cursor c = {{0, 0, 0}, 0};
-	GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC], g->cnt[0]};
-	gl->UseProgram(g->prog[PROG_RAYGEN]);
-	rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
-	rs_gles_uniform_f(gl, g->prog[PROG_RAYGEN], "u_near", g->capture_near);
-	enum rs_status st =
-	    rs_gles_draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
 	/* Environment mapping switches tracing off per pass: the separate chains only. */
 	bool envmap = g->desc.reflections != RS_REFLECT_TRACE;
 	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters && !envmap;
+	/* The fused chain's first pass makes its own primary rays, unless they are rasterized. */
+	bool first_fused = fused && g->desc.primary != RS_PRIMARY_RASTER;
+	enum rs_status st = RS_OK;
+	if (!first_fused) {
+		GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC],
+		               g->cnt[0]};
+		gl->UseProgram(g->prog[PROG_RAYGEN]);
+		rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
+		rs_gles_uniform_f(gl, g->prog[PROG_RAYGEN], "u_near", g->capture_near);
+		st = rs_gles_draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
+	}
 	/* With the env map every path ends in the second pass: later ones would be empty. */
 	uint32_t count = envmap && g->desc.passes > 2 ? 2 : g->desc.passes;
 	for (uint32_t pass = 0; st == RS_OK && pass < count; ++pass) {
@@ -157,10 +162,15 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		double t0 = rs_gles_now_ms();
 		bool rasterized = pass == 0 && g->desc.primary == RS_PRIMARY_RASTER;
 		if (fused && !rasterized) {
-			GLuint prog = g->prog[PROG_FUSED];
+			GLuint prog = g->prog[pass == 0 ? PROG_FUSED_FIRST : PROG_FUSED];
 			gl->UseProgram(prog);
 			rs_gles_scene_uniforms(g, prog);
-			rs_gles_state_inputs(g, prog, &c);
+			if (pass == 0) {
+				rs_gles_camera_uniforms(g, prog, camera);
+				rs_gles_uniform_f(gl, prog, "u_near", g->capture_near);
+			} else {
+				rs_gles_state_inputs(g, prog, &c);
+			}
 			GLuint o[4] = {g->state[1 - c.st[ST_ORIG]][ST_ORIG],
 			               g->state[1 - c.st[ST_DIR]][ST_DIR],
 			               g->state[1 - c.st[ST_ACC]][ST_ACC], hit};

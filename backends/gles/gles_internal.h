@@ -37,6 +37,7 @@ enum {
 	PROG_DISPLAY,
 	PROG_RASTER,
 	PROG_SHADOW,
+	PROG_FUSED_FIRST, /* the fused pass that makes its own primary rays (no raygen pass) */
 	PROG_ENVIRONMENT, /* RS_CHAIN_PAPER: environment, shading, next ray apart */
 	PROG_SHADING,
 	PROG_NEXTRAY,

@@ -172,14 +172,14 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
 	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n#define RS_INTERREFLECT %d\n"
-	         "#define RS_COMPACT_NODES %d\n",
+	         "#define RS_COMPACT_NODES %d\n#define RS_NODE_ORDERS %u\n",
 	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP,
 	         g->desc.reflections != RS_REFLECT_TRACE,
 	         g->desc.reflections == RS_REFLECT_INTERREFLECT,
-	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT);
+	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT, g->accel.packed.node_orders);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
 	char full[576];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
@@ -192,17 +192,20 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    {"display.glsl"},
 	    {"common.glsl", "camera.glsl", "raster.glsl"},
 	    {"shadow.glsl"},
+	    {"common.glsl", "surface.glsl", "camera.glsl", "fused.glsl"},
 	    {"common.glsl", "surface.glsl", "environment.glsl"},
 	    {"common.glsl", "surface.glsl", "shading.glsl"},
 	    {"common.glsl", "surface.glsl", "nextray.glsl"},
 	};
-	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1, 3, 3, 3};
+	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1, 4, 3, 3, 3};
 	bool paper = g->desc.chain == RS_CHAIN_PAPER;
+	char first[608];
+	snprintf(first, sizeof first, "%s#define RS_FIRST_PASS 1\n", full);
 	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
 	                                             "raster_vertex.glsl"};
 	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
 	for (int i = 0; i < PROG_COUNT; ++i) {
-		if (i == PROG_FUSED && (g->desc.counters || paper))
+		if ((i == PROG_FUSED || i == PROG_FUSED_FIRST) && (g->desc.counters || paper))
 			continue; /* counters run the separate chain (render targets) */
 		if (i == PROG_SHADE && paper)
 			continue;
@@ -215,8 +218,9 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 		const char *const *vs = i == PROG_RASTER   ? raster_vertex
 		                        : i == PROG_SHADOW ? shadow_vertex
 		                                           : NULL;
-		enum rs_status st = rs_gles_program(&g->gl, vs, i == PROG_SHADOW ? 2 : 3, files[i],
-		                                    counts[i], full, &g->prog[i], err);
+		enum rs_status st =
+		    rs_gles_program(&g->gl, vs, i == PROG_SHADOW ? 2 : 3, files[i], counts[i],
+		                    i == PROG_FUSED_FIRST ? first : full, &g->prog[i], err);
 		if (st != RS_OK)
 			return st;
 	}

@@ -59,6 +59,10 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 	if (nodes != RS_PACK_NODES_COMPACT && nodes != RS_PACK_NODES_PAPER)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: unknown node format %d",
 		                    (int)nodes);
+	enum rs_pack_orders orders = desc ? desc->orders : RS_PACK_ORDERS_DIRECTIONAL;
+	if (orders != RS_PACK_ORDERS_DIRECTIONAL && orders != RS_PACK_ORDERS_SINGLE)
+		return rs_error_set(err, RS_ERR_INVALID, "pack: unknown node orders %d",
+		                    (int)orders);
 	if ((uint64_t)row_items * RS_PACK_MAX_ITEM_TEXELS > max_side)
 		return rs_error_set(
 		    err, RS_ERR_INVALID,
@@ -71,8 +75,15 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 		                    "pack: %zu nodes, %zu triangles, %zu materials: each must stay "
 		                    "below 2^24 to index exactly through floats",
 		                    node_count, triangle_count, material_count);
+	/* Six orders where they fit the limits, else the one (directional orders are a speed-up,
+	 * never a reason to refuse a scene). */
+	uint32_t node_orders = orders == RS_PACK_ORDERS_SINGLE ? 1u : 6u, w, h;
+	rs_pack_texture_size(node_count * 6u, texture_texels(0, nodes), row_items, &w, &h);
+	if (node_count * 6u >= RS_PACK_MAX_ITEMS || h > max_side)
+		node_orders = 1u;
 	struct rs_texture *tex[4] = {&out->nodes, &out->triangles, &out->normals, &out->materials};
-	size_t items[4] = {node_count, triangle_count, triangle_count, material_count};
+	size_t items[4] = {node_count * node_orders, triangle_count, triangle_count,
+	                   material_count};
 	for (int i = 0; i < 4; i++) {
 		rs_pack_texture_size(items[i], texture_texels(i, nodes), row_items, &tex[i]->width,
 		                     &tex[i]->height);
@@ -92,6 +103,7 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 	out->row_items = row_items;
 	out->max_texture_size = max_side;
 	out->node_format = nodes;
+	out->node_orders = node_orders;
 	out->nodes.format = nodes == RS_PACK_NODES_COMPACT ? RS_TEXEL_RGBA32UI : RS_TEXEL_RGBA32F;
 	return RS_OK;
 }
@@ -103,8 +115,8 @@ enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *er
 		return rs_error_set(err, RS_ERR_INVALID, "pack: not laid out (row width 0)");
 	const struct rs_texture *tex[4] = {&packed->nodes, &packed->triangles, &packed->normals,
 	                                   &packed->materials};
-	size_t items[4] = {packed->node_count, packed->triangle_count, packed->triangle_count,
-	                   packed->material_count};
+	size_t items[4] = {(size_t)packed->node_count * packed->node_orders, packed->triangle_count,
+	                   packed->triangle_count, packed->material_count};
 	for (int i = 0; i < 4; i++) {
 		uint32_t w, h;
 		rs_pack_texture_size(items[i], texture_texels(i, packed->node_format),

@@ -31,8 +31,8 @@ static void node_bounds(const struct rs_bvh_node *nodes, size_t node_count,
 		if (n->level == 0) {
 			for (uint32_t s = n->first; s < n->first + n->count; s++)
 				for (uint32_t j = 0; j < 3; j++) {
-					const float *v = rs_pack_texel(&packed->triangles,
-					                               RS_PACK_TRIANGLE_TEXELS, s, j);
+					const float *v = rs_pack_texel(
+					    &packed->triangles, RS_PACK_TRIANGLE_TEXELS, s, j);
 					grow_box(lo, hi, v, v);
 				}
 			continue;
@@ -46,17 +46,15 @@ static void node_bounds(const struct rs_bvh_node *nodes, size_t node_count,
 	}
 }
 
-static void write_paper(const struct rs_bvh_node *nodes, size_t node_count, float (*box)[6],
-                        struct rs_packed *packed)
+/* Node n with bounds box at `item`, escaping to item `escape` (absolute). */
+static void write_paper(struct rs_packed *packed, uint32_t item, const struct rs_bvh_node *n,
+                        const float box[6], uint32_t escape)
 {
-	for (uint32_t i = 0; i < node_count; i++) {
-		const struct rs_bvh_node *n = &nodes[i];
-		float *t = packed->nodes.texels + (size_t)i * RS_PACK_NODE_TEXELS * 4u;
-		float v[12] = {box[i][0],      box[i][1], box[i][2],       (float)n->escape,
-		               box[i][3],      box[i][4], box[i][5],       (float)n->level,
-		               (float)n->first, (float)n->count, (float)n->order, 0.0f};
-		memcpy(t, v, sizeof v);
-	}
+	float *t = packed->nodes.texels + (size_t)item * RS_PACK_NODE_TEXELS * 4u;
+	float v[12] = {box[0],          box[1],          box[2],          (float)escape,
+	               box[3],          box[4],          box[5],          (float)n->level,
+	               (float)n->first, (float)n->count, (float)n->order, 0.0f};
+	memcpy(t, v, sizeof v);
 }
 
 /* Per axis: a power-of-two step s with the bounds' extent under (RS_PACK_GRID_STEPS - 3) s,
@@ -91,39 +89,118 @@ static uint32_t quantise(float v, int a, bool up, const struct rs_packed *p)
 	return q < 0.0 ? 0u : q > RS_PACK_GRID_STEPS ? RS_PACK_GRID_STEPS : (uint32_t)q;
 }
 
-static void write_compact(const struct rs_bvh_node *nodes, size_t node_count, float (*box)[6],
-                          struct rs_packed *packed)
+static void write_compact(struct rs_packed *packed, uint32_t item, const struct rs_bvh_node *n,
+                          const float box[6], uint32_t escape)
 {
-	grid((const float (*)[6])box, node_count, packed);
-	for (uint32_t i = 0; i < node_count; i++) {
-		const struct rs_bvh_node *n = &nodes[i];
-		uint32_t q[6];
-		for (int a = 0; a < 3; a++) {
-			q[a] = quantise(box[i][a], a, false, packed);
-			q[3 + a] = quantise(box[i][3 + a], a, true, packed);
-		}
-		bool leaf = n->level == 0 && n->count > 0;
-		uint32_t *w = packed->nodes.words + (size_t)i * 4u;
-		w[0] = q[0] | q[1] << 16;
-		w[1] = q[2] | q[3] << 16;
-		w[2] = q[4] | q[5] << 16;
-		w[3] = leaf ? RS_PACK_LEAF_BIT | n->first : n->level == 0 ? i + 1u : n->escape;
+	uint32_t q[6];
+	for (int a = 0; a < 3; a++) {
+		q[a] = quantise(box[a], a, false, packed);
+		q[3 + a] = quantise(box[3 + a], a, true, packed);
 	}
+	uint32_t *w = packed->nodes.words + (size_t)item * 4u;
+	w[0] = q[0] | q[1] << 16;
+	w[1] = q[2] | q[3] << 16;
+	w[2] = q[4] | q[5] << 16;
+	w[3] = n->level == 0 && n->count > 0 ? RS_PACK_LEAF_BIT | n->first : escape;
+}
+
+/* A tree every order can be made from: subtrees nest ([k, escape) holds k + 1's subtree
+ * and the right child's, which ends where k's does), leaves escape to the next node and
+ * the top-level subtrees chain to node_count. */
+static bool well_formed(const struct rs_bvh_node *nodes, size_t node_count)
+{
+	for (size_t k = 0; k < node_count; k++) {
+		uint32_t e = nodes[k].escape;
+		if (e <= k || e > node_count)
+			return false;
+		if (nodes[k].level == 0) {
+			if (e != k + 1)
+				return false;
+			continue;
+		}
+		uint32_t r = k + 1 < node_count ? nodes[k + 1].escape : 0;
+		if (k + 1 >= e || r <= k + 1 || r >= e || nodes[r].escape != e)
+			return false;
+	}
+	size_t k = 0;
+	while (k < node_count)
+		k = nodes[k].escape;
+	return k == node_count;
+}
+
+/* Pre-order of the tree with, at every interior node, the child whose box centre comes first
+ * along axis (ascending, or descending when `down`) visited first; ties keep the builder's
+ * order. pos_of[k] = position of node k. The stack holds at most node_count entries. */
+static void directional_order(const struct rs_bvh_node *nodes, size_t node_count,
+                              const float (*box)[6], int axis, bool down, uint32_t *stack,
+                              uint32_t *pos_of)
+{
+	uint32_t pos = 0;
+	for (uint32_t top = 0; top < node_count; top = nodes[top].escape) {
+		size_t sp = 0;
+		stack[sp++] = top;
+		while (sp) {
+			uint32_t k = stack[--sp];
+			pos_of[k] = pos++;
+			if (nodes[k].level == 0)
+				continue;
+			uint32_t c[2] = {k + 1, nodes[k + 1].escape};
+			float m0 = box[c[0]][axis] + box[c[0]][3 + axis];
+			float m1 = box[c[1]][axis] + box[c[1]][3 + axis];
+			bool swap = down ? m1 > m0 : m1 < m0;
+			stack[sp++] =
+			    c[swap ? 0 : 1]; /* the second child, popped after the first */
+			stack[sp++] = c[swap ? 1 : 0];
+		}
+	}
+}
+
+static enum rs_status write_nodes(const struct rs_bvh_node *nodes, size_t node_count,
+                                  const float (*box)[6], struct rs_packed *packed,
+                                  struct rs_error *err)
+{
+	void (*write)(struct rs_packed *, uint32_t, const struct rs_bvh_node *, const float[6],
+	              uint32_t) =
+	    packed->node_format == RS_PACK_NODES_PAPER ? write_paper : write_compact;
+	uint32_t n = (uint32_t)node_count;
+	if (packed->node_orders == 1) { /* the builder's own order */
+		for (uint32_t k = 0; k < n; k++)
+			write(packed, k, &nodes[k], box[k], nodes[k].escape);
+		return RS_OK;
+	}
+	if (!well_formed(nodes, node_count))
+		return rs_error_set(
+		    err, RS_ERR_BAD_DATA,
+		    "pack: the BVH's escapes do not nest, so it cannot be reordered");
+	uint32_t *scratch = malloc(2 * (node_count ? node_count : 1) * sizeof *scratch);
+	if (!scratch)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for node orders");
+	uint32_t *stack = scratch, *pos_of = scratch + node_count;
+	for (uint32_t d = 0; d < packed->node_orders; d++) {
+		directional_order(nodes, node_count, box, (int)(d / 2), d % 2 == 1, stack, pos_of);
+		uint32_t base = d * n;
+		for (uint32_t k = 0; k < n; k++)
+			write(packed, base + pos_of[k], &nodes[k], box[k],
+			      base + pos_of[k] + (nodes[k].escape - k));
+	}
+	free(scratch);
+	return RS_OK;
 }
 
 enum rs_status rs__pack_nodes(const struct rs_bvh_node *nodes, size_t node_count,
                               struct rs_packed *packed, struct rs_error *err)
 {
-	float (*box)[6] = malloc((node_count ? node_count : 1) * sizeof *box);
+	float(*box)[6] = malloc((node_count ? node_count : 1) * sizeof *box);
 	if (!box)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for %zu node boxes",
 		                    node_count);
 	node_bounds(nodes, node_count, packed, box);
-	if (packed->node_format == RS_PACK_NODES_PAPER)
-		write_paper(nodes, node_count, box, packed);
-	else
-		write_compact(nodes, node_count, box, packed);
+	if (packed->node_format == RS_PACK_NODES_COMPACT)
+		grid((const float(*)[6])box, node_count, packed);
+	enum rs_status s = write_nodes(nodes, node_count, (const float(*)[6])box, packed, err);
 	free(box);
+	if (s != RS_OK)
+		return s;
 	/* The last flag of every leaf's last slot: what ends a compact leaf. */
 	for (size_t i = 0; i < node_count; i++)
 		if (nodes[i].level == 0 && nodes[i].count > 0)
@@ -148,7 +225,7 @@ static uint32_t escape_after(uint32_t escape, uint32_t k)
 
 void rs_pack_read_node(const struct rs_packed *p, uint32_t k, struct rs_pack_node *out)
 {
-	RS_ASSERT(p && out && k < p->node_count);
+	RS_ASSERT(p && out && k < (uint64_t)p->node_count * p->node_orders);
 	uint32_t tris = p->triangle_count;
 	if (p->node_format == RS_PACK_NODES_PAPER) {
 		const float *t = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, k, 0);

@@ -80,8 +80,10 @@ static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
 	uint64_t boxes = 0, tris = 0;
 	bool found = false;
 	uint32_t best_id = RS_NO_SLOT;
-	uint32_t n = packed->node_count;
-	uint32_t i = 0;
+	/* the node order of the ray's major direction (rs_pack.h), whose escapes are absolute */
+	uint32_t i =
+	    packed->node_orders > 1 ? rs_pack_node_order(ray->dir) * packed->node_count : 0;
+	uint32_t n = i + packed->node_count;
 	while (i < n) {
 		struct rs_pack_node node;
 		rs_pack_read_node(packed, i, &node);

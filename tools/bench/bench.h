@@ -15,6 +15,8 @@ struct bench_options {
 	const char *backend;         /* table 2: the backend under test */
 	enum rs_bvh_builder builder; /* table 2: the BVH every backend and the peer use */
 	bool peer;                   /* table 2: run the Embree peer (when built) */
+	struct rs_pack_desc pack;    /* --nodes; table 1 defaults to the paper's layout */
+	bool pack_set;               /* --nodes given */
 };
 
 /* The paper's scenes, in its order. */

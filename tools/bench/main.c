@@ -34,6 +34,8 @@ static void usage(void)
 	     "  table 1: [--flat-size N] [--passes N] [--none-max-triangles N]\n"
 	     "  table 2: [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah]\n"
 	     "           [--peer embree|none]\n"
+	     "  both:    [--nodes compact|paper[:directional|single]] (table 1: paper:single,\n"
+	     "           the paper's layout; table 2: compact:directional)\n"
 	     "Scenes: box, cow1, cow2, cow5, cow9, cow17 (default all).");
 }
 
@@ -84,7 +86,7 @@ static int parse(int argc, char **argv, struct bench_options *o)
 		                : !strcmp(a, "--table")              ? &o->table
 		                                                     : NULL;
 		int known = dst || !strcmp(a, "--scene") || !strcmp(a, "--backend") ||
-		            !strcmp(a, "--bvh") || !strcmp(a, "--peer");
+		            !strcmp(a, "--bvh") || !strcmp(a, "--peer") || !strcmp(a, "--nodes");
 		if (!known)
 			return bad("unknown option:", a);
 		if (!v)
@@ -104,6 +106,11 @@ static int parse(int argc, char **argv, struct bench_options *o)
 		} else if (!strcmp(a, "--bvh")) {
 			if (!parse_builder(v, &o->builder))
 				return bad("unknown BVH builder (none, linear, paper or sah):", v);
+		} else if (!strcmp(a, "--nodes")) {
+			if (!rs_tool_parse_nodes(v, &o->pack))
+				return bad("--nodes wants compact|paper[:directional|single], not",
+				           v);
+			o->pack_set = true;
 		} else if (!strcmp(a, "--peer")) {
 			if (strcmp(v, "embree") != 0 && strcmp(v, "none") != 0)
 				return bad("--peer wants embree or none, not", v);

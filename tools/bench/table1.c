@@ -30,6 +30,15 @@ static const enum rs_bvh_builder builders[] = {RS_BVH_NONE, RS_BVH_LINEAR, RS_BV
                                                RS_BVH_SAH};
 
 /* Stats of one frame on the CPU reference with `desc` (the BVH is built again inside). */
+/* The paper's hit numbers count the paper's layout (three float texels, one order) unless
+ * --nodes asks for another. */
+static struct rs_pack_desc table1_pack(const struct bench_options *o)
+{
+	struct rs_pack_desc layout = {.nodes = RS_PACK_NODES_PAPER,
+	                              .orders = RS_PACK_ORDERS_SINGLE};
+	return o->pack_set ? o->pack : layout;
+}
+
 static enum rs_status render_cpu(const struct rs_scene *scene, const struct rs_render_desc *desc,
                                  struct rs_render_stats *out_stats, struct rs_error *err)
 {
@@ -94,6 +103,7 @@ static int bench_scene(const struct bench_options *o, const struct paper_row *ro
 		                            .lights = o->lights,
 		                            .counters = true,
 		                            .bvh = desc,
+		                            .pack = table1_pack(o),
 		                            .threads = o->threads};
 		struct rs_render_stats st;
 		if (render_cpu(scene, &rd, &st, &err) != RS_OK) {
@@ -143,6 +153,7 @@ static int bench_triangle_tests(const struct bench_options *o, const char *name)
 		                            .triangle_test = t ? RS_TRIANGLE_WATERTIGHT
 		                                               : RS_TRIANGLE_MOLLER_TRUMBORE,
 		                            .bvh = bvh,
+		                            .pack = table1_pack(o),
 		                            .threads = o->threads};
 		struct rs_renderer *renderer = NULL;
 		struct rs_frame frame = {.rgb = rgb[t], .depth = depth[t]};

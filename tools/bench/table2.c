@@ -59,6 +59,7 @@ struct rs_render_desc t2_desc(const struct bench_options *o, enum rs_primary_mod
 	                               .primary = primary,
 	                               .shadows = RS_SHADOW_RAYS,
 	                               .bvh = {.builder = o->builder},
+	                               .pack = o->pack,
 	                               .threads = o->threads};
 }
 
@@ -337,7 +338,9 @@ int bench_table2(const struct bench_options *o)
 		++scenes;
 	}
 	if (code == 0) {
-		printf("\nrenderer: %s\n", renderer);
+		char nodes[32];
+		printf("\nrenderer: %s; BVH nodes %s\n", renderer,
+		       rs_tool_nodes_name(&o->pack, nodes, sizeof nodes));
 		print_kernels(o, scenes);
 		if (o->peer)
 			t2_peer_print(o, results, scenes);

@@ -156,6 +156,32 @@ int rs_tool_parse_reflections(const char *text, enum rs_reflection_mode *mode, u
 	return 1;
 }
 
+int rs_tool_parse_nodes(const char *text, struct rs_pack_desc *pack)
+{
+	const char *colon = strchr(text, ':');
+	size_t n = colon ? (size_t)(colon - text) : strlen(text);
+	if (n == 7 && strncmp(text, "compact", n) == 0)
+		pack->nodes = RS_PACK_NODES_COMPACT;
+	else if (n == 5 && strncmp(text, "paper", n) == 0)
+		pack->nodes = RS_PACK_NODES_PAPER;
+	else
+		return 0;
+	if (!colon || strcmp(colon + 1, "directional") == 0)
+		pack->orders = RS_PACK_ORDERS_DIRECTIONAL;
+	else if (strcmp(colon + 1, "single") == 0)
+		pack->orders = RS_PACK_ORDERS_SINGLE;
+	else
+		return 0;
+	return 1;
+}
+
+const char *rs_tool_nodes_name(const struct rs_pack_desc *pack, char *out, size_t size)
+{
+	snprintf(out, size, "%s:%s", pack->nodes == RS_PACK_NODES_PAPER ? "paper" : "compact",
+	         pack->orders == RS_PACK_ORDERS_SINGLE ? "single" : "directional");
+	return out;
+}
+
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size)
 {
 	if (desc->reflections == RS_REFLECT_INTERREFLECT)

@@ -35,6 +35,11 @@ int rs_tool_parse_size(const char *text, uint32_t *out_w, uint32_t *out_h);
 /* --reflections: "trace", "envmap" or "interreflect[:BOUNCES]" (1..RS_RENDER_MAX_BOUNCES;
  * without it 0, the default). Returns 1, or 0 when `text` is none of these. */
 int rs_tool_parse_reflections(const char *text, enum rs_reflection_mode *mode, uint32_t *bounces);
+/* "--nodes FORMAT[:ORDERS]": compact|paper, directional|single (rs_pack.h) into pack's
+ * nodes and orders; 1 on success, 0 when the text names neither. */
+int rs_tool_parse_nodes(const char *text, struct rs_pack_desc *pack);
+/* The same spelling for a pack descriptor ("compact:directional"), into out (size bytes). */
+const char *rs_tool_nodes_name(const struct rs_pack_desc *pack, char *out, size_t size);
 /* The same spelling for a descriptor ("interreflect:2"), into out (size bytes). */
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size);
 

@@ -16,6 +16,7 @@ struct options {
 	const char *scene, *backend, *out, *stats, *depth;
 	enum rs_bvh_builder builder;
 	enum rs_triangle_test triangle_test;
+	struct rs_pack_desc pack; /* --nodes */
 	enum rs_primary_mode primary;
 	enum rs_reflection_mode reflections;
 	uint32_t bounces; /* --reflections interreflect:N */
@@ -32,10 +33,13 @@ static void usage(FILE *to)
 	      "         [--depth FILE.pfm] [--triangle-test watertight|mt] [--threads N]\n"
 	      "         [--primary trace|raster] [--shadows rays|map[:RESOLUTION[:FILTER]]]\n"
 	      "         [--reflections trace|envmap|interreflect[:BOUNCES]]\n"
+	      "         [--nodes compact|paper[:directional|single]]\n"
 	      "Renders with the chosen backend (default cpu, the double-precision reference).\n"
 	      "FILE is an OBJ or PLY mesh; a FILE.json beside it (from raystream-scene) sets\n"
 	      "camera, lights and environment. --triangle-test defaults to watertight; mt is the\n"
-	      "paper's Moller-Trumbore. --lights defaults to 1 (0 for a scene without lights).\n",
+	      "paper's Moller-Trumbore. --lights defaults to 1 (0 for a scene without lights).\n"
+	      "--nodes: BVH node texture format and orders, default compact:directional;\n"
+	      "paper:single is the paper's layout (docs/bvh.md).\n",
 	      to);
 }
 
@@ -135,6 +139,11 @@ static int parse_args(int argc, char **argv, struct options *o)
 				    "--shadows wants rays or map[:RESOLUTION[:FILTER]], "
 				    "not '%s'",
 				    v);
+		} else if (!strcmp(a, "--nodes")) {
+			if (!rs_tool_parse_nodes(v, &o->pack))
+				return fail_usage(
+				    "--nodes wants compact|paper[:directional|single], not '%s'",
+				    v);
 		} else if (!strcmp(a, "--triangle-test")) {
 			if (!strcmp(v, "mt"))
 				o->triangle_test = RS_TRIANGLE_MOLLER_TRUMBORE;
@@ -177,6 +186,8 @@ static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
 	cJSON_AddStringToObject(doc, "renderer", st->renderer);
 	cJSON_AddNumberToObject(doc, "triangles", (double)rs_scene_triangle_count(scene));
 	cJSON_AddStringToObject(doc, "bvh", rs_bvh_builder_name(d->bvh.builder));
+	char nodes[32];
+	cJSON_AddStringToObject(doc, "nodes", rs_tool_nodes_name(&d->pack, nodes, sizeof nodes));
 	cJSON_AddNumberToObject(doc, "passes", d->passes);
 	cJSON_AddNumberToObject(doc, "lights", d->lights);
 	cJSON_AddNumberToObject(doc, "width", d->width);
@@ -243,6 +254,7 @@ static int run(const struct options *o)
 	    .passes = o->passes,
 	    .lights = lights, /* 0 means "all": right for a scene without lights */
 	    .triangle_test = o->triangle_test,
+	    .pack = o->pack,
 	    .primary = o->primary,
 	    .reflections = o->reflections,
 	    .reflection_bounces = o->bounces,

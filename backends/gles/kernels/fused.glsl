@@ -1,11 +1,17 @@
 // fused.glsl: intersection, environment, shading and next ray of one pass in one kernel
 // (RS_CHAIN_FUSED: no hit texture round trip). Without counters only: the fourth render
 // target GLES 3.0 guarantees carries the hit (pass 0's gives the depth).
-// In:  u_orig, u_dir, u_acc.
+// In:  u_orig, u_dir, u_acc; with RS_FIRST_PASS (the first pass of the fused chain) the
+//      primary ray of camera.glsl instead, as raygen.glsl makes it (u_near included): one
+//      full-screen pass and three float targets fewer per frame.
 // Out: 0 orig, 1 dir, 2 acc, 3 hit = (t, u, v, slot).
+#ifdef RS_FIRST_PASS
+uniform float u_near;
+#else
 uniform sampler2D u_orig;
 uniform sampler2D u_dir;
 uniform sampler2D u_acc;
+#endif
 layout(location = 0) out vec4 o_orig;
 layout(location = 1) out vec4 o_dir;
 layout(location = 2) out vec4 o_acc;
@@ -13,9 +19,18 @@ layout(location = 3) out vec4 o_hit;
 
 void main()
 {
+#ifdef RS_FIRST_PASS
+	vec3 d = rs_camera_dir(gl_FragCoord.xy);
+	vec4 orig = vec4(u_eye + u_near * d, -1.0), dir = vec4(d, 1.0), acc = vec4(0.0);
+#else
+	// A finished path keeps only its colour: its ray is never read again (written as 0).
 	ivec2 px = ivec2(gl_FragCoord.xy);
-	vec4 orig = texelFetch(u_orig, px, 0), dir = texelFetch(u_dir, px, 0);
-	vec4 acc = texelFetch(u_acc, px, 0);
+	vec4 acc = texelFetch(u_acc, px, 0), orig = vec4(0.0), dir = vec4(0.0);
+	if (acc.w == RS_STATE_ACTIVE) {
+		orig = texelFetch(u_orig, px, 0);
+		dir = texelFetch(u_dir, px, 0);
+	}
+#endif
 	Hit h = Hit(RS_FAR, 0.0, 0.0, -2, -1.0);
 	if (acc.w == RS_STATE_ACTIVE) {
 		h.slot = -1;

@@ -81,6 +81,19 @@ enum rs_pack_nodes {
 	RS_PACK_NODES_PAPER = 1,
 };
 
+/** How many pre-orders of the tree the node texture holds (rs_pack_desc.orders). */
+enum rs_pack_orders {
+	/** Six (the default): one per major direction (+x, -x, +y, -y, +z, -z), each visiting at
+	 * every node first the child whose box centre comes first along that direction; a ray
+	 * walks the one of its own major direction (rs_pack_node_order), so it meets near boxes
+	 * first (closest hits prune more). Six times the node texture; where six do not fit the
+	 * texture size limit (or 2^24 items), one order is packed instead (rs_packed.node_orders
+	 * says which). */
+	RS_PACK_ORDERS_DIRECTIONAL = 0,
+	/** One: the builder's order, as the paper. */
+	RS_PACK_ORDERS_SINGLE = 1,
+};
+
 /** A texture image: width * height * 4 values, row-major, caller-owned. */
 struct rs_texture {
 	union {
@@ -102,6 +115,8 @@ struct rs_pack_desc {
 	uint32_t row_items;
 	/** Node format; 0 -> RS_PACK_NODES_COMPACT. */
 	enum rs_pack_nodes nodes;
+	/** Node orders; 0 -> RS_PACK_ORDERS_DIRECTIONAL. */
+	enum rs_pack_orders orders;
 };
 
 /** Everything the kernels read; caller-owned storage. */
@@ -117,6 +132,9 @@ struct rs_packed {
 	uint32_t max_texture_size; /**< the limit the layout was made for (resolved) */
 	double origin[3]; /**< world position of the packed frame's origin (set by packing) */
 	enum rs_pack_nodes node_format; /**< the nodes texture's format (resolved) */
+	/** Pre-orders in the node texture (1 or 6): order d holds items [d * node_count,
+	 * (d + 1) * node_count), escapes are absolute items, a ray starts at its order's first. */
+	uint32_t node_orders;
 	/** Compact nodes: bound = grid_origin + q * grid_step (packed frame). The step is a power
 	 * of two and the origin a multiple of it below 2^23 steps, so every bound is exact in
 	 * fp32 however a GPU rounds (set by packing; 0 for paper nodes). */
@@ -178,6 +196,19 @@ void rs_pack_free(struct rs_packed *packed);
  * slots end at triangle_count.
  */
 void rs_pack_read_node(const struct rs_packed *packed, uint32_t k, struct rs_pack_node *out);
+
+/** The node order a ray with direction d walks when packed->node_orders is 6: the major axis
+ * (largest |d|, ties to the lower axis) times two, plus one when that component is negative.
+ * The kernels choose the same way in fp32. */
+static inline uint32_t rs_pack_node_order(const double d[3])
+{
+	double ax = d[0] < 0 ? -d[0] : d[0], ay = d[1] < 0 ? -d[1] : d[1];
+	double az = d[2] < 0 ? -d[2] : d[2];
+	int axis = ay > ax ? 1 : 0;
+	if (az > (axis ? ay : ax))
+		axis = 2;
+	return 2u * (uint32_t)axis + (d[axis] < 0.0 ? 1u : 0u);
+}
 
 /** Where texel j of item k sits in a texture laid out `row_items` per row (what a kernel
  * passes to texelFetch). */
