@@ -160,6 +160,7 @@ static void bad_descriptors_are_refused_with_a_message(void **state)
 	    {.primary = (enum rs_primary_mode)9},
 	    {.shadows = (enum rs_shadow_mode)9},
 	    {.chain = (enum rs_kernel_chain)9},
+	    {.chain = (enum rs_kernel_chain)(RS_CHAIN_PAPER + 1)},
 	    {.shadow_map_size = 4, .shadow_filter = 5},
 	    {.threads = RS_RENDER_MAX_THREADS + 1},
 	    {.width = 20000, .height = 20000},
