@@ -74,6 +74,18 @@ static void cow1_map_256_box5(void **state)
  * the edge on the seam, 4-5: the rest), so a pixel's primary triangle says its band. */
 #define SEAM_K 0.05
 
+/* Quad (corners 0..3 in order, double xyz) of material `m`: two triangles. */
+static void add_quad(struct rs_scene *s, const double pos[12], uint32_t m)
+{
+	static const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+	struct rs_mesh_desc mesh = {.positions_f64 = pos,
+	                            .vertex_count = 4,
+	                            .indices = idx,
+	                            .triangle_count = 2,
+	                            .material = m};
+	assert_int_equal(rs_scene_add_mesh(s, &mesh, NULL), RS_OK);
+}
+
 static struct rs_scene *seam_scene(bool occluder)
 {
 	struct rs_scene *s = NULL;
@@ -83,26 +95,15 @@ static struct rs_scene *seam_scene(bool occluder)
 	assert_int_equal(rs_scene_add_material(s, &white, &m, NULL), RS_OK);
 	static const double xs[4] = {0.25, 0.75, 1.25, 1.6};
 	for (int b = 0; b < 3; ++b) {
-		double pos[12] = {xs[b],     -1, -0.8, xs[b + 1], -1, -0.8,
-		                  xs[b + 1], -1, 0.8,  xs[b],     -1, 0.8};
-		uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
-		struct rs_mesh_desc mesh = {.positions_f64 = pos,
-		                            .vertex_count = 4,
-		                            .indices = idx,
-		                            .triangle_count = 2,
-		                            .material = m};
-		assert_int_equal(rs_scene_add_mesh(s, &mesh, NULL), RS_OK);
+		const double pos[12] = {xs[b],     -1, -0.8, xs[b + 1], -1, -0.8,
+		                        xs[b + 1], -1, 0.8,  xs[b],     -1, 0.8};
+		add_quad(s, pos, m);
 	}
 	if (occluder) { /* the floor edge x = c + K z seen from the light at y = -0.5 */
-		double pos[12] = {0.25 - 0.5 * SEAM_K, -0.5, -0.5, 0.5 - 0.5 * SEAM_K,  -0.5, -0.5,
-		                  0.5 + 0.5 * SEAM_K,  -0.5, 0.5,  0.25 + 0.5 * SEAM_K, -0.5, 0.5};
-		uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
-		struct rs_mesh_desc mesh = {.positions_f64 = pos,
-		                            .vertex_count = 4,
-		                            .indices = idx,
-		                            .triangle_count = 2,
-		                            .material = m};
-		assert_int_equal(rs_scene_add_mesh(s, &mesh, NULL), RS_OK);
+		const double pos[12] = {
+		    0.25 - 0.5 * SEAM_K, -0.5, -0.5, 0.5 - 0.5 * SEAM_K,  -0.5, -0.5,
+		    0.5 + 0.5 * SEAM_K,  -0.5, 0.5,  0.25 + 0.5 * SEAM_K, -0.5, 0.5};
+		add_quad(s, pos, m);
 	}
 	struct rs_light light = {.position = {0, 0, 0}, .color = {1, 1, 1}};
 	assert_int_equal(rs_scene_add_light(s, &light, NULL), RS_OK);
