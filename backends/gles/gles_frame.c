@@ -49,8 +49,13 @@ void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double
 	}
 }
 
-/* Rasterized primary hits into `hit`: triangle slot, barycentrics and t per pixel, the
- * nearest t winning through a 32-bit float depth buffer holding t / far. */
+/* Rasterized primary hits into `hit`: triangle slot, barycentrics and t per pixel. The
+ * visibility pass rasterizes every triangle into g->hit[1] (free until the second pass)
+ * with a fetch-free fragment stage, the nearest distance winning through a 32-bit float
+ * depth buffer; the resolve pass then tests each pixel's ray against its triangle once.
+ * (Testing in the raster's own fragment stage, as before, cost a fetch and a triangle test
+ * per covering fragment: llvmpipe shades a whole 4x4 block for every tiny triangle, and
+ * writing depth from the shader rules out an early depth test.) */
 static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLuint hit,
                              struct rs_render_stats *stats, struct rs_error *err)
 {
@@ -69,9 +74,10 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 	double far = 1.01 * (sqrt(d2) + g->bounds_radius) + 1e-30;
 	rs_gles_uniform_f(gl, prog, "u_far", (GLfloat)far);
 	rs_gles_uniform_f(gl, prog, "u_near", (GLfloat)(far * 1e-6));
+	GLuint vis = g->hit[1];
 	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g->depth);
 	static const GLenum buf0 = GL_COLOR_ATTACHMENT0;
-	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, hit, 0);
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, vis, 0);
 	for (int i = 1; i < 4; ++i)
 		gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i,
 		                         GL_TEXTURE_2D, 0, 0);
@@ -96,7 +102,15 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 		return st;
 	gl->Finish();
 	rs_gles_kernel_time(stats, "raster", rs_gles_now_ms() - t0);
-	return rs_gles_check(gl, "raster", err);
+	st = rs_gles_check(gl, "raster", err);
+	if (st != RS_OK)
+		return st;
+	prog = g->prog[PROG_RESOLVE];
+	gl->UseProgram(prog);
+	rs_gles_scene_uniforms(g, prog);
+	rs_gles_camera_uniforms(g, prog, camera);
+	rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_vis", vis);
+	return rs_gles_draw(g, "resolve", &hit, 1, stats, rs_gles_now_ms(), err);
 }
 
 void rs_gles_state_inputs(const struct gles *g, GLuint prog, const struct rs_gles_cursor *c)

@@ -41,6 +41,7 @@ enum {
 	PROG_ENVIRONMENT, /* RS_CHAIN_PAPER: environment, shading, next ray apart */
 	PROG_SHADING,
 	PROG_NEXTRAY,
+	PROG_RESOLVE, /* rasterized primaries: exact hits from the visibility pass */
 	PROG_COUNT
 };
 

@@ -190,14 +190,15 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    {"common.glsl", "surface.glsl", "shade.glsl"},
 	    {"common.glsl", "surface.glsl", "fused.glsl"},
 	    {"display.glsl"},
-	    {"common.glsl", "camera.glsl", "raster.glsl"},
+	    {"raster.glsl"},
 	    {"shadow.glsl"},
 	    {"common.glsl", "surface.glsl", "camera.glsl", "fused.glsl"},
 	    {"common.glsl", "surface.glsl", "environment.glsl"},
 	    {"common.glsl", "surface.glsl", "shading.glsl"},
 	    {"common.glsl", "surface.glsl", "nextray.glsl"},
+	    {"common.glsl", "camera.glsl", "resolve.glsl"},
 	};
-	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 3, 1, 4, 3, 3, 3};
+	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 1, 1, 4, 3, 3, 3, 3};
 	bool paper = g->desc.chain == RS_CHAIN_PAPER;
 	char first[608];
 	snprintf(first, sizeof first, "%s#define RS_FIRST_PASS 1\n", full);
@@ -211,7 +212,7 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 			continue;
 		if ((i == PROG_ENVIRONMENT || i == PROG_SHADING || i == PROG_NEXTRAY) && !paper)
 			continue;
-		if (i == PROG_RASTER && g->desc.primary != RS_PRIMARY_RASTER)
+		if ((i == PROG_RASTER || i == PROG_RESOLVE) && g->desc.primary != RS_PRIMARY_RASTER)
 			continue;
 		if (i == PROG_SHADOW && g->desc.shadows != RS_SHADOW_MAP)
 			continue;

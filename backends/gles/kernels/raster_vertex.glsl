@@ -4,10 +4,11 @@
 // (camera.glsl: fov, aspect, lens shift), so a pixel centre is covered by the triangle
 // its primary ray meets; image row y lands on GL row y.
 // In:  common.glsl's u_tris, camera.glsl's uniforms, u_near, u_far (clip planes).
-// Out: v_slot (flat): the packed slot.
+// Out: v_slot (flat): the packed slot; v_rel: the vertex relative to the eye.
 uniform float u_near;
 uniform float u_far;
 flat out int v_slot;
+out vec3 v_rel;
 
 void main()
 {
@@ -20,4 +21,5 @@ void main()
 	float z = (q.z * (u_far + u_near) - 2.0 * u_far * u_near) / (u_far - u_near);
 	gl_Position = vec4(x, y, z, q.z);
 	v_slot = slot;
+	v_rel = p;
 }
