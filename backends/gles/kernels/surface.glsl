@@ -29,7 +29,12 @@ struct Surf {
 Surf rs_surface(Ray r, Hit h)
 {
 	Surf s;
-	vec4 t0 = rs_tri(h.slot, 0), t1 = rs_tri(h.slot, 1), t2 = rs_tri(h.slot, 2);
+	vec4 t0 = g_hit_v0, t1 = g_hit_v1, t2 = g_hit_v2; // common.glsl's cache
+	if (h.slot != g_hit_slot) {
+		t0 = rs_tri(h.slot, 0);
+		t1 = rs_tri(h.slot, 1);
+		t2 = rs_tri(h.slot, 2);
+	}
 	vec3 e1 = t1.xyz - t0.xyz, e2 = t2.xyz - t0.xyz;
 	vec3 g = cross(e1, e2);
 	float gl = length(g);
