@@ -38,8 +38,9 @@ static void delete_scene(struct gles *g)
 	g->scene = NULL;
 }
 
-/* A one-level texture (immutable storage: drivers then know no other level is ever read,
- * which llvmpipe uses to drop per-fetch level arithmetic). */
+/* A one-level texture (immutable storage: a driver may then know no other level is ever
+ * read; llvmpipe 22.3 still does per-lane level arithmetic in texelFetch, no measured
+ * difference). */
 static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h, GLenum type,
                       const void *data)
 {

@@ -203,19 +203,12 @@ enum rs_status rs__pack_nodes(const struct rs_bvh_node *nodes, size_t node_count
 		return s;
 	/* The last flag of every leaf's last slot: what ends a compact leaf. */
 	for (size_t i = 0; i < node_count; i++)
-		if (nodes[i].level == 0 && nodes[i].count > 0)
-			packed->triangles.texels[((size_t)(nodes[i].first + nodes[i].count - 1) *
-			                              RS_PACK_TRIANGLE_TEXELS +
-			                          2u) *
-			                             4u +
-			                         3u] = 1.0f;
+		if (nodes[i].level == 0 && nodes[i].count > 0) {
+			uint32_t last = nodes[i].first + nodes[i].count - 1;
+			((float *)rs_pack_texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, last,
+			                        2))[3] = 1.0f;
+		}
 	return RS_OK;
-}
-
-/* Float texel to index; NaN, negative or huge (corrupt data) map to UINT32_MAX. */
-static uint32_t to_index(float f)
-{
-	return f >= 0.0f && f < 4294967040.0f ? (uint32_t)f : UINT32_MAX;
 }
 
 static uint32_t escape_after(uint32_t escape, uint32_t k)
@@ -231,9 +224,9 @@ void rs_pack_read_node(const struct rs_packed *p, uint32_t k, struct rs_pack_nod
 		const float *t = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, k, 0);
 		memcpy(out->lo, t, sizeof out->lo);
 		memcpy(out->hi, t + 4, sizeof out->hi);
-		out->escape = escape_after(to_index(t[3]), k);
+		out->escape = escape_after(rs_pack_index(t[3]), k);
 		out->leaf = t[7] == 0.0f;
-		uint32_t first = to_index(t[8]), count = to_index(t[9]);
+		uint32_t first = rs_pack_index(t[8]), count = rs_pack_index(t[9]);
 		out->first = first < tris ? first : tris;
 		out->count = count < tris - out->first ? count : tris - out->first;
 		return;

@@ -19,12 +19,6 @@ static bool ray_usable(const struct rs_ray *ray)
 	return !isnan(ray->tmin) && !isnan(ray->tmax) && ray->tmin < ray->tmax;
 }
 
-/* Float texel to index; NaN, negative or huge (corrupt data) map to UINT32_MAX. */
-static uint32_t to_index(float f)
-{
-	return f >= 0.0f && f < 4294967040.0f ? (uint32_t)f : UINT32_MAX;
-}
-
 static void load_triangle(const struct rs_packed *packed, uint32_t slot, double v[3][3],
                           uint32_t *out_id)
 {
@@ -35,7 +29,7 @@ static void load_triangle(const struct rs_packed *packed, uint32_t slot, double 
 		v[k][1] = t[4 * k + 1];
 		v[k][2] = t[4 * k + 2];
 	}
-	*out_id = to_index(t[3]);
+	*out_id = rs_pack_index(t[3]);
 }
 
 /* The closest-hit rule (docs/tracer.md R4): nearer wins; on exactly equal t the lower scene

@@ -24,9 +24,8 @@ uniform int u_material_count;
 uniform float u_spawn_scale;
 
 // "No hit yet" distance: far beyond any scene, finite so no kernel depends on how a GPU
-// treats infinities. Zero-direction slabs use +-RS_HUGE, beyond it.
+// treats infinities.
 const float RS_FAR = 1.0e38;
-const float RS_HUGE = 3.0e38;
 // Slab distances are widened outwards by K = 2^-19, 16 fp32 ulps (docs/tracer.md R3; the
 // double reference uses 16 double ulps).
 const float RS_BOX_GROW = 1.0 + 1.9073486e-6;
@@ -268,8 +267,9 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 			vec4 v0 = rs_tri(s, 0), v2 = rs_tri(s, 2);
 			if (s != r.skip) {
 				counts.y += 1.0;
+				vec4 v1 = rs_tri(s, 1);
 				vec3 tuv;
-				if (rs_triangle(v0.xyz, rs_tri(s, 1).xyz, v2.xyz, r, p, h.t, tuv) &&
+				if (rs_triangle(v0.xyz, v1.xyz, v2.xyz, r, p, h.t, tuv) &&
 				    rs_better(tuv.x, v0.w, h, found, r.tmax)) {
 					found = true;
 					h = Hit(tuv.x, tuv.y, tuv.z, s, v0.w);
@@ -277,7 +277,7 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 						return true;
 					g_hit_slot = s;
 					g_hit_v0 = v0;
-					g_hit_v1 = rs_tri(s, 1);
+					g_hit_v1 = v1;
 					g_hit_v2 = v2;
 				}
 			}

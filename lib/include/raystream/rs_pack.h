@@ -210,6 +210,13 @@ static inline uint32_t rs_pack_node_order(const double d[3])
 	return 2u * (uint32_t)axis + (d[axis] < 0.0 ? 1u : 0u);
 }
 
+/** An index stored in a float texel (exact below 2^24); NaN, negative or huge values (corrupt
+ * data) give UINT32_MAX, which every reader treats as out of range. */
+static inline uint32_t rs_pack_index(float f)
+{
+	return f >= 0.0f && f < 4294967040.0f ? (uint32_t)f : UINT32_MAX;
+}
+
 /** Where texel j of item k sits in a texture laid out `row_items` per row (what a kernel
  * passes to texelFetch). */
 static inline void rs_pack_texel_xy(uint32_t row_items, uint32_t texels_per_item, uint32_t item,
