@@ -1,10 +1,10 @@
 /* Out of GPU memory (issue 8 item 11): through the private fault seam of gl_api.h, every
- * GL allocation the renderer makes (textures, renderbuffers, framebuffer and vertex array
- * objects, shadow and environment maps, the inter-reflection maps captured per frame) is
- * made to fail in turn. Each failure must give RS_ERR_NO_MEMORY with one line naming what
- * was being allocated and its size, delete every GL object the failed call made (the seam
- * tracks live names; ASan tracks host memory), and leave a renderer that renders once
- * memory is back. EGL (llvmpipe in CI); skipped without a context. */
+ * GL allocation the renderer makes (textures, renderbuffers, the buffer objects of buffer
+ * texture storage, framebuffer and vertex array objects, shadow and environment maps, the
+ * inter-reflection maps captured per frame) is made to fail in turn. Each failure must give
+ * RS_ERR_NO_MEMORY with one line naming what was being allocated and its size, delete every GL
+ * object the failed call made (the seam tracks live names; ASan tracks host memory), and leave a
+ * renderer that renders once memory is back. EGL (llvmpipe in CI); skipped without a context. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -31,6 +31,7 @@ static void assert_live(const struct rs__gl_fault_counts *want)
 	assert_false(got.overflow);
 	assert_int_equal(got.textures, want->textures);
 	assert_int_equal(got.renderbuffers, want->renderbuffers);
+	assert_int_equal(got.buffers, want->buffers);
 	assert_int_equal(got.framebuffers, want->framebuffers);
 	assert_int_equal(got.vertex_arrays, want->vertex_arrays);
 }
@@ -116,8 +117,10 @@ static void every_allocation_with_raster_primary_and_shadow_maps_fails_cleanly(v
 	                              .primary = RS_PRIMARY_RASTER,
 	                              .shadows = RS_SHADOW_MAP,
 	                              .shadow_map_size = 64,
-	                              .chain = RS_CHAIN_PAPER};
-	/* ... and the raster depth buffer, the shadow maps and their depth buffer */
+	                              .chain = RS_CHAIN_PAPER,
+	                              .scene_storage = RS_SCENE_STORAGE_2D};
+	/* ... and the raster depth buffer, the shadow maps and their depth buffer (and the
+	 * scene in GLES 3.0's 2D textures; the other settings take buffer textures here) */
 	assert_true(fail_each_allocation(&desc, "box") >= 16);
 }
 

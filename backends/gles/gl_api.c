@@ -17,6 +17,11 @@ enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *
 	memcpy(&gl->name, &p, sizeof p);
 	RS_GL_FUNCS(RS_GL_LOAD)
 #undef RS_GL_LOAD
+	static const char *const tex_buffer[3] = {"glTexBuffer", "glTexBufferOES",
+	                                          "glTexBufferEXT"};
+	for (int i = 0; i < 3 && !gl->TexBuffer; ++i)
+		if ((p = get(ctx, tex_buffer[i])) != NULL)
+			memcpy(&gl->TexBuffer, &p, sizeof p);
 	rs__gl_fault_hook(gl);
 	return RS_OK;
 }

@@ -1,12 +1,13 @@
 /* The GL entry points the GLES module calls, loaded through the context's
  * get_proc_address: never linked directly, so one module serves an EGL GLES context and an
  * OSMesa desktop context (libOSMesa and libGLESv2 both export gl* symbols; linking one of
- * them would bind every call to it). Types and enums come from the GLES 3.0 header. */
+ * them would bind every call to it). Types and enums come from the GLES 3.2 header; every
+ * entry point of the table is GLES 3.0 except the optional TexBuffer. */
 #ifndef RS_GLES_GL_API_H
 #define RS_GLES_GL_API_H
 
 #define GL_GLES_PROTOTYPES 0
-#include <GLES3/gl3.h>
+#include <GLES3/gl32.h>
 #include <stdbool.h>
 
 #include "raystream/rs_status.h"
@@ -15,15 +16,18 @@
 #define RS_GL_FUNCS(X)                                                                             \
 	X(void, ActiveTexture, (GLenum texture))                                                   \
 	X(void, AttachShader, (GLuint program, GLuint shader))                                     \
+	X(void, BindBuffer, (GLenum target, GLuint buffer))                                        \
 	X(void, BindFramebuffer, (GLenum target, GLuint framebuffer))                              \
 	X(void, BindTexture, (GLenum target, GLuint texture))                                      \
 	X(void, BindRenderbuffer, (GLenum target, GLuint renderbuffer))                            \
 	X(void, BindVertexArray, (GLuint array))                                                   \
+	X(void, BufferData, (GLenum target, GLsizeiptr size, const void *data, GLenum usage))      \
 	X(GLenum, CheckFramebufferStatus, (GLenum target))                                         \
 	X(void, ClearBufferfv, (GLenum buffer, GLint drawbuffer, const GLfloat *value))            \
 	X(void, CompileShader, (GLuint shader))                                                    \
 	X(GLuint, CreateProgram, (void))                                                           \
 	X(GLuint, CreateShader, (GLenum type))                                                     \
+	X(void, DeleteBuffers, (GLsizei n, const GLuint *buffers))                                 \
 	X(void, DeleteFramebuffers, (GLsizei n, const GLuint *framebuffers))                       \
 	X(void, DeleteProgram, (GLuint program))                                                   \
 	X(void, DeleteRenderbuffers, (GLsizei n, const GLuint *renderbuffers))                     \
@@ -39,6 +43,7 @@
 	X(void, Finish, (void))                                                                    \
 	X(void, FramebufferTexture2D,                                                              \
 	  (GLenum target, GLenum attachment, GLenum textarget, GLuint texture, GLint level))       \
+	X(void, GenBuffers, (GLsizei n, GLuint * buffers))                                         \
 	X(void, GenFramebuffers, (GLsizei n, GLuint * framebuffers))                               \
 	X(void, FramebufferRenderbuffer,                                                           \
 	  (GLenum target, GLenum attachment, GLenum renderbuffertarget, GLuint renderbuffer))      \
@@ -92,6 +97,9 @@
 #define RS_GL_MEMBER(ret, name, params) ret(GL_APIENTRY *name) params;
 struct rs_gl {
 	RS_GL_FUNCS(RS_GL_MEMBER)
+	/* Optional (GLES 3.2 glTexBuffer, or the OES/EXT entry point of GLES 3.1; desktop GL
+	 * 3.1): NULL where the context has none. */
+	void(GL_APIENTRY *TexBuffer)(GLenum target, GLenum internalformat, GLuint buffer);
 };
 #undef RS_GL_MEMBER
 
@@ -101,17 +109,17 @@ enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *
 
 /* Test seam (gl_fault.c; this header is private and never installed): out of GPU memory on
  * demand. rs__gl_fault_wrap(true) makes every table loaded from then on wrap the allocating
- * entry points (glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage, glGenFramebuffers,
- * glGenVertexArrays) and track live texture, renderbuffer, framebuffer and vertex array
- * names; it resets the counts. rs__gl_fault_fail_at(n) restarts the allocation count: the
- * n-th allocation from now (1-based; 0: none) is not made and the next glGetError reports
- * GL_OUT_OF_MEMORY. One wrapped renderer at a time. */
+ * entry points (glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage, glBufferData,
+ * glGenFramebuffers, glGenVertexArrays) and track live texture, renderbuffer, buffer,
+ * framebuffer and vertex array names; it resets the counts. rs__gl_fault_fail_at(n) restarts the
+ * allocation count: the n-th allocation from now (1-based; 0: none) is not made and the next
+ * glGetError reports GL_OUT_OF_MEMORY. One wrapped renderer at a time. */
 void rs__gl_fault_wrap(bool on);
 void rs__gl_fault_fail_at(long n);
 struct rs__gl_fault_counts {
 	long allocations; /* since rs__gl_fault_fail_at */
 	bool fired;       /* the n-th allocation was reached and failed */
-	long textures, renderbuffers, framebuffers, vertex_arrays; /* live names */
+	long textures, renderbuffers, buffers, framebuffers, vertex_arrays; /* live names */
 	bool overflow; /* more live names than the seam tracks: counts unreliable */
 };
 void rs__gl_fault_counts(struct rs__gl_fault_counts *out);

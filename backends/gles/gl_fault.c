@@ -1,15 +1,15 @@
 /* Test seam (gl_api.h, never installed): GPU out-of-memory on demand. When armed before a
  * renderer loads its GL table, the allocating entry points (texture and renderbuffer
- * storage: glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage; framebuffer and vertex
- * array objects) are wrapped: allocation number N is not made and glGetError reports
- * GL_OUT_OF_MEMORY for it, as a driver that ran out would. The
- * wrappers also keep the set of live GL object names, so a test can see that a failed call
- * deletes what it made. One renderer at a time (the state is static). */
+ * storage: glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage; buffer storage,
+ * glBufferData; framebuffer and vertex array objects) are wrapped: allocation number N is not made
+ * and glGetError reports GL_OUT_OF_MEMORY for it, as a driver that ran out would. The wrappers also
+ * keep the set of live GL object names, so a test can see that a failed call deletes what it made.
+ * One renderer at a time (the state is static). */
 #include <string.h>
 
 #include "gl_api.h"
 
-enum { KIND_TEXTURE, KIND_RENDERBUFFER, KIND_FRAMEBUFFER, KIND_VERTEX_ARRAY, KINDS };
+enum { KIND_TEXTURE, KIND_RENDERBUFFER, KIND_BUFFER, KIND_FRAMEBUFFER, KIND_VERTEX_ARRAY, KINDS };
 #define MAX_LIVE 512
 
 static bool armed;
@@ -43,6 +43,7 @@ void rs__gl_fault_counts(struct rs__gl_fault_counts *out)
 	out->fired = fired;
 	out->textures = live_count[KIND_TEXTURE];
 	out->renderbuffers = live_count[KIND_RENDERBUFFER];
+	out->buffers = live_count[KIND_BUFFER];
 	out->framebuffers = live_count[KIND_FRAMEBUFFER];
 	out->vertex_arrays = live_count[KIND_VERTEX_ARRAY];
 	out->overflow = overflow;
@@ -118,6 +119,12 @@ static void GL_APIENTRY renderbuffer_storage(GLenum target, GLenum internal, GLs
 		real.RenderbufferStorage(target, internal, w, h);
 }
 
+static void GL_APIENTRY buffer_data(GLenum target, GLsizeiptr size, const void *data, GLenum usage)
+{
+	if (allocate())
+		real.BufferData(target, size, data, usage);
+}
+
 /* glGen<X> and glDelete<X> tracking the live names of `kind`; with `counted`, creating
  * the objects is an allocation, and a failed one leaves the names 0. */
 #define RS_TRACKED(kind, X, counted)                                                               \
@@ -137,6 +144,7 @@ static void GL_APIENTRY renderbuffer_storage(GLenum target, GLenum internal, GLs
 	}
 RS_TRACKED(KIND_TEXTURE, Textures, false)
 RS_TRACKED(KIND_RENDERBUFFER, Renderbuffers, false)
+RS_TRACKED(KIND_BUFFER, Buffers, false)
 RS_TRACKED(KIND_FRAMEBUFFER, Framebuffers, true)
 RS_TRACKED(KIND_VERTEX_ARRAY, VertexArrays, true)
 #undef RS_TRACKED
@@ -151,10 +159,13 @@ void rs__gl_fault_hook(struct rs_gl *gl)
 	gl->TexImage3D = tex_image_3d;
 	gl->TexStorage2D = tex_storage_2d;
 	gl->RenderbufferStorage = renderbuffer_storage;
+	gl->BufferData = buffer_data;
 	gl->GenTextures = gen_Textures;
 	gl->DeleteTextures = delete_Textures;
 	gl->GenRenderbuffers = gen_Renderbuffers;
 	gl->DeleteRenderbuffers = delete_Renderbuffers;
+	gl->GenBuffers = gen_Buffers;
+	gl->DeleteBuffers = delete_Buffers;
 	gl->GenFramebuffers = gen_Framebuffers;
 	gl->DeleteFramebuffers = delete_Framebuffers;
 	gl->GenVertexArrays = gen_VertexArrays;

@@ -54,13 +54,20 @@ struct gles {
 	GLint max_tex;  /* GL_MAX_TEXTURE_SIZE */
 	GLint max_view; /* smaller side of GL_MAX_VIEWPORT_DIMS */
 	GLint max_draw; /* GL_MAX_DRAW_BUFFERS */
+	/* Buffer textures: the kernels' version line (and extension) where the context has
+	 * them, else NULL; GL_MAX_TEXTURE_BUFFER_SIZE. */
+	const char *buffer_glsl;
+	GLint max_tex_buffer;
 	GLuint vao, fbo;
 
 	/* set_scene */
 	const struct rs_scene *scene;
 	struct rs_render_desc desc;
 	struct rs_render_accel accel;
+	enum rs_scene_storage storage; /* resolved: 2D or BUFFER */
+	GLenum scene_target;           /* GL_TEXTURE_2D or GL_TEXTURE_BUFFER */
 	GLuint scene_tex[4];
+	GLuint scene_buf[4]; /* BUFFER: the buffer objects behind scene_tex */
 	GLuint state[2][ST_COUNT];
 	GLuint cnt[2];
 	GLuint hit[2];               /* [0]: pass 0 (depth), [1]: later passes */
@@ -90,11 +97,13 @@ struct gles {
 #define RS_GLES_MAX_LIGHTS 16u
 
 /* Compile and link vertex kernel files `vfiles` (NULL: the fullscreen triangle) with
- * fragment kernel files `files` (common first), under `defines` (#define lines). A compile
- * error names the file and line with the driver's first log line and the source line. */
-enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *vfiles, size_t vcount,
-                               const char *const *files, size_t count, const char *defines,
-                               GLuint *out, struct rs_error *err);
+ * fragment kernel files `files` (common first), under `version` (the #version line and any
+ * #extension lines) and `defines` (#define lines). A compile error names the file and line
+ * with the driver's first log line and the source line. */
+enum rs_status rs_gles_program(const struct rs_gl *gl, const char *version,
+                               const char *const *vfiles, size_t vcount, const char *const *files,
+                               size_t count, const char *defines, GLuint *out,
+                               struct rs_error *err);
 
 /* Tests only: compile `source` in place of kernel file `name` (NULL name: none). */
 void rs__gles_override_kernel(const char *name, const char *source);
@@ -108,6 +117,17 @@ enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs
  * (gles_alloc.c). What was made before stays in the renderer for delete_scene(). */
 enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenum format, GLsizei w,
                                  GLsizei h, GLsizei layers, struct rs_error *err);
+
+/* gles_storage.c: at creation, whether the context has buffer textures (g->buffer_glsl, the
+ * kernels' version line for them, and g->max_tex_buffer; `version` is GL_VERSION); per scene,
+ * the storage (g->storage, g->scene_target; RS_ERR_UNSUPPORTED or RS_ERR_LIMIT when BUFFER
+ * cannot be had), and packed texture i as a buffer texture (g->scene_buf[i], scene_tex[i]). */
+void rs_gles_probe_buffers(struct gles *g, const char *version);
+enum rs_status rs_gles_choose_storage(struct gles *g, const struct rs_packed *p,
+                                      enum rs_scene_storage want, struct rs_error *err);
+enum rs_status rs_gles_buffer_texture(struct gles *g, int i, GLenum format,
+                                      const struct rs_texture *t, const char *what,
+                                      struct rs_error *err);
 
 /* Add `ms` to the kernel timing `name` of `stats` (a new entry while there is room). */
 void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms);

@@ -10,8 +10,7 @@
 #define LINE_BASE 1000
 
 /* Every kernel runs at full precision (ray tracing in mediump would be meaningless). */
-static const char prelude[] = "#version 300 es\n"
-                              "precision highp float;\n"
+static const char prelude[] = "precision highp float;\n"
                               "precision highp int;\n"
                               "precision highp sampler2D;\n"
                               "precision highp sampler2DArray;\n";
@@ -99,14 +98,16 @@ static enum rs_status compile(const struct rs_gl *gl, GLenum type, const char **
 }
 
 /* Sources of one stage: prelude, defines, then each file at line LINE_BASE * (k + 1). */
-static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *const *files,
-                            size_t count, const char *defines, GLuint *out, struct rs_error *err)
+static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *version,
+                            const char *const *files, size_t count, const char *defines,
+                            GLuint *out, struct rs_error *err)
 {
 	enum { MAX_FILES = 6 };
 	RS_ASSERT(count > 0 && count <= MAX_FILES);
-	const char *parts[2 + 2 * MAX_FILES];
+	const char *parts[3 + 2 * MAX_FILES];
 	char lines[MAX_FILES][32];
 	GLsizei n = 0;
+	parts[n++] = version;
 	parts[n++] = prelude;
 	parts[n++] = defines;
 	for (size_t i = 0; i < count; ++i) {
@@ -121,17 +122,17 @@ static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *con
 	return compile(gl, type, parts, n, files, count, out, err);
 }
 
-enum rs_status rs_gles_program(const struct rs_gl *gl, const char *const *vfiles, size_t vcount,
-                               const char *const *files, size_t count, const char *defines,
-                               GLuint *out, struct rs_error *err)
+enum rs_status rs_gles_program(const struct rs_gl *gl, const char *version,
+                               const char *const *vfiles, size_t vcount, const char *const *files,
+                               size_t count, const char *defines, GLuint *out, struct rs_error *err)
 {
 	static const char *const fullscreen[1] = {"fullscreen.glsl"};
 	*out = 0;
 	GLuint vs = 0, fs = 0;
-	enum rs_status st = stage(gl, GL_VERTEX_SHADER, vfiles ? vfiles : fullscreen,
+	enum rs_status st = stage(gl, GL_VERTEX_SHADER, version, vfiles ? vfiles : fullscreen,
 	                          vfiles ? vcount : 1, defines, &vs, err);
 	if (st == RS_OK)
-		st = stage(gl, GL_FRAGMENT_SHADER, files, count, defines, &fs, err);
+		st = stage(gl, GL_FRAGMENT_SHADER, version, files, count, defines, &fs, err);
 	if (st != RS_OK) {
 		if (vs)
 			gl->DeleteShader(vs);

@@ -21,6 +21,8 @@ static void delete_scene(struct gles *g)
 		gl->DeleteTextures((GLsizei)n[i], tex[i]);
 		memset(tex[i], 0, n[i] * sizeof(GLuint));
 	}
+	gl->DeleteBuffers(4, g->scene_buf);
+	memset(g->scene_buf, 0, sizeof g->scene_buf);
 	GLuint rbs[2] = {g->depth, g->shadow_depth};
 	gl->DeleteRenderbuffers(2, rbs);
 	gl->DeleteTextures(1, &g->shadow);
@@ -58,13 +60,14 @@ static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h
 	return t;
 }
 
-/* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). */
+/* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). 2D
+ * storage only: buffer textures have no rows (rs_gles_choose_storage checked their length). */
 static enum rs_status check_limits(const struct gles *g, const struct rs_packed *p,
                                    const struct rs_render_desc *d, struct rs_error *err)
 {
 	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
 	static const char *const names[4] = {"node", "triangle", "normal", "material"};
-	for (int i = 0; i < 4; ++i)
+	for (int i = 0; g->storage == RS_SCENE_STORAGE_2D && i < 4; ++i)
 		if (t[i]->width > (uint32_t)g->max_tex || t[i]->height > (uint32_t)g->max_tex)
 			return rs_error_set(
 			    err, RS_ERR_LIMIT,
@@ -173,14 +176,16 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
 	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
 	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n#define RS_INTERREFLECT %d\n"
-	         "#define RS_COMPACT_NODES %d\n#define RS_NODE_ORDERS %u\n",
+	         "#define RS_COMPACT_NODES %d\n#define RS_NODE_ORDERS %u\n"
+	         "#define RS_SCENE_BUFFERS %d\n",
 	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
 	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
 	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
 	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP,
 	         g->desc.reflections != RS_REFLECT_TRACE,
 	         g->desc.reflections == RS_REFLECT_INTERREFLECT,
-	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT, g->accel.packed.node_orders);
+	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT, g->accel.packed.node_orders,
+	         g->storage == RS_SCENE_STORAGE_BUFFER);
 	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
 	char full[576];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
@@ -206,6 +211,8 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
 	                                             "raster_vertex.glsl"};
 	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
+	const char *version =
+	    g->storage == RS_SCENE_STORAGE_BUFFER ? g->buffer_glsl : "#version 300 es\n";
 	for (int i = 0; i < PROG_COUNT; ++i) {
 		if ((i == PROG_FUSED || i == PROG_FUSED_FIRST) && (g->desc.counters || paper))
 			continue; /* counters run the separate chain (render targets) */
@@ -220,9 +227,9 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 		const char *const *vs = i == PROG_RASTER   ? raster_vertex
 		                        : i == PROG_SHADOW ? shadow_vertex
 		                                           : NULL;
-		enum rs_status st =
-		    rs_gles_program(&g->gl, vs, i == PROG_SHADOW ? 2 : 3, files[i], counts[i],
-		                    i == PROG_FUSED_FIRST ? first : full, &g->prog[i], err);
+		enum rs_status st = rs_gles_program(
+		    &g->gl, version, vs, i == PROG_SHADOW ? 2 : 3, files[i], counts[i],
+		    i == PROG_FUSED_FIRST ? first : full, &g->prog[i], err);
 		if (st != RS_OK)
 			return st;
 	}
@@ -243,11 +250,15 @@ static enum rs_status upload(struct gles *g, struct rs_error *err)
 	for (int i = 0; st == RS_OK && i < 4; ++i) {
 		bool words = t[i]->format == RS_TEXEL_RGBA32UI;
 		GLenum format = words ? GL_RGBA32UI : GL_RGBA32F;
-		g->scene_tex[i] =
-		    texture(gl, (GLint)format, (GLsizei)t[i]->width, (GLsizei)t[i]->height,
-		            words ? GL_UNSIGNED_INT : GL_FLOAT, t[i]->texels);
-		st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
-		                       (GLsizei)t[i]->height, 1, err);
+		if (g->storage == RS_SCENE_STORAGE_BUFFER)
+			st = rs_gles_buffer_texture(g, i, format, t[i], names[i], err);
+		else
+			g->scene_tex[i] =
+			    texture(gl, (GLint)format, (GLsizei)t[i]->width, (GLsizei)t[i]->height,
+			            words ? GL_UNSIGNED_INT : GL_FLOAT, t[i]->texels);
+		if (st == RS_OK)
+			st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
+			                       (GLsizei)t[i]->height, 1, err);
 	}
 	GLsizei w = (GLsizei)g->desc.width, h = (GLsizei)g->desc.height;
 	GLuint *targets[2 * (ST_COUNT + 2)];
@@ -295,7 +306,10 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	struct rs_render_desc d = *desc;
 	d.lights = lights;
 	if (st == RS_OK)
+		st = rs_gles_choose_storage(g, &g->accel.packed, desc->scene_storage, err);
+	if (st == RS_OK)
 		st = check_limits(g, &g->accel.packed, &d, err);
+	stats->scene_storage = g->storage;
 	size_t floats = (size_t)desc->width * desc->height * 4u;
 	if (st == RS_OK && !(g->scratch = malloc(floats * sizeof(float))))
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for %ux%u",
@@ -407,6 +421,7 @@ static enum rs_status probe(struct gles *g, struct rs_error *err)
 		if (e && strcmp(e, "GL_ARB_ES3_compatibility") == 0)
 			es3_compat = true;
 	}
+	rs_gles_probe_buffers(g, version);
 	GLint dims[2] = {0, 0};
 	gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &g->max_tex);
 	gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);

@@ -52,7 +52,7 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err)
 
 	GLuint prog = g->prog[PROG_SHADOW];
 	gl->UseProgram(prog);
-	rs_gles_bind(gl, prog, UNIT_TRIS, "u_tris", GL_TEXTURE_2D, g->scene_tex[UNIT_TRIS]);
+	rs_gles_bind(gl, prog, UNIT_TRIS, "u_tris", g->scene_target, g->scene_tex[UNIT_TRIS]);
 	gl->BindVertexArray(g->vao);
 	gl->BindFramebuffer(GL_FRAMEBUFFER, g->fbo);
 	static const GLenum buf0 = GL_COLOR_ATTACHMENT0;

@@ -55,7 +55,7 @@ void rs_gles_scene_uniforms(const struct gles *g, GLuint prog)
 	const struct rs_gl *gl = &g->gl;
 	static const char *const names[4] = {"u_nodes", "u_tris", "u_normals", "u_materials"};
 	for (int i = 0; i < 4; ++i)
-		rs_gles_bind_2d(gl, prog, UNIT_NODES + i, names[i], g->scene_tex[i]);
+		rs_gles_bind(gl, prog, UNIT_NODES + i, names[i], g->scene_target, g->scene_tex[i]);
 	const struct rs_packed *p = &g->accel.packed;
 	rs_gles_uniform_i(gl, prog, "u_node_count", (GLint)p->node_count);
 	rs_gles_uniform_3fv(gl, prog, "u_grid_origin", 1, p->node_grid_origin);

@@ -78,6 +78,10 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 	if (d.chain != RS_CHAIN_FUSED && d.chain != RS_CHAIN_SEPARATE && d.chain != RS_CHAIN_PAPER)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown kernel chain %d",
 		                    (int)d.chain);
+	if (d.scene_storage != RS_SCENE_STORAGE_AUTO && d.scene_storage != RS_SCENE_STORAGE_2D &&
+	    d.scene_storage != RS_SCENE_STORAGE_BUFFER)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown scene storage %d",
+		                    (int)d.scene_storage);
 	if (d.shadow_map_size == 0)
 		d.shadow_map_size = 512;
 	if (d.shadow_map_size > 16384)

@@ -11,12 +11,13 @@
 struct bench_options {
 	uint32_t table; /* 1: hit numbers and build times; 2: fps over a render backend */
 	uint32_t size, flat_size, none_max_tris, passes, lights, repeats, threads;
-	const char *only;            /* --scene: one of bench_scenes, or NULL for all */
-	const char *backend;         /* table 2: the backend under test */
-	enum rs_bvh_builder builder; /* table 2: the BVH every backend and the peer use */
-	bool peer;                   /* table 2: run the Embree peer (when built) */
-	struct rs_pack_desc pack;    /* --nodes; table 1 defaults to the paper's layout */
-	bool pack_set;               /* --nodes given */
+	const char *only;              /* --scene: one of bench_scenes, or NULL for all */
+	const char *backend;           /* table 2: the backend under test */
+	enum rs_bvh_builder builder;   /* table 2: the BVH every backend and the peer use */
+	bool peer;                     /* table 2: run the Embree peer (when built) */
+	struct rs_pack_desc pack;      /* --nodes; table 1 defaults to the paper's layout */
+	bool pack_set;                 /* --nodes given */
+	enum rs_scene_storage storage; /* table 2: --scene-storage */
 };
 
 /* The paper's scenes, in its order. */

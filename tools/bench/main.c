@@ -33,7 +33,7 @@ static void usage(void)
 	     "                       [--threads N] [--scene NAME]\n"
 	     "  table 1: [--flat-size N] [--passes N] [--none-max-triangles N]\n"
 	     "  table 2: [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah]\n"
-	     "           [--peer embree|none]\n"
+	     "           [--peer embree|none] [--scene-storage auto|2d|buffer]\n"
 	     "  both:    [--nodes compact|paper[:directional|single]] (table 1: paper:single,\n"
 	     "           the paper's layout; table 2: compact:directional)\n"
 	     "Scenes: box, cow1, cow2, cow5, cow9, cow17 (default all).");
@@ -86,7 +86,8 @@ static int parse(int argc, char **argv, struct bench_options *o)
 		                : !strcmp(a, "--table")              ? &o->table
 		                                                     : NULL;
 		int known = dst || !strcmp(a, "--scene") || !strcmp(a, "--backend") ||
-		            !strcmp(a, "--bvh") || !strcmp(a, "--peer") || !strcmp(a, "--nodes");
+		            !strcmp(a, "--bvh") || !strcmp(a, "--peer") || !strcmp(a, "--nodes") ||
+		            !strcmp(a, "--scene-storage");
 		if (!known)
 			return bad("unknown option:", a);
 		if (!v)
@@ -111,6 +112,9 @@ static int parse(int argc, char **argv, struct bench_options *o)
 				return bad("--nodes wants compact|paper[:directional|single], not",
 				           v);
 			o->pack_set = true;
+		} else if (!strcmp(a, "--scene-storage")) {
+			if (!rs_tool_parse_storage(v, &o->storage))
+				return bad("--scene-storage wants auto, 2d or buffer, not", v);
 		} else if (!strcmp(a, "--peer")) {
 			if (strcmp(v, "embree") != 0 && strcmp(v, "none") != 0)
 				return bad("--peer wants embree or none, not", v);

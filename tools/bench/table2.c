@@ -60,6 +60,7 @@ struct rs_render_desc t2_desc(const struct bench_options *o, enum rs_primary_mod
 	                               .shadows = RS_SHADOW_RAYS,
 	                               .bvh = {.builder = o->builder},
 	                               .pack = o->pack,
+	                               .scene_storage = o->storage,
 	                               .threads = o->threads};
 }
 
@@ -339,8 +340,9 @@ int bench_table2(const struct bench_options *o)
 	}
 	if (code == 0) {
 		char nodes[32];
-		printf("\nrenderer: %s; BVH nodes %s\n", renderer,
-		       rs_tool_nodes_name(&o->pack, nodes, sizeof nodes));
+		printf("\nrenderer: %s; BVH nodes %s; scene storage %s\n", renderer,
+		       rs_tool_nodes_name(&o->pack, nodes, sizeof nodes),
+		       rs_tool_storage_name(results[0].settings[0].stats.scene_storage));
 		print_kernels(o, scenes);
 		if (o->peer)
 			t2_peer_print(o, results, scenes);

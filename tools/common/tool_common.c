@@ -182,6 +182,24 @@ const char *rs_tool_nodes_name(const struct rs_pack_desc *pack, char *out, size_
 	return out;
 }
 
+int rs_tool_parse_storage(const char *text, enum rs_scene_storage *out)
+{
+	static const char *const names[3] = {"auto", "2d", "buffer"};
+	for (int i = 0; i < 3; ++i)
+		if (strcmp(text, names[i]) == 0) {
+			*out = (enum rs_scene_storage)i;
+			return 1;
+		}
+	return 0;
+}
+
+const char *rs_tool_storage_name(enum rs_scene_storage storage)
+{
+	return storage == RS_SCENE_STORAGE_BUFFER ? "buffer"
+	       : storage == RS_SCENE_STORAGE_2D   ? "2d"
+	                                          : "auto";
+}
+
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size)
 {
 	if (desc->reflections == RS_REFLECT_INTERREFLECT)

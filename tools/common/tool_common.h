@@ -40,6 +40,10 @@ int rs_tool_parse_reflections(const char *text, enum rs_reflection_mode *mode, u
 int rs_tool_parse_nodes(const char *text, struct rs_pack_desc *pack);
 /* The same spelling for a pack descriptor ("compact:directional"), into out (size bytes). */
 const char *rs_tool_nodes_name(const struct rs_pack_desc *pack, char *out, size_t size);
+/* "--scene-storage auto|2d|buffer" (rs_scene_storage); 1 on success, 0 otherwise. */
+int rs_tool_parse_storage(const char *text, enum rs_scene_storage *out);
+/* The same spelling ("buffer"). */
+const char *rs_tool_storage_name(enum rs_scene_storage storage);
 /* The same spelling for a descriptor ("interreflect:2"), into out (size bytes). */
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size);
 

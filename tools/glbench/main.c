@@ -18,7 +18,8 @@ static int usage(void)
 	                "[--passes N] [--lights N] [--frames N] [--chain fused|separate|paper] "
 	                "[--primary trace|raster] [--shadows rays|map:RES:FILTER] "
 	                "[--reflections trace|envmap|interreflect[:BOUNCES]] "
-	                "[--nodes compact|paper[:directional|single]] SCENE...\n");
+	                "[--nodes compact|paper[:directional|single]] "
+	                "[--scene-storage auto|2d|buffer] SCENE...\n");
 	return 2;
 }
 
@@ -72,7 +73,8 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 		rs_tool_reflections_name(&desc, refl + 1, sizeof refl - 1);
 	}
 	char nodes[32];
-	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s%s nodes %s: cpu %.1f ms (%.1f-%.1f), "
+	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s%s nodes %s storage %s: cpu %.1f ms "
+	       "(%.1f-%.1f), "
 	       "wall "
 	       "%.1f ms (%.1f-%.1f) = %.2f fps, %.2f Mrays/s (%llu rays), hit numbers %.1f;",
 	       name, s->backend, desc.width, desc.height, desc.passes, desc.lights,
@@ -81,9 +83,10 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	                                         : "fused",
 	       desc.primary == RS_PRIMARY_RASTER ? "raster" : "trace",
 	       desc.shadows == RS_SHADOW_MAP ? "map" : "rays", refl,
-	       rs_tool_nodes_name(&desc.pack, nodes, sizeof nodes), cpu[frames / 2], cpu[0],
-	       cpu[frames - 1], med, ms[0], ms[frames - 1], 1000.0 / med,
-	       (double)rays / (med * 1000.0), (unsigned long long)rays, hits);
+	       rs_tool_nodes_name(&desc.pack, nodes, sizeof nodes),
+	       rs_tool_storage_name(s->scene_storage), cpu[frames / 2], cpu[0], cpu[frames - 1],
+	       med, ms[0], ms[frames - 1], 1000.0 / med, (double)rays / (med * 1000.0),
+	       (unsigned long long)rays, hits);
 	for (uint32_t k = 0; k < s->kernel_count; ++k) {
 		qsort(kms[k], frames, sizeof kms[k][0], rs_tool_cmp_double);
 		printf(" %s %.1f", s->kernels[k].name, kms[k][frames / 2]);
@@ -138,6 +141,9 @@ int main(int argc, char **argv)
 		         rs_tool_parse_reflections(v, &desc.reflections, &desc.reflection_bounces))
 			;
 		else if (strcmp(a, "--nodes") == 0 && rs_tool_parse_nodes(v, &desc.pack))
+			;
+		else if (strcmp(a, "--scene-storage") == 0 &&
+		         rs_tool_parse_storage(v, &desc.scene_storage))
 			;
 		else if (strcmp(a, "--shadows") == 0 && strcmp(v, "rays") == 0)
 			desc.shadows = RS_SHADOW_RAYS;

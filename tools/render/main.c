@@ -17,6 +17,7 @@ struct options {
 	enum rs_bvh_builder builder;
 	enum rs_triangle_test triangle_test;
 	struct rs_pack_desc pack; /* --nodes */
+	enum rs_scene_storage storage;
 	enum rs_primary_mode primary;
 	enum rs_reflection_mode reflections;
 	uint32_t bounces; /* --reflections interreflect:N */
@@ -34,12 +35,15 @@ static void usage(FILE *to)
 	      "         [--primary trace|raster] [--shadows rays|map[:RESOLUTION[:FILTER]]]\n"
 	      "         [--reflections trace|envmap|interreflect[:BOUNCES]]\n"
 	      "         [--nodes compact|paper[:directional|single]]\n"
+	      "         [--scene-storage auto|2d|buffer]\n"
 	      "Renders with the chosen backend (default cpu, the double-precision reference).\n"
 	      "FILE is an OBJ or PLY mesh; a FILE.json beside it (from raystream-scene) sets\n"
 	      "camera, lights and environment. --triangle-test defaults to watertight; mt is the\n"
 	      "paper's Moller-Trumbore. --lights defaults to 1 (0 for a scene without lights).\n"
 	      "--nodes: BVH node texture format and orders, default compact:directional;\n"
-	      "paper:single is the paper's layout (docs/bvh.md).\n",
+	      "paper:single is the paper's layout (docs/bvh.md). --scene-storage: GL backends\n"
+	      "hold the scene in buffer textures where the context has them (auto) or in\n"
+	      "GLES 3.0's 2D textures (2d); the images are the same (docs/gles.md).\n",
 	      to);
 }
 
@@ -144,6 +148,10 @@ static int parse_args(int argc, char **argv, struct options *o)
 				return fail_usage(
 				    "--nodes wants compact|paper[:directional|single], not '%s'",
 				    v);
+		} else if (!strcmp(a, "--scene-storage")) {
+			if (!rs_tool_parse_storage(v, &o->storage))
+				return fail_usage(
+				    "--scene-storage wants auto, 2d or buffer, not '%s'", v);
 		} else if (!strcmp(a, "--triangle-test")) {
 			if (!strcmp(v, "mt"))
 				o->triangle_test = RS_TRIANGLE_MOLLER_TRUMBORE;
@@ -188,6 +196,9 @@ static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
 	cJSON_AddStringToObject(doc, "bvh", rs_bvh_builder_name(d->bvh.builder));
 	char nodes[32];
 	cJSON_AddStringToObject(doc, "nodes", rs_tool_nodes_name(&d->pack, nodes, sizeof nodes));
+	if (strcmp(st->backend, "cpu") != 0)
+		cJSON_AddStringToObject(doc, "scene_storage",
+		                        rs_tool_storage_name(st->scene_storage));
 	cJSON_AddNumberToObject(doc, "passes", d->passes);
 	cJSON_AddNumberToObject(doc, "lights", d->lights);
 	cJSON_AddNumberToObject(doc, "width", d->width);
@@ -255,6 +266,7 @@ static int run(const struct options *o)
 	    .lights = lights, /* 0 means "all": right for a scene without lights */
 	    .triangle_test = o->triangle_test,
 	    .pack = o->pack,
+	    .scene_storage = o->storage,
 	    .primary = o->primary,
 	    .reflections = o->reflections,
 	    .reflection_bounces = o->bounces,

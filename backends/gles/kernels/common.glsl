@@ -6,18 +6,29 @@
 //          u_material_count, u_spawn_scale (R5's S), u_grid_origin, u_grid_step (compact).
 // Every position is in the packed frame (docs/tracer.md R1): the CPU moved the camera,
 // lights and environment by rs_packed.origin in double before handing them over.
+// With RS_SCENE_BUFFERS the four are buffer textures of the same texels in the same order
+// (GLES 3.2 or an extension; the version line says which): texelFetch by element, no rows
+// or levels to work out, cheaper on llvmpipe (docs/gles.md), same values bit for bit.
 // Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT,
-//          RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY, RS_COMPACT_NODES, RS_NODE_ORDERS.
+//          RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY, RS_COMPACT_NODES, RS_NODE_ORDERS,
+//          RS_SCENE_BUFFERS.
+#if RS_SCENE_BUFFERS
+#define RS_SCENE_SAMPLER highp samplerBuffer
+#define RS_SCENE_USAMPLER highp usamplerBuffer
+#else
+#define RS_SCENE_SAMPLER highp sampler2D
+#define RS_SCENE_USAMPLER highp usampler2D
+#endif
 #if RS_COMPACT_NODES
-uniform highp usampler2D u_nodes;
+uniform RS_SCENE_USAMPLER u_nodes;
 uniform vec3 u_grid_origin;
 uniform vec3 u_grid_step;
 #else
-uniform sampler2D u_nodes;
+uniform RS_SCENE_SAMPLER u_nodes;
 #endif
-uniform sampler2D u_tris;
-uniform sampler2D u_normals;
-uniform sampler2D u_materials;
+uniform RS_SCENE_SAMPLER u_tris;
+uniform RS_SCENE_SAMPLER u_normals;
+uniform RS_SCENE_SAMPLER u_materials;
 uniform int u_node_count;
 uniform int u_tri_count;
 uniform int u_material_count;
@@ -54,6 +65,11 @@ struct Hit {
 	float id; // scene triangle id (the tie-break's key)
 };
 
+#if RS_SCENE_BUFFERS
+int rs_item(int item, int texels, int j) { return item * texels + j; }
+#define rs_fetch(tex, at) texelFetch(tex, at)
+#else
+#define rs_fetch(tex, at) texelFetch(tex, at, 0)
 ivec2 rs_item(int item, int texels, int j)
 {
 #if RS_ROW_SHIFT >= 0
@@ -63,10 +79,11 @@ ivec2 rs_item(int item, int texels, int j)
 	return ivec2((item % RS_ROW_ITEMS) * texels + j, item / RS_ROW_ITEMS);
 #endif
 }
+#endif
 
-vec4 rs_tri(int s, int j) { return texelFetch(u_tris, rs_item(s, 3, j), 0); }
-vec4 rs_normal(int s, int j) { return texelFetch(u_normals, rs_item(s, 3, j), 0); }
-vec4 rs_material(int m, int j) { return texelFetch(u_materials, rs_item(m, 3, j), 0); }
+vec4 rs_tri(int s, int j) { return rs_fetch(u_tris, rs_item(s, 3, j)); }
+vec4 rs_normal(int s, int j) { return rs_fetch(u_normals, rs_item(s, 3, j)); }
+vec4 rs_material(int m, int j) { return rs_fetch(u_materials, rs_item(m, 3, j)); }
 
 float rs_maxabs(vec3 a) { return max(max(abs(a.x), abs(a.y)), abs(a.z)); }
 
@@ -197,19 +214,19 @@ Node rs_node(int i)
 	Node n;
 #if RS_COMPACT_NODES
 	// One fetch. Bounds = origin + q * step are exact in fp32 (power-of-two step).
-	uvec4 q = texelFetch(u_nodes, rs_item(i, 1, 0), 0);
+	uvec4 q = rs_fetch(u_nodes, rs_item(i, 1, 0));
 	n.lo = u_grid_origin + vec3(uvec3(q.x & 0xffffu, q.x >> 16, q.y & 0xffffu)) * u_grid_step;
 	n.hi = u_grid_origin + vec3(uvec3(q.y >> 16, q.z & 0xffffu, q.z >> 16)) * u_grid_step;
 	bool leaf = q.w >= 0x80000000u;
 	n.next = leaf ? i + 1 : max(int(q.w), i + 1);
 	n.first = leaf ? int(q.w & 0x7fffffffu) : -1;
 #else
-	vec4 n0 = texelFetch(u_nodes, rs_item(i, 3, 0), 0);
-	vec4 n1 = texelFetch(u_nodes, rs_item(i, 3, 1), 0);
+	vec4 n0 = rs_fetch(u_nodes, rs_item(i, 3, 0));
+	vec4 n1 = rs_fetch(u_nodes, rs_item(i, 3, 1));
 	n.lo = n0.xyz;
 	n.hi = n1.xyz;
 	n.next = max(int(n0.w), i + 1);
-	vec2 slots = n1.w != 0.0 ? vec2(-1.0, 0.0) : texelFetch(u_nodes, rs_item(i, 3, 2), 0).xy;
+	vec2 slots = n1.w != 0.0 ? vec2(-1.0, 0.0) : rs_fetch(u_nodes, rs_item(i, 3, 2)).xy;
 	n.first = slots.y > 0.0 ? int(slots.x) : -1; // an empty leaf tests nothing
 #endif
 	return n;

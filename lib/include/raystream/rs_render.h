@@ -71,6 +71,21 @@ enum rs_reflection_mode {
 	RS_REFLECT_INTERREFLECT = 2,
 };
 
+/** How the GL backends hold the packed scene (nodes, triangles, normals, materials). The
+ * data and the layout are the same either way (rs_pack.h: dense rows), and so are the
+ * images, bit for bit; only the fetch differs. */
+enum rs_scene_storage {
+	/** Buffer textures where the context has them (GLES 3.2, GLES 3.1 with
+	 * OES/EXT_texture_buffer, desktop GL with ARB_ES3_2_compatibility) and the scene fits
+	 * GL_MAX_TEXTURE_BUFFER_SIZE, else 2D textures. */
+	RS_SCENE_STORAGE_AUTO = 0,
+	/** 2D textures, rows of rs_packed.row_items: GLES 3.0, the paper's layout. */
+	RS_SCENE_STORAGE_2D = 1,
+	/** Buffer textures, one texel index per texel (texelFetch without levels or rows:
+	 * cheaper on llvmpipe, docs/gles.md); refused where the context has none. */
+	RS_SCENE_STORAGE_BUFFER = 2,
+};
+
 /** Most reflective objects RS_REFLECT_INTERREFLECT maps (GLES 3.0 has 16 texture units). */
 #define RS_RENDER_MAX_MIRROR_OBJECTS 4u
 /** Largest rs_render_desc.reflection_bounces. */
@@ -106,6 +121,8 @@ struct rs_render_desc {
 	 * RS_EGL_PLATFORM environment variable, else the first that works in that order.
 	 * Read only while the renderer is created. */
 	const char *egl_platform;
+	/** GL backends: where the packed scene lives; the CPU backend ignores it. */
+	enum rs_scene_storage scene_storage;
 };
 
 /** Kernel timing, GL backends (summed over the passes of one frame). */
@@ -140,6 +157,8 @@ struct rs_render_stats {
 	double readback_ms; /**< copying the last frame to host memory */
 	uint32_t kernel_count;
 	struct rs_render_kernel_time kernels[RS_RENDER_MAX_KERNELS];
+	/** GL backends: the storage set_scene chose (never AUTO); CPU: AUTO. */
+	enum rs_scene_storage scene_storage;
 };
 
 /** Where a frame goes; caller-owned buffers of the renderer's width * height pixels. */
