@@ -142,8 +142,9 @@ struct rs_gles_cursor {
 	int cnt;
 };
 
-/* Attach `n` colour targets, draw the fullscreen triangle with the bound program, finish
- * and add the time since `t0` to kernel `name` of `stats` (gles_frame.c). */
+/* Attach `n` colour targets (a 0 drops that output), draw the fullscreen triangle with the
+ * bound program, finish and add the time since `t0` to kernel `name` of `stats`
+ * (gles_frame.c). */
 enum rs_status rs_gles_draw(struct gles *g, const char *name, const GLuint *targets, int n,
                             struct rs_render_stats *stats, double t0, struct rs_error *err);
 /* Bind the per-pixel state `c` points at as u_orig, u_dir, u_acc (and u_cnt). */

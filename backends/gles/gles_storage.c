@@ -105,4 +105,3 @@ enum rs_status rs_gles_buffer_texture(struct gles *g, int i, GLenum format,
 	gl->BindTexture(GL_TEXTURE_BUFFER, 0);
 	return RS_OK;
 }
-
