@@ -4,12 +4,16 @@
  * (rs_render.h), over any GL context a small context interface provides: backends/egl
  * (GLES 3 through EGL, headless) and backends/osmesa (desktop GL with "#version 300 es"
  * kernels) only make a context and hand it over; this module is the only one that draws.
+ * Where the context has buffer textures (GLES 3.2, 3.1 with OES/EXT_texture_buffer, desktop
+ * GL with ARB_ES3_2_compatibility) the scene goes into them by default and the kernels
+ * compile as ES 3.20 (rs_render_desc.scene_storage); GLES 3.0 is all that is required.
  *
  * GL state: every call makes the context current, draws into the renderer's own
  * framebuffers and textures and releases the context before returning. It changes and
  * does not restore: the bound program, vertex array, framebuffer and renderbuffer, the
- * viewport, the textures bound to units 0..15 (2D, 2D-array and, with RS_REFLECT_ENVMAP or
- * RS_REFLECT_INTERREFLECT, cube-map targets) and the active texture unit, GL_PACK_ALIGNMENT (4),
+ * viewport, the textures bound to units 0..15 (2D, 2D-array, buffer and, with
+ * RS_REFLECT_ENVMAP or RS_REFLECT_INTERREFLECT, cube-map targets) and the active texture unit,
+ * the GL_TEXTURE_BUFFER buffer binding (left 0), GL_PACK_ALIGNMENT (4),
  * depth function and mask, and disables GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_SCISSOR_TEST,
  * GL_DITHER (which would change results). A context the caller shares must be set up again by the
  * caller after a render (docs/gles.md).

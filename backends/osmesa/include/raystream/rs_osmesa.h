@@ -2,7 +2,8 @@
  * @file rs_osmesa.h
  * The GLES ray tracer (rs_gles.h) on an OSMesa context: Mesa's off-screen desktop GL
  * (core profile 3.3 or later) running the same "#version 300 es" kernels through
- * ARB_ES3_compatibility. No display, no EGL: for machines where only libOSMesa exists.
+ * ARB_ES3_compatibility (320 es through ARB_ES3_2_compatibility with the scene in buffer
+ * textures). No display, no EGL: for machines where only libOSMesa exists.
  */
 #ifndef RS_OSMESA_H
 #define RS_OSMESA_H
