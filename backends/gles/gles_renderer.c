@@ -309,7 +309,8 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 		st = rs_gles_choose_storage(g, &g->accel.packed, desc->scene_storage, err);
 	if (st == RS_OK)
 		st = check_limits(g, &g->accel.packed, &d, err);
-	stats->scene_storage = g->storage;
+	if (st == RS_OK)
+		stats->scene_storage = g->storage;
 	size_t floats = (size_t)desc->width * desc->height * 4u;
 	if (st == RS_OK && !(g->scratch = malloc(floats * sizeof(float))))
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for %ux%u",
