@@ -51,15 +51,16 @@ void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double
 	}
 }
 
-/* Rasterized primary hits into `hit`: triangle slot, barycentrics and t per pixel. The
- * visibility pass rasterizes every triangle into g->hit[1] (free until the second pass)
- * with a fetch-free fragment stage, the nearest distance winning through a 32-bit float
- * depth buffer; the resolve pass then tests each pixel's ray against its triangle once.
- * (Testing in the raster's own fragment stage, as before, cost a fetch and a triangle test
- * per covering fragment: llvmpipe shades a whole 4x4 block for every tiny triangle, and
- * writing depth from the shader rules out an early depth test.) */
-static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLuint hit,
-                             struct rs_render_stats *stats, struct rs_error *err)
+/* Rasterized primary hits, first half: the visibility pass rasterizes every triangle into
+ * g->hit[1] (free until the second pass) with a fetch-free fragment stage, the nearest
+ * distance winning through a 32-bit float depth buffer. visibility.glsl then tests each
+ * pixel's ray against its triangle once: in the resolve pass (separate and paper chains) or
+ * in the fused chain's first pass. (Testing in the raster's own fragment stage, as before,
+ * cost a fetch and a triangle test per covering fragment: llvmpipe shades a whole 4x4 block
+ * for every tiny triangle, and writing depth from the shader rules out an early depth
+ * test.) */
+static enum rs_status visibility(struct gles *g, const struct rs_camera *camera,
+                                 struct rs_render_stats *stats, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	double t0 = rs_gles_now_ms();
@@ -104,14 +105,22 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 		return st;
 	gl->Finish();
 	rs_gles_kernel_time(stats, "raster", rs_gles_now_ms() - t0);
-	st = rs_gles_check(gl, "raster", err);
+	return rs_gles_check(gl, "raster", err);
+}
+
+/* Rasterized primary hits into `hit`: triangle slot, barycentrics and t per pixel. */
+static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLuint hit,
+                             struct rs_render_stats *stats, struct rs_error *err)
+{
+	enum rs_status st = visibility(g, camera, stats, err);
 	if (st != RS_OK)
 		return st;
-	prog = g->prog[PROG_RESOLVE];
+	const struct rs_gl *gl = &g->gl;
+	GLuint prog = g->prog[PROG_RESOLVE];
 	gl->UseProgram(prog);
 	rs_gles_scene_uniforms(g, prog);
 	rs_gles_camera_uniforms(g, prog, camera);
-	rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_vis", vis);
+	rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_vis", g->hit[1]);
 	return rs_gles_draw(g, "resolve", &hit, 1, stats, rs_gles_now_ms(), err);
 }
 
@@ -160,10 +169,9 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 	/* Environment mapping switches tracing off per pass: the separate chains only. */
 	bool envmap = g->desc.reflections != RS_REFLECT_TRACE;
 	bool fused = g->desc.chain == RS_CHAIN_FUSED && !counters && !envmap;
-	/* The fused chain's first pass makes its own primary rays, unless they are rasterized. */
-	bool first_fused = fused && g->desc.primary != RS_PRIMARY_RASTER;
+	/* The fused chain's first pass makes its own primary rays (rasterized or traced). */
 	enum rs_status st = RS_OK;
-	if (!first_fused) {
+	if (!fused) {
 		GLuint t[4] = {g->state[0][ST_ORIG], g->state[0][ST_DIR], g->state[0][ST_ACC],
 		               g->cnt[0]};
 		gl->UseProgram(g->prog[PROG_RAYGEN]);
@@ -177,13 +185,22 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		GLuint hit = g->hit[pass == 0 ? 0 : 1];
 		double t0 = rs_gles_now_ms();
 		bool rasterized = pass == 0 && g->desc.primary == RS_PRIMARY_RASTER;
-		if (fused && !rasterized) {
-			GLuint prog = g->prog[pass == 0 ? PROG_FUSED_FIRST : PROG_FUSED];
+		if (fused) {
+			if (rasterized)
+				st = visibility(g, camera, stats, err);
+			if (st != RS_OK)
+				break;
+			t0 = rs_gles_now_ms();
+			GLuint prog = g->prog[pass > 0     ? PROG_FUSED
+			                      : rasterized ? PROG_FUSED_RASTER
+			                                   : PROG_FUSED_FIRST];
 			gl->UseProgram(prog);
 			rs_gles_scene_uniforms(g, prog);
 			if (pass == 0) {
 				rs_gles_camera_uniforms(g, prog, camera);
 				rs_gles_uniform_f(gl, prog, "u_near", g->capture_near);
+				if (rasterized)
+					rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_vis", g->hit[1]);
 			} else {
 				rs_gles_state_inputs(g, prog, &c);
 			}

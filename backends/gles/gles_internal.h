@@ -41,7 +41,8 @@ enum {
 	PROG_ENVIRONMENT, /* RS_CHAIN_PAPER: environment, shading, next ray apart */
 	PROG_SHADING,
 	PROG_NEXTRAY,
-	PROG_RESOLVE, /* rasterized primaries: exact hits from the visibility pass */
+	PROG_RESOLVE,      /* rasterized primaries: exact hits from the visibility pass */
+	PROG_FUSED_RASTER, /* the fused chain's first pass over rasterized primaries */
 	PROG_COUNT
 };
 

@@ -190,7 +190,7 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	char full[576];
 	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
 	         g->light_count ? g->light_count : 1u);
-	static const char *const files[PROG_COUNT][4] = {
+	static const char *const files[PROG_COUNT][5] = {
 	    {"camera.glsl", "raygen.glsl"},
 	    {"common.glsl", "surface.glsl", "intersect.glsl"},
 	    {"common.glsl", "surface.glsl", "shade.glsl"},
@@ -202,34 +202,41 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    {"common.glsl", "surface.glsl", "environment.glsl"},
 	    {"common.glsl", "surface.glsl", "shading.glsl"},
 	    {"common.glsl", "surface.glsl", "nextray.glsl"},
-	    {"common.glsl", "camera.glsl", "resolve.glsl"},
+	    {"common.glsl", "camera.glsl", "visibility.glsl", "resolve.glsl"},
+	    {"common.glsl", "surface.glsl", "camera.glsl", "visibility.glsl", "fused.glsl"},
 	};
-	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 1, 1, 4, 3, 3, 3, 3};
+	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 1, 1, 4, 3, 3, 3, 4, 5};
 	bool paper = g->desc.chain == RS_CHAIN_PAPER;
-	char first[608];
+	char first[608], raster_first[640];
 	snprintf(first, sizeof first, "%s#define RS_FIRST_PASS 1\n", full);
+	snprintf(raster_first, sizeof raster_first, "%s#define RS_RASTER_FIRST 1\n", first);
 	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
 	                                             "raster_vertex.glsl"};
 	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
 	const char *version =
 	    g->storage == RS_SCENE_STORAGE_BUFFER ? g->buffer_glsl : "#version 300 es\n";
 	for (int i = 0; i < PROG_COUNT; ++i) {
-		if ((i == PROG_FUSED || i == PROG_FUSED_FIRST) && (g->desc.counters || paper))
+		bool fused = i == PROG_FUSED || i == PROG_FUSED_FIRST || i == PROG_FUSED_RASTER;
+		if (fused && (g->desc.counters || paper))
 			continue; /* counters run the separate chain (render targets) */
 		if (i == PROG_SHADE && paper)
 			continue;
 		if ((i == PROG_ENVIRONMENT || i == PROG_SHADING || i == PROG_NEXTRAY) && !paper)
 			continue;
-		if ((i == PROG_RASTER || i == PROG_RESOLVE) && g->desc.primary != RS_PRIMARY_RASTER)
+		if ((i == PROG_RASTER || i == PROG_RESOLVE || i == PROG_FUSED_RASTER) &&
+		    g->desc.primary != RS_PRIMARY_RASTER)
 			continue;
 		if (i == PROG_SHADOW && g->desc.shadows != RS_SHADOW_MAP)
 			continue;
 		const char *const *vs = i == PROG_RASTER   ? raster_vertex
 		                        : i == PROG_SHADOW ? shadow_vertex
 		                                           : NULL;
-		enum rs_status st = rs_gles_program(
-		    &g->gl, version, vs, i == PROG_SHADOW ? 2 : 3, files[i], counts[i],
-		    i == PROG_FUSED_FIRST ? first : full, &g->prog[i], err);
+		enum rs_status st = rs_gles_program(&g->gl, version, vs, i == PROG_SHADOW ? 2 : 3,
+		                                    files[i], counts[i],
+		                                    i == PROG_FUSED_FIRST    ? first
+		                                    : i == PROG_FUSED_RASTER ? raster_first
+		                                                             : full,
+		                                    &g->prog[i], err);
 		if (st != RS_OK)
 			return st;
 	}

@@ -3,7 +3,9 @@
 // target GLES 3.0 guarantees carries the hit (pass 0's gives the depth).
 // In:  u_orig, u_dir, u_acc; with RS_FIRST_PASS (the first pass of the fused chain) the
 //      primary ray of camera.glsl instead, as raygen.glsl makes it (u_near included): one
-//      full-screen pass and three float targets fewer per frame.
+//      full-screen pass and three float targets fewer per frame. With RS_RASTER_FIRST too
+//      (rasterized primaries) the first hit is visibility.glsl's, not a walk: the resolve,
+//      ray generation and shading passes of the separate chain in one.
 // Out: 0 orig, 1 dir, 2 acc, 3 hit = (t, u, v, slot).
 #ifdef RS_FIRST_PASS
 uniform float u_near;
@@ -36,7 +38,9 @@ void main()
 		h.slot = -1;
 		vec2 c = vec2(0.0);
 		vec4 cnt = vec4(0.0);
-#if RS_GEOMETRY
+#if RS_GEOMETRY && defined(RS_RASTER_FIRST)
+		h = rs_visible_hit(gl_FragCoord.xy);
+#elif RS_GEOMETRY
 		rs_traverse(Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w)), false, h, c);
 #endif
 		rs_path_step(orig, dir, acc, h, cnt);

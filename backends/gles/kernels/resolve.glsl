@@ -1,30 +1,11 @@
-// resolve.glsl: rasterized primary hits, second pass (full screen). The visibility pass
-// proposes the triangle covering the pixel centre; the pixel's camera ray is tested
-// against it with the traced kernel's own triangle test, so t, u, v are the traced ones.
-// Where that test says the ray misses it (the raster snaps vertices to a sub-pixel grid, so
-// pixels within a hair of an edge can go to the neighbour), the ray is traced through the
-// BVH instead.
-// In:  u_vis (raster.glsl's visibility), common.glsl's textures, camera.glsl's uniforms.
+// resolve.glsl: rasterized primary hits, second pass (full screen) of the separate and the
+// paper's chains: each pixel's exact hit from the visibility pass (visibility.glsl).
+// In:  visibility.glsl's u_vis, common.glsl's textures, camera.glsl's uniforms.
 // Out: 0 hit = (t, u, v, slot); slot -1 and t = RS_FAR where nothing was rasterized.
-uniform sampler2D u_vis;
 layout(location = 0) out vec4 o_hit;
 
 void main()
 {
-	int slot = int(texelFetch(u_vis, ivec2(gl_FragCoord.xy), 0).w);
-	Hit h = Hit(RS_FAR, 0.0, 0.0, -1, -1.0);
-	if (slot >= 0 && slot < u_tri_count) {
-		Ray r = Ray(u_eye, rs_camera_dir(gl_FragCoord.xy), RS_FAR, -1);
-		Pre p = rs_prepare(r);
-		vec3 tuv;
-		vec4 v0 = rs_tri(slot, 0);
-		if (rs_triangle(v0.xyz, rs_tri(slot, 1).xyz, rs_tri(slot, 2).xyz, r, p, RS_FAR, tuv)) {
-			h = Hit(tuv.x, tuv.y, tuv.z, slot, v0.w);
-		} else {
-			vec2 counts = vec2(0.0);
-			if (!rs_traverse(r, false, h, counts))
-				h = Hit(RS_FAR, 0.0, 0.0, -1, -1.0);
-		}
-	}
+	Hit h = rs_visible_hit(gl_FragCoord.xy);
 	o_hit = vec4(h.t, h.u, h.v, float(h.slot));
 }
