@@ -8,6 +8,6 @@ if(TARGET test_gl_storage)
     add_test(NAME test_gl_storage_es${suffix} COMMAND test_gl_storage
              WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
     set_tests_properties(test_gl_storage_es${suffix} PROPERTIES TIMEOUT 600
-      ENVIRONMENT "MESA_GLES_VERSION_OVERRIDE=${version};CMOCKA_MESSAGE_OUTPUT=stdout;ASAN_OPTIONS=detect_leaks=1;LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp;UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1")
+      ENVIRONMENT "MESA_GLES_VERSION_OVERRIDE=${version};${rs_cmocka_env}")
   endforeach()
 endif()

@@ -263,7 +263,7 @@ static enum rs_status upload(struct gles *g, struct rs_error *err)
 			g->scene_tex[i] =
 			    texture(gl, (GLint)format, (GLsizei)t[i]->width, (GLsizei)t[i]->height,
 			            words ? GL_UNSIGNED_INT : GL_FLOAT, t[i]->texels);
-		if (st == RS_OK)
+		if (st == RS_OK) /* the 2D storage; or glTexBuffer after the buffer's own check */
 			st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
 			                       (GLsizei)t[i]->height, 1, err);
 	}
