@@ -97,24 +97,10 @@ static void fused_and_separate_chains_render_alike(void **state)
 	rs_scene_destroy(&scene);
 }
 
-/* A frame of `scene` with `desc` on `backend`: colour, depth, and the stats copied out. */
-static bool backend_frame(const char *backend, const struct rs_render_desc *desc,
-                          const struct rs_scene *scene, float *rgb, float *depth,
-                          struct rs_render_stats *stats)
-{
-	struct rs_renderer *r = gl_open(backend, desc);
-	if (!r)
-		return false;
-	gl_render(r, scene, rgb, depth);
-	*stats = *rs_renderer_stats(r);
-	rs_renderer_destroy(&r);
-	return true;
-}
-
 static bool chain_frame(const struct rs_render_desc *desc, const struct rs_scene *scene, float *rgb,
                         float *depth, struct rs_render_stats *stats)
 {
-	return backend_frame("egl", desc, scene, rgb, depth, stats);
+	return gl_frame("egl", desc, scene, rgb, depth, stats);
 }
 
 static const struct rs_render_kernel_time *kernel(const struct rs_render_stats *s, const char *name)
@@ -282,7 +268,7 @@ static void paper_chain_on_osmesa_renders_as_fused_on_egl(void **state)
 	struct rs_scene *scene = gl_scene("cow1");
 	static float a[SIZE * SIZE * 3], b[SIZE * SIZE * 3];
 	struct rs_render_stats sa, sb;
-	if (!backend_frame("osmesa", &desc, scene, a, NULL, &sa)) {
+	if (!gl_frame("osmesa", &desc, scene, a, NULL, &sa)) {
 		rs_scene_destroy(&scene);
 		skip();
 	}

@@ -53,6 +53,23 @@ static inline void gl_render(struct rs_renderer *r, const struct rs_scene *scene
 		fail_msg("render: %s", err.message);
 }
 
+/* A frame of `scene` on `backend` opened with `desc`: colour and depth (either may be NULL)
+ * and, when `stats` is given, the stats copied out. False when this machine cannot make
+ * the context (the caller skips, or tries something else). */
+static inline bool gl_frame(const char *backend, const struct rs_render_desc *desc,
+                            const struct rs_scene *scene, float *rgb, float *depth,
+                            struct rs_render_stats *stats)
+{
+	struct rs_renderer *r = gl_open(backend, desc);
+	if (!r)
+		return false;
+	gl_render(r, scene, rgb, depth);
+	if (stats)
+		*stats = *rs_renderer_stats(r);
+	rs_renderer_destroy(&r);
+	return true;
+}
+
 /* The CPU reference for the same descriptor. */
 static inline void gl_reference(const struct rs_render_desc *desc, const struct rs_scene *scene,
                                 float *rgb, float *depth)

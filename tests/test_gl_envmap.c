@@ -57,11 +57,8 @@ static void render(const struct rs_scene *scene, enum rs_reflection_mode mode, u
 {
 	struct rs_render_desc desc = {
 	    .width = SIZE, .height = SIZE, .passes = passes, .reflections = mode};
-	struct rs_renderer *r = gl_open("egl", &desc);
-	if (!r)
+	if (!gl_frame("egl", &desc, scene, rgb, NULL, NULL))
 		skip();
-	gl_render(r, scene, rgb, NULL);
-	rs_renderer_destroy(&r);
 }
 
 static void sphere_reflects_the_faces_as_tracing_does(void **state)

@@ -60,11 +60,8 @@ static void render(const struct rs_scene *scene, enum rs_reflection_mode mode, u
 	                              .passes = passes,
 	                              .reflections = mode,
 	                              .reflection_bounces = bounces};
-	struct rs_renderer *r = gl_open("egl", &desc);
-	if (!r)
+	if (!gl_frame("egl", &desc, scene, rgb, NULL, NULL))
 		skip();
-	gl_render(r, scene, rgb, NULL);
-	rs_renderer_destroy(&r);
 }
 
 static struct rs_image_diff diff(const float *a, const float *b)

@@ -83,10 +83,8 @@ static void room_case(double scale, const double off[3])
 	for (int mirror = 0; mirror < 2; ++mirror) {
 		struct rs_scene *scene = room(scale, off, mirror ? 0.9f : 0.0f);
 		struct rs_render_desc desc = {.passes = mirror ? 4 : 1};
-		struct rs_renderer *r = gl_open("egl", &desc);
-		if (!r)
+		if (!gl_frame("egl", &desc, scene, got, NULL, NULL))
 			skip();
-		gl_render(r, scene, got, NULL);
 		gl_reference(&desc, scene, want, NULL);
 		size_t dark = 0, escaped = 0;
 		for (size_t i = 0; i < SIZE * SIZE; ++i) {
@@ -105,7 +103,6 @@ static void room_case(double scale, const double off[3])
 		if (dark || escaped || diff.bad_share > 0.02)
 			fail_msg("scale %g offset %g: %zu dark, %zu escaped, %.3f%% off the CPU",
 			         scale, off[0], dark, escaped, 100.0 * diff.bad_share);
-		rs_renderer_destroy(&r);
 		rs_scene_destroy(&scene);
 	}
 }
@@ -160,11 +157,8 @@ static void coincident_faces_render_alike_over_all_builders(void **state)
 	struct rs_scene *scene = coincident();
 	for (int b = 0; b < 4; ++b) {
 		struct rs_render_desc desc = {.passes = 1, .bvh = {.builder = builders[b]}};
-		struct rs_renderer *r = gl_open("egl", &desc);
-		if (!r)
+		if (!gl_frame("egl", &desc, scene, b ? got : first, NULL, NULL))
 			skip();
-		gl_render(r, scene, b ? got : first, NULL);
-		rs_renderer_destroy(&r);
 		if (b)
 			assert_memory_equal(got, first, sizeof got);
 	}
@@ -173,9 +167,7 @@ static void coincident_faces_render_alike_over_all_builders(void **state)
 	 * from the CPU's; the surface does not: the depths agree. */
 	struct rs_render_desc desc = {.passes = 1};
 	static float d_gl[SIZE * SIZE], d_cpu[SIZE * SIZE];
-	struct rs_renderer *r = gl_open("egl", &desc);
-	gl_render(r, scene, got, d_gl);
-	rs_renderer_destroy(&r);
+	assert_true(gl_frame("egl", &desc, scene, got, d_gl, NULL));
 	gl_reference(&desc, scene, want, d_cpu);
 	struct rs_image_diff diff;
 	rs_image_compare(d_gl, d_cpu, SIZE, SIZE, 1, 1.0, 1e-4, &diff);
@@ -196,17 +188,14 @@ static void grazing_rays_match_the_cpu(void **state)
 	fx_camera(scene, eye, target, SIZE);
 	fx_light(scene, -2.0, 3.0, 0.0, 1, 1, 1);
 	struct rs_render_desc desc = {.passes = 2};
-	struct rs_renderer *r = gl_open("egl", &desc);
-	if (!r)
+	if (!gl_frame("egl", &desc, scene, got, NULL, NULL))
 		skip();
-	gl_render(r, scene, got, NULL);
 	gl_reference(&desc, scene, want, NULL);
 	struct rs_image_diff diff;
 	rs_image_compare(got, want, SIZE, SIZE, 3, 1.0, 8.0 / 255.0, &diff);
 	print_message("grazing: PSNR %.2f dB, %.3f%% off by > 8/255\n", diff.psnr_db,
 	              100.0 * diff.bad_share);
 	assert_true(diff.bad_share <= 0.001);
-	rs_renderer_destroy(&r);
 	rs_scene_destroy(&scene);
 }
 

@@ -65,6 +65,11 @@ struct Hit {
 	float id; // scene triangle id (the tie-break's key)
 };
 
+// A hit in a hit texture: (t, u, v, slot); the id is not stored (only the walk's tie-break
+// reads it).
+vec4 rs_hit_texel(Hit h) { return vec4(h.t, h.u, h.v, float(h.slot)); }
+Hit rs_texel_hit(vec4 t) { return Hit(t.x, t.y, t.z, int(t.w), -1.0); }
+
 #if RS_SCENE_BUFFERS
 int rs_item(int item, int texels, int j) { return item * texels + j; }
 #define rs_fetch(tex, at) texelFetch(tex, at)

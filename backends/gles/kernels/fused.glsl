@@ -48,5 +48,5 @@ void main()
 	o_orig = orig;
 	o_dir = dir;
 	o_acc = acc;
-	o_hit = vec4(h.t, h.u, h.v, float(h.slot));
+	o_hit = rs_hit_texel(h);
 }

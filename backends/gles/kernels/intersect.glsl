@@ -27,7 +27,7 @@ void main()
 		rs_traverse(Ray(o.xyz, d.xyz, RS_FAR, int(o.w)), false, h, c);
 #endif
 	}
-	o_hit = vec4(h.t, h.u, h.v, float(h.slot));
+	o_hit = rs_hit_texel(h);
 #if RS_COUNTERS
 	o_cnt = texelFetch(u_cnt, px, 0) + (h.slot == -2 ? vec4(0.0) : vec4(1.0, 0.0, c));
 #endif

@@ -7,5 +7,5 @@ layout(location = 0) out vec4 o_hit;
 void main()
 {
 	Hit h = rs_visible_hit(gl_FragCoord.xy);
-	o_hit = vec4(h.t, h.u, h.v, float(h.slot));
+	o_hit = rs_hit_texel(h);
 }

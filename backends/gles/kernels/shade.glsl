@@ -24,7 +24,7 @@ void main()
 	cnt = texelFetch(u_cnt, px, 0);
 #endif
 	if (acc.w == RS_STATE_ACTIVE)
-		rs_path_step(orig, dir, acc, Hit(hit.x, hit.y, hit.z, int(hit.w), -1.0), cnt);
+		rs_path_step(orig, dir, acc, rs_texel_hit(hit), cnt);
 	o_orig = orig;
 	o_dir = dir;
 	o_acc = acc;

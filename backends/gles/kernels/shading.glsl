@@ -24,8 +24,7 @@ void main()
 #endif
 	if (acc.w == RS_STATE_ACTIVE) {
 		vec4 orig = texelFetch(u_orig, px, 0), dir = texelFetch(u_dir, px, 0);
-		vec4 hit = texelFetch(u_hit, px, 0);
-		Hit h = Hit(hit.x, hit.y, hit.z, int(hit.w), -1.0);
+		Hit h = rs_texel_hit(texelFetch(u_hit, px, 0));
 		Surf s = rs_surface(Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w)), h);
 		rs_path_shading(orig, dir, acc, h, s, cnt);
 	}
