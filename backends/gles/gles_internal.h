@@ -89,7 +89,7 @@ struct gles {
 	GLuint prog[PROG_COUNT];
 	uint32_t light_count;
 	float light_pos[16 * 3], light_color[16 * 3];
-	float spawn_scale, ambient;
+	float spawn_scale, spawn_floor, ambient;
 	float env_center[3], env_half, env_color[18], env_grid, env_line_width, env_line_scale;
 	float *scratch; /* readback: width * height * 4 floats */
 };

@@ -104,6 +104,11 @@ static void frame_constants(struct gles *g, const struct rs_scene *scene, uint32
 		r2 += b.hi[a] >= b.lo[a] ? 0.25 * (b.hi[a] - b.lo[a]) * (b.hi[a] - b.lo[a]) : 0.0;
 	}
 	g->bounds_radius = sqrt(r2);
+	double half = 0.0;
+	for (int a = 0; a < 3; ++a)
+		if (b.hi[a] >= b.lo[a])
+			half = fmax(half, 0.5 * (b.hi[a] - b.lo[a]));
+	g->spawn_floor = (float)fmax(half / 16.0, 0x1p-64);
 	g->spawn_scale =
 	    (float)(g->desc.ray_epsilon > 0.0 ? g->desc.ray_epsilon : RS_TRACE_SPAWN_SCALE);
 	g->ambient = (float)rs_scene_ambient(scene);

@@ -63,6 +63,7 @@ void rs_gles_scene_uniforms(const struct gles *g, GLuint prog)
 	rs_gles_uniform_i(gl, prog, "u_tri_count", (GLint)p->triangle_count);
 	rs_gles_uniform_i(gl, prog, "u_material_count", (GLint)p->material_count);
 	rs_gles_uniform_f(gl, prog, "u_spawn_scale", g->spawn_scale);
+	rs_gles_uniform_f(gl, prog, "u_spawn_floor", g->spawn_floor);
 	rs_gles_uniform_f(gl, prog, "u_ambient", g->ambient);
 	rs_gles_uniform_3fv(gl, prog, "u_light_pos", (GLsizei)g->light_count, g->light_pos);
 	rs_gles_uniform_3fv(gl, prog, "u_light_color", (GLsizei)g->light_count, g->light_color);

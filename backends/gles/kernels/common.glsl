@@ -33,6 +33,7 @@ uniform int u_node_count;
 uniform int u_tri_count;
 uniform int u_material_count;
 uniform float u_spawn_scale;
+uniform float u_spawn_floor; // R5's F = max(R / 16, 2^-64), R the scene's half-size
 
 // "No hit yet" distance: far beyond any scene, finite so no kernel depends on how a GPU
 // treats infinities.

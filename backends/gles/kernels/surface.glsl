@@ -41,7 +41,7 @@ Surf rs_surface(Ray r, Hit h)
 	// R5: pulled at least ~4 delta away from every edge (small triangles: the centroid),
 	// so the point lies in front of every neighbour's plane at a concave edge.
 	vec3 m3 = max(max(abs(t0.xyz), abs(t1.xyz)), abs(t2.xyz));
-	s.delta = u_spawn_scale * max(max(max(m3.x, m3.y), m3.z), 5.421011e-20);
+	s.delta = u_spawn_scale * max(max(max(m3.x, m3.y), m3.z), u_spawn_floor);
 	vec3 edge = vec3(length(t2.xyz - t1.xyz), length(t0.xyz - t2.xyz), length(e1));
 	vec3 b = vec3(1.0 - h.u - h.v, h.u, h.v);
 	for (int i = 0; i < 3; i++) {
