@@ -71,10 +71,10 @@ static enum rs_status visibility(struct gles *g, const struct rs_camera *camera,
 	/* Clip planes around the scene's bounding sphere as seen from this eye. */
 	double d2 = 0.0;
 	for (int a = 0; a < 3; ++a) {
-		double e = camera->eye[a] - g->accel.packed.origin[a] - g->bounds_center[a];
+		double e = camera->eye[a] - g->frame.origin[a] - g->frame.bounds_center[a];
 		d2 += e * e;
 	}
-	double far = 1.01 * (sqrt(d2) + g->bounds_radius) + 1e-30;
+	double far = 1.01 * (sqrt(d2) + g->frame.bounds_radius) + 1e-30;
 	rs_gles_uniform_f(gl, prog, "u_far", (GLfloat)far);
 	rs_gles_uniform_f(gl, prog, "u_near", (GLfloat)(far * 1e-6));
 	GLuint vis = g->hit[1];

@@ -85,17 +85,31 @@ struct gles {
 	GLuint object_tex, objmap[2][RS_RENDER_MAX_MIRROR_OBJECTS];
 	int objmap_read;
 	float capture_near;
-	double bounds_center[3], bounds_radius; /* raster primary: clip planes per camera */
+	/* Every number of the frame but the camera's, resolved once per set_scene by lib/trace
+	 * (rs_trace_frame_init(), the reference's own): uniforms and prelude come from it. */
+	struct rs_trace_frame frame;
 	GLuint prog[PROG_COUNT];
-	uint32_t light_count;
-	float light_pos[16 * 3], light_color[16 * 3];
-	float spawn_scale, spawn_floor, ambient;
-	float env_center[3], env_half, env_color[18], env_grid, env_line_width, env_line_scale;
 	float *scratch; /* readback: width * height * 4 floats */
 };
 
 /* Largest number of lights a kernel is specialised for (uniform arrays). */
 #define RS_GLES_MAX_LIGHTS 16u
+
+/* What a kernel program is specialised for (gles_prelude.c writes it as #defines). */
+struct rs_gles_spec {
+	uint32_t row_items;   /* items per texture row of the packed layout */
+	int row_shift;        /* log2 of row_items, -1 if it is no power of two */
+	uint32_t lights;      /* lights the kernels loop over */
+	uint32_t node_orders; /* direction-ordered node copies */
+	bool watertight, counters, optics, geometry, shadow_map, envmap, interreflect;
+	bool compact_nodes, scene_buffers;
+	bool first_pass, raster_first; /* the fused chain's first pass (over raster hits) */
+};
+
+/* The #define lines of `spec` and the rules' constants into out (cap bytes, NUL included);
+ * RS_ERR_LIMIT when they do not fit. */
+enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_trace_rules *rules,
+                               char *out, size_t cap, struct rs_error *err);
 
 /* Compile and link vertex kernel files `vfiles` (NULL: the fullscreen triangle) with
  * fragment kernel files `files` (common first), under `version` (the #version line and any
@@ -195,6 +209,8 @@ void rs_gles_uniform_3fv(const struct rs_gl *gl, GLuint prog, const char *name, 
                          const GLfloat *v);
 /* The packed textures and scene constants of the tracing kernels (gles_uniforms.c). */
 void rs_gles_scene_uniforms(const struct gles *g, GLuint prog);
+/* Light i of the frame in the packed frame (R1), rounded to fp32. */
+void rs_gles_light_position(const struct gles *g, uint32_t i, GLfloat out[3]);
 /* Camera basis, eye moved into the packed frame (R1), size, fov, lens shift. */
 void rs_gles_camera_uniforms(const struct gles *g, GLuint prog, const struct rs_camera *c);
 

@@ -63,8 +63,9 @@ static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h
 /* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). 2D
  * storage only: buffer textures have no rows (rs_gles_choose_storage checked their length). */
 static enum rs_status check_limits(const struct gles *g, const struct rs_packed *p,
-                                   const struct rs_render_desc *d, struct rs_error *err)
+                                   const struct rs_trace_frame *f, struct rs_error *err)
 {
+	const struct rs_render_desc *d = &g->desc;
 	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
 	static const char *const names[4] = {"node", "triangle", "normal", "material"};
 	for (int i = 0; g->storage == RS_SCENE_STORAGE_2D && i < 4; ++i)
@@ -85,51 +86,10 @@ static enum rs_status check_limits(const struct gles *g, const struct rs_packed 
 		    "gles: shadow map side %u is over this GL's GL_MAX_TEXTURE_SIZE "
 		    "of %d",
 		    d->shadow_map_size, g->max_tex);
-	if (d->lights > RS_GLES_MAX_LIGHTS)
+	if (f->light_count > RS_GLES_MAX_LIGHTS)
 		return rs_error_set(err, RS_ERR_LIMIT, "gles: %u lights (the kernels take %u)",
-		                    d->lights, RS_GLES_MAX_LIGHTS);
+		                    f->light_count, RS_GLES_MAX_LIGHTS);
 	return RS_OK;
-}
-
-/* The constants every frame's kernels read, resolved once as rs_trace_frame_init() does. */
-static void frame_constants(struct gles *g, const struct rs_scene *scene, uint32_t lights)
-{
-	/* R1: everything moves into the packed frame here, in double, before rounding. */
-	const double *o = g->accel.packed.origin;
-	struct rs_bounds b;
-	rs_scene_bounds(scene, &b);
-	double r2 = 0.0;
-	for (int a = 0; a < 3; ++a) {
-		g->bounds_center[a] = b.hi[a] >= b.lo[a] ? 0.5 * (b.lo[a] + b.hi[a]) - o[a] : 0.0;
-		r2 += b.hi[a] >= b.lo[a] ? 0.25 * (b.hi[a] - b.lo[a]) * (b.hi[a] - b.lo[a]) : 0.0;
-	}
-	g->bounds_radius = sqrt(r2);
-	double half = 0.0;
-	for (int a = 0; a < 3; ++a)
-		if (b.hi[a] >= b.lo[a])
-			half = fmax(half, 0.5 * (b.hi[a] - b.lo[a]));
-	g->spawn_floor = (float)fmax(half / 16.0, 0x1p-64);
-	g->spawn_scale =
-	    (float)(g->desc.ray_epsilon > 0.0 ? g->desc.ray_epsilon : RS_TRACE_SPAWN_SCALE);
-	g->ambient = (float)rs_scene_ambient(scene);
-	g->light_count = lights;
-	const struct rs_light *l = rs_scene_lights(scene);
-	for (uint32_t i = 0; i < lights; ++i)
-		for (int a = 0; a < 3; ++a) {
-			g->light_pos[3 * i + a] = (float)(l[i].position[a] - o[a]);
-			g->light_color[3 * i + a] = (float)l[i].color[a];
-		}
-	struct rs_environment env;
-	rs_scene_environment(scene, &env);
-	for (int a = 0; a < 3; ++a)
-		g->env_center[a] = (float)(env.center[a] - o[a]);
-	g->env_half = (float)(env.half_size > 0.0 && isfinite(env.half_size) ? env.half_size : 1.0);
-	for (int f = 0; f < 6; ++f)
-		for (int c = 0; c < 3; ++c)
-			g->env_color[3 * f + c] = env.face_color[f][c];
-	g->env_grid = (float)(env.grid ? env.grid : 16u);
-	g->env_line_width = env.line_width > 0.0f ? env.line_width : 0.06f;
-	g->env_line_scale = env.line_scale > 0.0f ? env.line_scale : 0.25f;
 }
 
 static bool scene_has_optics(const struct rs_scene *scene)
@@ -139,12 +99,6 @@ static bool scene_has_optics(const struct rs_scene *scene)
 		if (m[i].reflectance > 0.0f || m[i].transmittance > 0.0f)
 			return true;
 	return false;
-}
-
-/* Items per texture row of the packed layout: the one place the kernels learn it. */
-static uint32_t row_items(const struct rs_packed *packed)
-{
-	return packed->row_items;
 }
 
 /* The layout this GL can hold: the descriptor's texture limit, or GL_MAX_TEXTURE_SIZE when
@@ -175,26 +129,34 @@ static int row_shift(uint32_t items)
 static enum rs_status build_programs(struct gles *g, const struct rs_scene *scene,
                                      struct rs_error *err)
 {
-	char defines[512];
-	snprintf(defines, sizeof defines,
-	         "#define RS_ROW_ITEMS %u\n#define RS_ROW_SHIFT %d\n"
-	         "#define RS_WATERTIGHT %d\n#define RS_LIGHTS %u\n"
-	         "#define RS_COUNTERS %d\n#define RS_OPTICS %d\n#define RS_GEOMETRY %d\n"
-	         "#define RS_SHADOW_MAP %d\n#define RS_ENVMAP %d\n#define RS_INTERREFLECT %d\n"
-	         "#define RS_COMPACT_NODES %d\n#define RS_NODE_ORDERS %u\n"
-	         "#define RS_SCENE_BUFFERS %d\n",
-	         row_items(&g->accel.packed), row_shift(row_items(&g->accel.packed)),
-	         g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT, g->light_count,
-	         g->desc.counters ? 1 : 0, scene_has_optics(scene) ? 1 : 0,
-	         rs_scene_triangle_count(scene) > 0, g->desc.shadows == RS_SHADOW_MAP,
-	         g->desc.reflections != RS_REFLECT_TRACE,
-	         g->desc.reflections == RS_REFLECT_INTERREFLECT,
-	         g->accel.packed.node_format == RS_PACK_NODES_COMPACT, g->accel.packed.node_orders,
-	         g->storage == RS_SCENE_STORAGE_BUFFER);
-	/* An array of 0 lights is not GLSL: loop over RS_LIGHTS, size the arrays at least 1. */
-	char full[576];
-	snprintf(full, sizeof full, "%s#define RS_LIGHT_SLOTS %u\n", defines,
-	         g->light_count ? g->light_count : 1u);
+	const struct rs_packed *p = &g->accel.packed;
+	struct rs_gles_spec spec = {
+	    .row_items = p->row_items,
+	    .row_shift = row_shift(p->row_items),
+	    .lights = g->frame.light_count,
+	    .node_orders = p->node_orders,
+	    .watertight = g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT,
+	    .counters = g->desc.counters,
+	    .optics = scene_has_optics(scene),
+	    .geometry = g->frame.has_geometry,
+	    .shadow_map = g->desc.shadows == RS_SHADOW_MAP,
+	    .envmap = g->desc.reflections != RS_REFLECT_TRACE,
+	    .interreflect = g->desc.reflections == RS_REFLECT_INTERREFLECT,
+	    .compact_nodes = p->node_format == RS_PACK_NODES_COMPACT,
+	    .scene_buffers = g->storage == RS_SCENE_STORAGE_BUFFER,
+	};
+	/* three variants: every program, the fused first pass, and it over raster hits */
+	char full[1024], first[1024], raster_first[1024];
+	enum rs_status st = rs_gles_prelude(&spec, &g->frame.rules, full, sizeof full, err);
+	spec.first_pass = true;
+	if (st == RS_OK)
+		st = rs_gles_prelude(&spec, &g->frame.rules, first, sizeof first, err);
+	spec.raster_first = true;
+	if (st == RS_OK)
+		st =
+		    rs_gles_prelude(&spec, &g->frame.rules, raster_first, sizeof raster_first, err);
+	if (st != RS_OK)
+		return st;
 	static const char *const files[PROG_COUNT][5] = {
 	    {"camera.glsl", "raygen.glsl"},
 	    {"common.glsl", "surface.glsl", "intersect.glsl"},
@@ -212,9 +174,6 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	};
 	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 1, 1, 4, 3, 3, 3, 4, 5};
 	bool paper = g->desc.chain == RS_CHAIN_PAPER;
-	char first[608], raster_first[640];
-	snprintf(first, sizeof first, "%s#define RS_FIRST_PASS 1\n", full);
-	snprintf(raster_first, sizeof raster_first, "%s#define RS_RASTER_FIRST 1\n", first);
 	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
 	                                             "raster_vertex.glsl"};
 	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
@@ -236,12 +195,12 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 		const char *const *vs = i == PROG_RASTER   ? raster_vertex
 		                        : i == PROG_SHADOW ? shadow_vertex
 		                                           : NULL;
-		enum rs_status st = rs_gles_program(&g->gl, version, vs, i == PROG_SHADOW ? 2 : 3,
-		                                    files[i], counts[i],
-		                                    i == PROG_FUSED_FIRST    ? first
-		                                    : i == PROG_FUSED_RASTER ? raster_first
-		                                                             : full,
-		                                    &g->prog[i], err);
+		st = rs_gles_program(&g->gl, version, vs, i == PROG_SHADOW ? 2 : 3, files[i],
+		                     counts[i],
+		                     i == PROG_FUSED_FIRST    ? first
+		                     : i == PROG_FUSED_RASTER ? raster_first
+		                                              : full,
+		                     &g->prog[i], err);
 		if (st != RS_OK)
 			return st;
 	}
@@ -314,13 +273,13 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	st = pack_desc(g, desc, &pack, err);
 	if (st == RS_OK)
 		st = rs_render_accel_build(scene, &desc->bvh, &pack, &g->accel, err);
-	uint32_t lights = desc->lights ? desc->lights : (uint32_t)rs_scene_light_count(scene);
-	struct rs_render_desc d = *desc;
-	d.lights = lights;
+	struct rs_trace_desc td = rs_render_trace_desc(desc);
+	if (st == RS_OK)
+		st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);
 	if (st == RS_OK)
 		st = rs_gles_choose_storage(g, &g->accel.packed, desc->scene_storage, err);
 	if (st == RS_OK)
-		st = check_limits(g, &g->accel.packed, &d, err);
+		st = check_limits(g, &g->accel.packed, &g->frame, err);
 	if (st == RS_OK)
 		stats->scene_storage = g->storage;
 	size_t floats = (size_t)desc->width * desc->height * 4u;
@@ -328,10 +287,8 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for %ux%u",
 		                  desc->width, desc->height);
 	double t0 = rs_gles_now_ms();
-	if (st == RS_OK) {
-		frame_constants(g, scene, lights);
+	if (st == RS_OK)
 		st = build_programs(g, scene, err);
-	}
 	if (st == RS_OK)
 		st = upload(g, err);
 	if (st == RS_OK && desc->shadows == RS_SHADOW_MAP)

@@ -31,7 +31,8 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	GLsizei size = (GLsizei)g->desc.shadow_map_size;
-	GLsizei layers = (GLsizei)(6 * (g->light_count ? g->light_count : 1));
+	uint32_t lights = g->frame.light_count;
+	GLsizei layers = (GLsizei)(6 * (lights ? lights : 1));
 	gl->GenTextures(1, &g->shadow);
 	gl->BindTexture(GL_TEXTURE_2D_ARRAY, g->shadow);
 	gl->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -68,13 +69,15 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err)
 	gl->Enable(GL_DEPTH_TEST);
 	gl->DepthFunc(GL_LESS);
 	gl->DepthMask(GL_TRUE);
-	for (uint32_t l = 0; st == RS_OK && l < g->light_count; ++l) {
-		const float *lp = &g->light_pos[3 * l];
+	const double *bc = g->frame.bounds_center;
+	for (uint32_t l = 0; st == RS_OK && l < lights; ++l) {
+		float lp[3];
+		rs_gles_light_position(g, l, lp);
 		gl->Uniform3f(gl->GetUniformLocation(prog, "u_light"), lp[0], lp[1], lp[2]);
 		double d2 = 0.0;
 		for (int a = 0; a < 3; ++a)
-			d2 += (lp[a] - g->bounds_center[a]) * (lp[a] - g->bounds_center[a]);
-		double far = 1.01 * (sqrt(d2) + g->bounds_radius) + 1e-30;
+			d2 += (lp[a] - bc[a]) * (lp[a] - bc[a]);
+		double far = 1.01 * (sqrt(d2) + g->frame.bounds_radius) + 1e-30;
 		for (int f = 0; st == RS_OK && f < 6; ++f)
 			st = face(g, prog, l, f, far, err);
 	}

@@ -1,5 +1,6 @@
-/* The BVH-and-pack step every backend starts from: build the scene's BVH with the chosen
- * builder and pack it into the textures the kernels (and the CPU reference) read. */
+/* What every backend starts from: the scene's BVH, built with the chosen builder and packed
+ * into the textures the kernels (and the CPU reference) read, and the reference tracer's
+ * descriptor from which each resolves its frame (rs_trace_frame_init()). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -50,4 +51,15 @@ void rs_render_accel_free(struct rs_render_accel *accel)
 	free(accel->triangle_order);
 	rs_pack_free(&accel->packed);
 	memset(accel, 0, sizeof *accel);
+}
+
+struct rs_trace_desc rs_render_trace_desc(const struct rs_render_desc *desc)
+{
+	RS_ASSERT(desc);
+	return (struct rs_trace_desc){.width = desc->width,
+	                              .height = desc->height,
+	                              .passes = desc->passes,
+	                              .lights = desc->lights,
+	                              .triangle_test = desc->triangle_test,
+	                              .ray_epsilon = desc->ray_epsilon};
 }

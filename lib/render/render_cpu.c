@@ -159,14 +159,9 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 {
 	struct cpu_renderer *cpu = impl;
 	const struct rs_render_desc *d = &cpu->desc;
-	struct rs_trace_desc td = {.width = d->width,
-	                           .height = d->height,
-	                           .passes = d->passes,
-	                           .lights = d->lights,
-	                           .triangle_test = d->triangle_test,
-	                           .ray_epsilon = d->ray_epsilon,
-	                           .camera = camera,
-	                           .intersector = cpu->intersector};
+	struct rs_trace_desc td = rs_render_trace_desc(d);
+	td.camera = camera;
+	td.intersector = cpu->intersector;
 	float *rgb = frame->rgb ? frame->rgb : frame->rgba8 ? cpu->rgb : NULL;
 	struct rs_trace_stats ts;
 	double t0 = rs_render_now_ms();

@@ -1,9 +1,12 @@
-/* Ray generation kernel of the reference renderer: pinhole primary rays. */
-#include "render_internal.h"
+/* Ray generation kernel of the reference renderer: pinhole primary rays from a camera
+ * basis built once per frame (rs_trace_view), which the GLES backend hands to its kernels
+ * as well. */
+#include "trace_internal.h"
 
-void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_t height, double px,
-                         double py, struct rs_ray *out_ray)
+void rs_trace_view_init(const struct rs_camera *camera, const double origin[3], uint32_t width,
+                        uint32_t height, struct rs_trace_view *out)
 {
+	RS_ASSERT(camera && out);
 	struct rs_camera c;
 	rs_camera_resolve(camera, &c);
 	if (width == 0 || height == 0) {
@@ -24,18 +27,33 @@ void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_
 		rs_v3_normalize(right);
 	}
 	rs_v3_cross(right, fwd, up);
-
+	for (int a = 0; a < 3; ++a) {
+		out->eye[a] = origin ? c.eye[a] - origin[a] : c.eye[a]; /* R1 */
+		out->fwd[a] = fwd[a];
+		out->right[a] = right[a];
+		out->up[a] = up[a];
+	}
 	/* The paper's projection angle 2*atan(b/a): b = half the image plane's height at
-	 * distance a = 1, so b = tan(fov/2); pixels are square. The lens shift moves the
-	 * window off the axis (it adds exactly 0 when unset, so centred rays are unchanged). */
-	double b = tan(c.fov_y_deg * (RS_TRACE_PI / 360.0));
-	double sx =
-	    ((2.0 * px / (double)width - 1.0) * ((double)width / (double)height) + c.shift[0]) * b;
-	double sy = ((1.0 - 2.0 * py / (double)height) + c.shift[1]) * b;
+	 * distance a = 1, so b = tan(fov/2); pixels are square. */
+	out->tan_half_fov = tan(c.fov_y_deg * (RS_TRACE_PI / 360.0));
+	out->shift[0] = c.shift[0];
+	out->shift[1] = c.shift[1];
+	out->width = width;
+	out->height = height;
+}
+
+void rs_trace_view_ray(const struct rs_trace_view *view, double px, double py,
+                       struct rs_ray *out_ray)
+{
+	/* The lens shift moves the window off the axis (it adds exactly 0 when unset, so
+	 * centred rays are unchanged). */
+	double b = view->tan_half_fov, w = (double)view->width, h = (double)view->height;
+	double sx = ((2.0 * px / w - 1.0) * (w / h) + view->shift[0]) * b;
+	double sy = ((1.0 - 2.0 * py / h) + view->shift[1]) * b;
 	double dir[3];
 	for (int a = 0; a < 3; ++a) {
-		dir[a] = fwd[a] + sx * right[a] + sy * up[a];
-		out_ray->origin[a] = c.eye[a];
+		dir[a] = view->fwd[a] + sx * view->right[a] + sy * view->up[a];
+		out_ray->origin[a] = view->eye[a];
 	}
 	rs_v3_normalize(dir);
 	for (int a = 0; a < 3; ++a)
@@ -43,4 +61,12 @@ void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_
 	out_ray->tmin = 0.0;
 	out_ray->tmax = INFINITY;
 	out_ray->skip_slot = RS_NO_SLOT;
+}
+
+void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_t height, double px,
+                         double py, struct rs_ray *out_ray)
+{
+	struct rs_trace_view view;
+	rs_trace_view_init(camera, NULL, width, height, &view);
+	rs_trace_view_ray(&view, px, py, out_ray);
 }

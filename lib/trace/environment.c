@@ -1,7 +1,7 @@
 /* Environment kernel of the reference renderer: rays that leave the scene take the colour
  * of the environment cube where they cross it. Using the exit point (not just the
  * direction, as a classic environment map would) is what removes parallax. */
-#include "render_internal.h"
+#include "trace_internal.h"
 
 /* Grid coordinate of a face position in [0, 1]: cell index and whether it is on a line.
  * Lines are centred on cell borders (the face edges included), line_width of a cell wide. */

@@ -7,18 +7,18 @@
 
 #include "raystream/rs_trace.h"
 
-#include "accel_internal.h"
+#include "intersect_internal.h"
 #include "private/rs_vec.h"
 
 /* Both slab distances are widened outwards by K (docs/tracer.md R3). Ize 2013 ("Robust BVH
  * ray traversal") shows 1 + 2 gamma_3 covers the rounding of (b - o) * inv; K = 16 ulps also
  * covers the triangle test's rounding of t, so a flat box around a hit one ulp nearer than
  * its computed near distance is still entered (the BVH must never change the result). */
-#define BOX_K 0x1p-49
+#define BOX_K RS_TRACE_BOX_K
 /* A ray this close to the triangle's plane (relative |d.n| / (|d| |n|), max norms) counts
  * as parallel: t would be dominated by rounding. ~1e-13 rad, far below any real grazing.
  * Moller-Trumbore scales it by |e1| |e2| instead of |n| (no extra cross product). */
-#define PARALLEL_EPS 1e-13
+#define PARALLEL_EPS RS_TRACE_PARALLEL_EPS
 
 /* R3's outward widening, monotone in t: so widening the largest near and the smallest far
  * once equals widening every slab's, and costs two multiplications per box, not six. */

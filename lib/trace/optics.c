@@ -1,7 +1,7 @@
 /* Next-ray kernel of the reference renderer: mirror reflection, Snell refraction, Schlick
  * Fresnel, and the single-path rule that picks ONE continuation per hit (the GLES chain
  * traces one ray per pixel per pass, so there is no ray tree). */
-#include "render_internal.h"
+#include "trace_internal.h"
 
 void rs_trace_reflect(const double dir[3], const double normal[3], double out_dir[3])
 {

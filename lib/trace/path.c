@@ -3,8 +3,8 @@
  * ray). colour += throughput * local; throughput *= weight of the chosen continuation. */
 #include <string.h>
 
-#include "accel_internal.h"
-#include "render_internal.h"
+#include "intersect_internal.h"
+#include "trace_internal.h"
 
 void rs_trace_path_run(const struct rs_trace_frame *frame, const struct rs_ray *primary,
                        struct rs_trace_path *out, struct rs_trace_segment *segments)

@@ -3,8 +3,8 @@
  * self-hit rule for rays leaving a surface. */
 #include <string.h>
 
-#include "accel_internal.h"
-#include "render_internal.h"
+#include "intersect_internal.h"
+#include "trace_internal.h"
 
 static void texel3(const float *t, double out[3])
 {
@@ -67,7 +67,9 @@ static void spawn_point(const double v0[3], const double v1[3], const double v2[
 	double b[3] = {1.0 - u - v, u, v}, sum = 0.0;
 	for (int i = 0; i < 3; ++i) {
 		double h = edge[i] > 0.0 ? a2 / edge[i] : 0.0;
-		double floor_i = h > 12.0 * delta ? 4.0 * delta / h : 1.0 / 3.0;
+		double floor_i = h > frame->rules.spawn_pull_height * delta
+		                     ? frame->rules.spawn_pull * delta / h
+		                     : 1.0 / 3.0;
 		b[i] = max2(b[i], floor_i);
 		sum += b[i];
 	}
@@ -146,9 +148,8 @@ void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray
 
 	for (uint32_t i = 0; i < frame->light_count; ++i) {
 		const struct rs_light *light = &frame->lights[i];
-		double lp[3]; /* the light in the packed frame (R1) */
-		for (int a = 0; a < 3; ++a)
-			lp[a] = light->position[a] - frame->origin[a];
+		double lp[3];
+		rs_trace_frame_light(frame, i, lp);
 		double l[3] = {lp[0] - s->point[0], lp[1] - s->point[1], lp[2] - s->point[2]};
 		if (rs_v3_normalize(l) == 0.0)
 			continue;

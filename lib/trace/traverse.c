@@ -6,7 +6,7 @@
 
 #include "raystream/rs_trace.h"
 
-#include "accel_internal.h"
+#include "intersect_internal.h"
 
 /* Rays the tests cannot give a defined answer for: non-finite values or a zero direction. */
 static bool ray_usable(const struct rs_ray *ray)

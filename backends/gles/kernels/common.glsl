@@ -9,9 +9,11 @@
 // With RS_SCENE_BUFFERS the four are buffer textures of the same texels in the same order
 // (GLES 3.2 or an extension; the version line says which): texelFetch by element, no rows
 // or levels to work out, cheaper on llvmpipe (docs/gles.md), same values bit for bit.
-// Defines: RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a power of two), RS_WATERTIGHT,
-//          RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY, RS_COMPACT_NODES, RS_NODE_ORDERS,
-//          RS_SCENE_BUFFERS.
+// Defines (gles_prelude.c, one table): RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a
+//          power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY,
+//          RS_COMPACT_NODES, RS_NODE_ORDERS, RS_SCENE_BUFFERS; the rules' constants
+//          RS_BOX_K (R3), RS_PARALLEL_EPS (R2), RS_SPAWN_PULL_HEIGHT, RS_SPAWN_PULL (R5);
+//          the paper's ray states RS_STATE_ACTIVE, _MISSED, _ENVIRONMENT, _DIFFUSE.
 #if RS_SCENE_BUFFERS
 #define RS_SCENE_SAMPLER highp samplerBuffer
 #define RS_SCENE_USAMPLER highp usamplerBuffer
@@ -38,18 +40,12 @@ uniform float u_spawn_floor; // R5's F = max(R / 16, 2^-64), R the scene's half-
 // "No hit yet" distance: far beyond any scene, finite so no kernel depends on how a GPU
 // treats infinities.
 const float RS_FAR = 1.0e38;
-// Slab distances are widened outwards by K = 2^-19, 16 fp32 ulps (docs/tracer.md R3; the
-// double reference uses 16 double ulps).
-const float RS_BOX_GROW = 1.0 + 1.9073486e-6;
-const float RS_BOX_SHRINK = 1.0 - 1.9073486e-6;
+// Slab distances are widened outwards by RS_BOX_K = 2^-19, 16 fp32 ulps (docs/tracer.md R3;
+// the double reference uses 16 double ulps).
+const float RS_BOX_GROW = 1.0 + RS_BOX_K;
+const float RS_BOX_SHRINK = 1.0 - RS_BOX_K;
 // 1/d for a zero direction component (rs_box): finite, so (lo - o) * inv is never NaN.
 const float RS_ZERO_INV = 1.0e30;
-const float RS_PARALLEL_EPS = 1.0e-13;
-// Ray states, the paper's numbers (docs/tracer.md).
-const float RS_STATE_ACTIVE = 0.0;
-const float RS_STATE_MISSED = -1.0;
-const float RS_STATE_ENVIRONMENT = -2.0;
-const float RS_STATE_DIFFUSE = -3.0;
 
 struct Ray {
 	vec3 o;

@@ -7,7 +7,7 @@
 //      (rasterized primaries) the first hit is visibility.glsl's, not a walk: the resolve,
 //      ray generation and shading passes of the separate chain in one.
 // Out: 0 orig, 1 dir, 2 acc, 3 hit = (t, u, v, slot).
-#ifdef RS_FIRST_PASS
+#if RS_FIRST_PASS
 uniform float u_near;
 #else
 uniform sampler2D u_orig;
@@ -21,7 +21,7 @@ layout(location = 3) out vec4 o_hit;
 
 void main()
 {
-#ifdef RS_FIRST_PASS
+#if RS_FIRST_PASS
 	vec3 d = rs_camera_dir(gl_FragCoord.xy);
 	vec4 orig = vec4(u_eye + u_near * d, -1.0), dir = vec4(d, 1.0), acc = vec4(0.0);
 #else
@@ -38,7 +38,7 @@ void main()
 		h.slot = -1;
 		vec2 c = vec2(0.0);
 		vec4 cnt = vec4(0.0);
-#if RS_GEOMETRY && defined(RS_RASTER_FIRST)
+#if RS_GEOMETRY && RS_RASTER_FIRST
 		h = rs_visible_hit(gl_FragCoord.xy);
 #elif RS_GEOMETRY
 		rs_traverse(Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w)), false, h, c);

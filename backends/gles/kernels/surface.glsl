@@ -46,7 +46,8 @@ Surf rs_surface(Ray r, Hit h)
 	vec3 b = vec3(1.0 - h.u - h.v, h.u, h.v);
 	for (int i = 0; i < 3; i++) {
 		float hi = edge[i] > 0.0 ? gl / edge[i] : 0.0;
-		b[i] = max(b[i], hi > 12.0 * s.delta ? 4.0 * s.delta / hi : 1.0 / 3.0);
+		b[i] = max(b[i], hi > RS_SPAWN_PULL_HEIGHT * s.delta ? RS_SPAWN_PULL * s.delta / hi
+		                                                  : 1.0 / 3.0);
 	}
 	float bs = b.x + b.y + b.z;
 	s.p = t0.xyz + (b.y / bs) * e1 + (b.z / bs) * e2;

@@ -274,6 +274,11 @@ enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct 
 /** Free what rs_render_accel_build() allocated and zero the struct; NULL is allowed. */
 void rs_render_accel_free(struct rs_render_accel *accel);
 
+/** The reference tracer's descriptor of `desc`: size, passes, lights, triangle test and
+ * spawn scale (camera, rows and intersector 0). Every backend resolves its frame from it
+ * (rs_trace_frame_init()), so the kernels and the reference read the same numbers. */
+struct rs_trace_desc rs_render_trace_desc(const struct rs_render_desc *desc);
+
 /** Recompute the per-pixel means of `stats` from its counts. */
 void rs_render_stats_finish(struct rs_render_stats *stats);
 

@@ -7,6 +7,9 @@
  * Part 1 (building blocks): ray/box and ray/triangle tests, closest-hit and any-hit
  * traversal of the threaded BVH, and brute force for checking them.
  * Part 2 (rendering): the paper's ray semantics over N passes; see docs/tracer.md.
+ * Part 3 (the frame description): every number of a frame, computed once from scene,
+ * descriptor and camera; the CPU tracer reads it and the GLES backend hands the same
+ * values to its kernels (uniforms and a generated #define prelude).
  */
 #ifndef RS_TRACE_H
 #define RS_TRACE_H
@@ -249,6 +252,84 @@ enum rs_status rs_trace_ray_path(const struct rs_scene *scene, const struct rs_p
 enum rs_status rs_trace_render(const struct rs_scene *scene, const struct rs_packed *packed,
                                const struct rs_trace_desc *desc, float *out_rgb, float *out_depth,
                                struct rs_trace_stats *out_stats, struct rs_error *err);
+
+/* ---- Part 3: the frame description ------------------------------------------------ */
+
+/** R3: slab distances are widened outwards by K = 16 ulps of the arithmetic's precision. */
+#define RS_TRACE_BOX_K 0x1p-49      /**< double (the reference) */
+#define RS_TRACE_BOX_K_FP32 0x1p-19 /**< fp32 (the kernels) */
+/** R2: a ray within this relative |d.n| / (|d| |n|) of a triangle's plane is parallel. */
+#define RS_TRACE_PARALLEL_EPS 1e-13
+/** R5's pull: a triangle less than PULL_HEIGHT delta high goes to its centroid, else each
+ * barycentric is raised to at least PULL delta / (the triangle's height over that edge). */
+#define RS_TRACE_SPAWN_PULL_HEIGHT 12.0
+#define RS_TRACE_SPAWN_PULL 4.0
+/** R5's floor F = max(R * FLOOR_SHARE, FLOOR_MIN), R half the scene's largest side. */
+#define RS_TRACE_SPAWN_FLOOR_SHARE 0.0625
+#define RS_TRACE_SPAWN_FLOOR_MIN 0x1p-64
+
+/** The fixed constants of docs/tracer.md R2-R5, as values (what a backend hands on). */
+struct rs_trace_rules {
+	double box_k, box_k_fp32;             /**< R3 */
+	double parallel_eps;                  /**< R2 */
+	double spawn_pull_height, spawn_pull; /**< R5 */
+};
+
+/**
+ * One frame's numbers, resolved once by rs_trace_frame_init() from scene, packed textures
+ * and descriptor: everything the tracer (and a GPU backend) reads besides the textures and
+ * the camera. Positions are in the packed frame (R1) unless said otherwise.
+ */
+struct rs_trace_frame {
+	const struct rs_packed *packed;
+	enum rs_triangle_test test;
+	uint32_t passes;      /**< resolved (0 -> 2) */
+	uint32_t light_count; /**< resolved (0 -> all of the scene's) */
+	/** The scene's lights, world coordinates: rs_trace_frame_light() gives one in the frame. */
+	const struct rs_light *lights;
+	double ambient;
+	double origin[3];          /**< the packed frame's origin (R1) */
+	double spawn_scale;        /**< R5's S: desc.ray_epsilon or RS_TRACE_SPAWN_SCALE */
+	double spawn_floor;        /**< R5's F = max(R / 16, 2^-64) */
+	double bounds_center[3];   /**< the scene's bounding box centre */
+	double bounds_radius;      /**< and its half-diagonal (0 for an empty scene) */
+	bool has_geometry;         /**< false: every ray misses (empty scene) */
+	struct rs_environment env; /**< resolved (rs_scene_environment()), centre in the frame */
+	struct rs_trace_rules rules;
+	const struct rs_trace_intersector *intersector; /**< NULL: walk packed's BVH */
+};
+
+/**
+ * Resolve `desc` (NULL: defaults; its size, rows and camera are not read) against `scene`
+ * and `packed` into `out`. `out` points at scene and packed, which must outlive it.
+ * RS_ERR_INVALID as rs_trace_render() for a bad descriptor or packed not matching scene.
+ */
+enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs_packed *packed,
+                                   const struct rs_trace_desc *desc, struct rs_trace_frame *out,
+                                   struct rs_error *err);
+
+/** Light `i` (< light_count) moved into the packed frame, in double (R1). */
+void rs_trace_frame_light(const struct rs_trace_frame *frame, uint32_t i, double out_position[3]);
+
+/** A camera resolved for ray generation (docs/tracer.md, Ray generation). */
+struct rs_trace_view {
+	double eye[3];                  /**< relative to the origin given to rs_trace_view_init() */
+	double fwd[3], right[3], up[3]; /**< unit forward and right; up = right x fwd */
+	double tan_half_fov;            /**< b = tan(fov_y / 2) */
+	double shift[2];                /**< lens shift */
+	uint32_t width, height;
+};
+
+/**
+ * The basis of `camera` (resolved with rs_camera_resolve()) for an image of width x height
+ * (0: the camera's size), its eye moved by -origin in double (NULL: kept in world).
+ */
+void rs_trace_view_init(const struct rs_camera *camera, const double origin[3], uint32_t width,
+                        uint32_t height, struct rs_trace_view *out);
+
+/** The primary ray through image position (px, py), as rs_trace_camera_ray() describes. */
+void rs_trace_view_ray(const struct rs_trace_view *view, double px, double py,
+                       struct rs_ray *out_ray);
 
 #ifdef __cplusplus
 }

@@ -1,8 +1,8 @@
 /* Private to rs_trace: per-ray values of the triangle tests computed once per ray rather
  * than once per triangle (the watertight test's shear, the parallel-test scale), used by
  * traverse.c. rs_intersect_triangle() is the same code with a one-off preparation. */
-#ifndef RS_TRACE_ACCEL_INTERNAL_H
-#define RS_TRACE_ACCEL_INTERNAL_H
+#ifndef RS_TRACE_INTERSECT_INTERNAL_H
+#define RS_TRACE_INTERSECT_INTERNAL_H
 
 #include "raystream/rs_trace.h"
 

@@ -1,31 +1,16 @@
-/* Shared pieces of the reference renderer (Part 2 of rs_trace.h): small double-precision
- * vector helpers (rs_vec.h) and the per-frame constants every path reads. Not installed. */
-#ifndef RS_TRACE_RENDER_INTERNAL_H
-#define RS_TRACE_RENDER_INTERNAL_H
+/* Shared pieces of the reference renderer (Parts 2 and 3 of rs_trace.h): small
+ * double-precision vector helpers (rs_vec.h), the frame's ray queries and the kernels of
+ * one path (surface, shading, next ray, spawn). Not installed. */
+#ifndef RS_TRACE_INTERNAL_H
+#define RS_TRACE_INTERNAL_H
 
 #include <math.h>
 
-#include "accel_internal.h"
+#include "intersect_internal.h"
 #include "raystream/rs_trace.h"
 #include "private/rs_vec.h"
 
 #define RS_TRACE_PI 3.14159265358979323846
-
-/* Constants of one frame, resolved once by rs_trace_frame_init(). */
-struct rs_trace_frame {
-	const struct rs_packed *packed;
-	enum rs_triangle_test test;
-	uint32_t passes;
-	uint32_t light_count;
-	const struct rs_light *lights;
-	double ambient;
-	double spawn_scale;        /* R5's S: offset relative to the hit triangle's magnitude */
-	double spawn_floor;        /* R5's floor on that magnitude: the frame's half-size / 16 */
-	double origin[3];          /* the packed frame's origin (R1): lights are moved by it */
-	bool has_geometry;         /* false: every ray misses (empty scene) */
-	struct rs_environment env; /* centre already in the packed frame */
-	const struct rs_trace_intersector *intersector; /* NULL: walk packed's BVH */
-};
 
 /* The frame's ray queries: the packed BVH, or the caller's intersector. */
 static inline bool rs_trace_frame_closest(const struct rs_trace_frame *frame,
@@ -45,10 +30,6 @@ static inline bool rs_trace_frame_occluded(const struct rs_trace_frame *frame,
 		return frame->intersector->occluded(frame->intersector->user, ray);
 	return rs__trace_occluded_local(frame->packed, frame->test, ray, counters);
 }
-
-enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs_packed *packed,
-                                   const struct rs_trace_desc *desc, struct rs_trace_frame *out,
-                                   struct rs_error *err);
 
 /* One path: the pass loop. primary: packed frame, unit dir. segments may be NULL (their rays
  * are reported in world coordinates). */
