@@ -9,7 +9,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "../backends/gles/gles_internal.h"
+#include "../backends/gles/gles_seams.h"
 #include "test_gl_common.h"
 
 static void a_kernel_that_does_not_compile_names_file_line_and_source(void **state)

@@ -11,7 +11,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "../backends/gles/gl_api.h"
+#include "../backends/gles/gles_seams.h"
 #include "test_gl_common.h"
 
 #define SIZE 16u

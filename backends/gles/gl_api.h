@@ -107,23 +107,4 @@ struct rs_gl {
 enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *name), void *ctx,
                           struct rs_error *err);
 
-/* Test seam (gl_fault.c; this header is private and never installed): out of GPU memory on
- * demand. rs__gl_fault_wrap(true) makes every table loaded from then on wrap the allocating
- * entry points (glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage, glBufferData,
- * glGenFramebuffers, glGenVertexArrays) and track live texture, renderbuffer, buffer,
- * framebuffer and vertex array names; it resets the counts. rs__gl_fault_fail_at(n) restarts the
- * allocation count: the n-th allocation from now (1-based; 0: none) is not made and the next
- * glGetError reports GL_OUT_OF_MEMORY. One wrapped renderer at a time. */
-void rs__gl_fault_wrap(bool on);
-void rs__gl_fault_fail_at(long n);
-struct rs__gl_fault_counts {
-	long allocations; /* since rs__gl_fault_fail_at */
-	bool fired;       /* the n-th allocation was reached and failed */
-	long textures, renderbuffers, buffers, framebuffers, vertex_arrays; /* live names */
-	bool overflow; /* more live names than the seam tracks: counts unreliable */
-};
-void rs__gl_fault_counts(struct rs__gl_fault_counts *out);
-/* Called by rs_gl_load: wraps `gl` while armed. */
-void rs__gl_fault_hook(struct rs_gl *gl);
-
 #endif

@@ -63,3 +63,15 @@ enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenu
 	return rs_error_set(err, RS_ERR_DEVICE, "gles: GL error 0x%04x allocating %s%s",
 	                    (unsigned)e, what, size);
 }
+enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err)
+{
+	GLenum e = gl->GetError();
+	if (e == GL_NO_ERROR)
+		return RS_OK;
+	while (gl->GetError() != GL_NO_ERROR) {
+	}
+	if (e == GL_OUT_OF_MEMORY)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of GPU memory (%s)", what);
+	return rs_error_set(err, RS_ERR_DEVICE, "gles: GL error 0x%04x after %s", (unsigned)e,
+	                    what);
+}

@@ -1,7 +1,10 @@
 /* Classic environment mapping (RS_REFLECT_ENVMAP, the paper's Table 3 comparison): one cube
  * map captured once at set_scene from the centre of the scene's bounds, each face the
  * traced image of 1 pass (local shading, shadows, environment) seen with a 90-degree
- * camera; from the second pass on, rays read it by direction instead of being traced. */
+ * camera; from the second pass on, rays read it by direction instead of being traced. The
+ * faces are frames of their own plans (PLAN_ENVMAP here, the bounces' in
+ * gles_interreflect.c), run as the frame's plan is: the renderer's descriptor is never
+ * touched. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,27 +20,9 @@ static const double faces[6][3][3] = {
     {{0, 0, 1}, {1, 0, 0}, {0, -1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, -1, 0}},
 };
 
-void rs_gles_envmap_uniforms(const struct gles *g, GLuint prog, uint32_t pass)
-{
-	const struct rs_gl *gl = &g->gl;
-	rs_gles_bind(gl, prog, UNIT_ENVMAP, "u_envmap", GL_TEXTURE_CUBE_MAP, g->envmap);
-	rs_gles_uniform_i(gl, prog, "u_envmap_on", g->envmap_ready && pass > 0);
-	if (g->desc.reflections != RS_REFLECT_INTERREFLECT)
-		return;
-	rs_gles_bind_2d(gl, prog, UNIT_OBJECTS, "u_objects", g->object_tex);
-	rs_gles_uniform_i(gl, prog, "u_objmap_on", g->objmap_read >= 0);
-	/* Unused samplers still need a cube map bound: the first set stands in before any. */
-	int set = g->objmap_read >= 0 ? g->objmap_read : 0;
-	for (uint32_t o = 0; o < RS_RENDER_MAX_MIRROR_OBJECTS; ++o) {
-		char name[16];
-		snprintf(name, sizeof name, "u_objmap%u", o);
-		rs_gles_bind(gl, prog, UNIT_OBJMAP + (int)o, name, GL_TEXTURE_CUBE_MAP,
-		             g->objmap[set][o]);
-	}
-}
-
-enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float near,
-                                    uint32_t passes, GLuint tex, struct rs_error *err)
+enum rs_status rs_gles_capture_cube(struct gles *g, const struct rs_gles_plan *plan,
+                                    const double eye[3], float near, GLuint tex,
+                                    struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	uint32_t n = g->desc.width;
@@ -46,13 +31,6 @@ enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float n
 	enum rs_status st = RS_OK;
 	if (!rgb || !face)
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for a cube map");
-	uint32_t keep_passes = g->desc.passes;
-	float keep_near = g->capture_near;
-	enum rs_primary_mode keep_primary = g->desc.primary;
-	g->desc.passes = passes;
-	g->capture_near = near;
-	if (near > 0.0f) /* the raster pass has no start distance */
-		g->desc.primary = RS_PRIMARY_TRACE;
 	for (int f = 0; f < 6 && st == RS_OK; ++f) {
 		/* up = -t: image row 0 is the face's t = 0 row; the camera's right (forward x
 		 * up) is then either +s or -s, and the columns are mirrored when it is -s. */
@@ -69,7 +47,9 @@ enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float n
 		bool mirror = right[0] * sd[0] + right[1] * sd[1] + right[2] * sd[2] < 0.0;
 		struct rs_render_stats stats = {0};
 		struct rs_frame frame = {.rgb = rgb};
-		st = rs_gles_frame(g, &cam, &frame, &stats, err);
+		st = rs_gles_plan_run(g, plan, &cam, near, (GLsizei)n, (GLsizei)n, &stats, err);
+		if (st == RS_OK)
+			st = rs_gles_readback(g, plan, &frame, &stats, err);
 		for (uint32_t y = 0; st == RS_OK && y < n; ++y)
 			for (uint32_t x = 0; x < n; ++x)
 				memcpy(&face[((size_t)y * n + x) * 3],
@@ -84,9 +64,6 @@ enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float n
 			                       (GLsizei)n, (GLsizei)n, 1, err);
 		}
 	}
-	g->desc.passes = keep_passes;
-	g->capture_near = keep_near;
-	g->desc.primary = keep_primary;
 	if (st == RS_OK) {
 		gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
 		gl->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -99,7 +76,7 @@ enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float n
 	return st;
 }
 
-enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, struct rs_error *err)
+enum rs_status rs_gles_envmap(struct gles *g, struct rs_error *err)
 {
 	if (g->desc.height != g->desc.width)
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
@@ -107,14 +84,15 @@ enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, stru
 		                    "faces are the frame's size), not %ux%u",
 		                    g->desc.width, g->desc.height);
 	struct rs_bounds b;
-	rs_scene_bounds(scene, &b);
+	rs_scene_bounds(g->scene, &b);
 	double centre[3];
 	for (int a = 0; a < 3; ++a)
 		centre[a] = 0.5 * (b.lo[a] + b.hi[a]);
 	g->envmap_ready = false;
 	g->gl.GenTextures(1, &g->envmap);
 	/* The faces: what the centre sees directly (1 pass). */
-	enum rs_status st = rs_gles_capture_cube(g, centre, 0.0f, 1, g->envmap, err);
+	enum rs_status st =
+	    rs_gles_capture_cube(g, &g->plans[PLAN_ENVMAP], centre, 0.0f, g->envmap, err);
 	g->envmap_ready = st == RS_OK;
 	return st;
 }

@@ -1,4 +1,12 @@
-/* Private state of the GLES renderer, shared by its files (not installed). */
+/* Private state of the GLES renderer, shared by its files (not installed). The files form a
+ * one-way stack; a file calls only into its own layer or the ones below (docs/gles.md, "Call
+ * stack"; tests/gles_layers.cmake checks it):
+ *   1 renderer   gles_renderer.c                      the ops table: set_scene, render
+ *   2 capture    gles_shadow.c gles_envmap.c gles_interreflect.c   shadow and cube maps
+ *   3 plan       gles_plan.c (decide) gles_frame.c (run, display, read back)
+ *   4 programs   gles_program.c gles_prelude.c gles_uniforms.c gles_scene.c gles_storage.c
+ *   5 leaf       gles_state.c gles_alloc.c gl_api.c
+ */
 #ifndef RS_GLES_INTERNAL_H
 #define RS_GLES_INTERNAL_H
 
@@ -29,6 +37,7 @@ enum {
 	UNIT_COUNT = UNIT_OBJMAP + RS_RENDER_MAX_MIRROR_OBJECTS
 };
 
+/* The program table (gles_program.c holds each one's kernel files and variant). */
 enum {
 	PROG_RAYGEN = 0,
 	PROG_INTERSECT,
@@ -44,6 +53,122 @@ enum {
 	PROG_RESOLVE,      /* rasterized primaries: exact hits from the visibility pass */
 	PROG_FUSED_RASTER, /* the fused chain's first pass over rasterized primaries */
 	PROG_COUNT
+};
+
+/* Every uniform a kernel declares; locations are looked up once per program at link. */
+enum {
+	U_NODES,
+	U_TRIS,
+	U_NORMALS,
+	U_MATERIALS,
+	U_NODE_COUNT,
+	U_GRID_ORIGIN,
+	U_GRID_STEP,
+	U_TRI_COUNT,
+	U_MATERIAL_COUNT,
+	U_SPAWN_SCALE,
+	U_SPAWN_FLOOR,
+	U_AMBIENT,
+	U_LIGHT_POS,
+	U_LIGHT_COLOR,
+	U_ENV_CENTER,
+	U_ENV_HALF,
+	U_ENV_COLOR,
+	U_ENV_GRID,
+	U_ENV_LINE_WIDTH,
+	U_ENV_LINE_SCALE,
+	U_SHADOW,
+	U_SHADOW_SIZE,
+	U_SHADOW_FILTER,
+	U_EYE,
+	U_FWD,
+	U_RIGHT,
+	U_UP,
+	U_SIZE,
+	U_TAN,
+	U_SHIFT,
+	U_NEAR,
+	U_FAR,
+	U_ORIG,
+	U_DIR,
+	U_ACC,
+	U_CNT,
+	U_HIT,
+	U_VIS,
+	U_ENVMAP,
+	U_ENVMAP_ON,
+	U_OBJECTS,
+	U_OBJMAP_ON,
+	U_OBJMAP0, /* ... RS_RENDER_MAX_MIRROR_OBJECTS of them */
+	U_LIGHT = U_OBJMAP0 + RS_RENDER_MAX_MIRROR_OBJECTS,
+	U_AXIS,
+	U_SIGN,
+	U_COUNT
+};
+
+struct rs_gles_program {
+	GLuint id; /* 0: not built for this scene */
+	GLint loc[U_COUNT];
+};
+
+/* A texture of the per-pixel state, as a plan names it: resolved at run time by
+ * rs_gles_target() (0 is none). */
+enum {
+	REF_NONE = 0,
+	REF_STATE = 1,                      /* + 3 k + s: g->state[k][s] */
+	REF_HIT = REF_STATE + 2 * ST_COUNT, /* + k: g->hit[k] */
+	REF_CNT = REF_HIT + 2,              /* + k: g->cnt[k] */
+	REF_COLOR = REF_CNT + 2
+};
+
+/* What a step binds before its draw. */
+enum {
+	BIND_SCENE = 1,   /* packed textures and the frame's constants */
+	BIND_CAMERA = 2,  /* the camera basis */
+	BIND_NEAR = 4,    /* u_near: where primary rays start */
+	BIND_STATE = 8,   /* u_orig, u_dir, u_acc (u_cnt with counters) from in[] */
+	BIND_HIT = 16,    /* u_hit from in[4] */
+	BIND_VIS = 32,    /* u_vis: the visibility pass's output */
+	BIND_ENVMAP = 64, /* the captured cube maps (read from the second pass on) */
+};
+
+/* One draw of a plan: program, inputs, outputs. */
+struct rs_gles_step {
+	const char *name; /* the kernel timing's name */
+	uint8_t prog;
+	bool raster;    /* the visibility pass (a triangle draw), else a fullscreen pass */
+	uint8_t bind;   /* BIND_* */
+	uint8_t in[5];  /* REF_* of u_orig, u_dir, u_acc, u_cnt, u_hit */
+	uint8_t out[4]; /* REF_* of the colour targets (REF_NONE: not stored) */
+	uint8_t n_out;
+	uint32_t pass;
+};
+
+/* What a plan is made for: a frame's passes, primaries, chain, counters and reflections. */
+struct rs_gles_plan_desc {
+	uint32_t passes;
+	enum rs_primary_mode primary;
+	enum rs_kernel_chain chain;
+	bool counters;
+	bool envmap; /* RS_REFLECT_ENVMAP or _INTERREFLECT: later passes may read cube maps */
+};
+
+/* Which programs run in which order into which targets, decided once (gles_plan.c). */
+#define RS_GLES_MAX_STEPS (1u + 5u * RS_TRACE_MAX_PASSES)
+struct rs_gles_plan {
+	struct rs_gles_step steps[RS_GLES_MAX_STEPS];
+	uint32_t count; /* 0: no such plan for this scene */
+	bool counters;
+	uint8_t result_acc, result_cnt; /* REF_* holding the colour and counters at the end */
+};
+
+/* The renderer's plans: the frame's, and the capture frames' (gles_envmap.c). */
+enum {
+	PLAN_FRAME = 0,
+	PLAN_ENVMAP,   /* the classic cube map: 1 pass with the frame's primaries */
+	PLAN_BOUNCE_1, /* inter-reflection, first bounce: 1 traced pass */
+	PLAN_BOUNCE_N, /* later bounces: 2 traced passes */
+	PLAN_COUNT
 };
 
 struct gles {
@@ -65,6 +190,9 @@ struct gles {
 	const struct rs_scene *scene;
 	struct rs_render_desc desc;
 	struct rs_render_accel accel;
+	/* Every number of the frame but the camera's, resolved once per set_scene by lib/trace
+	 * (rs_trace_frame_init(), the reference's own): uniforms and prelude come from it. */
+	struct rs_trace_frame frame;
 	enum rs_scene_storage storage; /* resolved: 2D or BUFFER */
 	GLenum scene_target;           /* GL_TEXTURE_2D or GL_TEXTURE_BUFFER */
 	GLuint scene_tex[4];
@@ -79,21 +207,48 @@ struct gles {
 	bool envmap_ready;           /* captured: later passes read it instead of tracing */
 	/* RS_REFLECT_INTERREFLECT (gles_interreflect.c): the objects, their triangle -> object
 	 * texture, two sets of cube maps (bounce k writes one set and reads the other), the set
-	 * the next pass reads (-1: none yet), and the capture rays' start distance. */
+	 * the next pass reads (-1: none yet). */
 	struct rs_scene_object objects[RS_RENDER_MAX_MIRROR_OBJECTS];
 	uint32_t object_count;
 	GLuint object_tex, objmap[2][RS_RENDER_MAX_MIRROR_OBJECTS];
 	int objmap_read;
-	float capture_near;
-	/* Every number of the frame but the camera's, resolved once per set_scene by lib/trace
-	 * (rs_trace_frame_init(), the reference's own): uniforms and prelude come from it. */
-	struct rs_trace_frame frame;
-	GLuint prog[PROG_COUNT];
+	struct rs_gles_plan plans[PLAN_COUNT];
+	struct rs_gles_program prog[PROG_COUNT];
 	float *scratch; /* readback: width * height * 4 floats */
 };
 
 /* Largest number of lights a kernel is specialised for (uniform arrays). */
 #define RS_GLES_MAX_LIGHTS 16u
+
+/* ---- 3 plan ------------------------------------------------------------------------- */
+
+/* gles_plan.c: the steps of a frame made for `d`: the one place that decides the chain
+ * (fused only without counters and cube maps), the passes run (with cube maps at most 2)
+ * and the ping-pong targets. */
+void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *out);
+
+/* gles_frame.c. Run `plan` from `camera` over the viewport w x h (primary rays start `near`
+ * from the eye), kernel times into stats. */
+enum rs_status rs_gles_plan_run(struct gles *g, const struct rs_gles_plan *plan,
+                                const struct rs_camera *camera, float near, GLsizei w, GLsizei h,
+                                struct rs_render_stats *stats, struct rs_error *err);
+/* The display pass, a step apart from the plan: the plan's colour to RGBA8 in g->color. */
+enum rs_status rs_gles_display(struct gles *g, const struct rs_gles_plan *plan,
+                               struct rs_render_stats *stats, struct rs_error *err);
+/* Read the plan's results into `frame` (colour, RGBA8, depth, triangle ids) and, with
+ * counters, the hit numbers into stats. */
+enum rs_status rs_gles_readback(struct gles *g, const struct rs_gles_plan *plan,
+                                const struct rs_frame *frame, struct rs_render_stats *stats,
+                                struct rs_error *err);
+
+/* ---- 4 programs and scene storage ---------------------------------------------------- */
+
+/* gles_program.c: the programs every plan in g->plans uses (and the display and shadow
+ * programs), compiled under `prelude` (three variants: every program, the fused first pass,
+ * it over raster hits), uniform locations looked up once. */
+enum rs_status rs_gles_programs_build(struct gles *g, const char *const prelude[3],
+                                      struct rs_error *err);
+void rs_gles_programs_delete(struct gles *g);
 
 /* What a kernel program is specialised for (gles_prelude.c writes it as #defines). */
 struct rs_gles_spec {
@@ -111,27 +266,30 @@ struct rs_gles_spec {
 enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_trace_rules *rules,
                                char *out, size_t cap, struct rs_error *err);
 
-/* Compile and link vertex kernel files `vfiles` (NULL: the fullscreen triangle) with
- * fragment kernel files `files` (common first), under `version` (the #version line and any
- * #extension lines) and `defines` (#define lines). A compile error names the file and line
- * with the driver's first log line and the source line. */
-enum rs_status rs_gles_program(const struct rs_gl *gl, const char *version,
-                               const char *const *vfiles, size_t vcount, const char *const *files,
-                               size_t count, const char *defines, GLuint *out,
-                               struct rs_error *err);
+/* gles_uniforms.c: inputs of a program, through its cached locations. */
+void rs_gles_bind(const struct rs_gl *gl, const struct rs_gles_program *p, int unit, int u,
+                  GLenum target, GLuint tex);
+void rs_gles_uniform_i(const struct rs_gl *gl, const struct rs_gles_program *p, int u, GLint v);
+void rs_gles_uniform_f(const struct rs_gl *gl, const struct rs_gles_program *p, int u, GLfloat v);
+void rs_gles_uniform_3fv(const struct rs_gl *gl, const struct rs_gles_program *p, int u, GLsizei n,
+                         const GLfloat *v);
+/* The packed textures and the frame description's constants (rs_trace_frame), in fp32. */
+void rs_gles_scene_uniforms(const struct gles *g, const struct rs_gles_program *p);
+/* Camera basis (rs_trace_view: eye in the packed frame, R1), size, fov, lens shift. */
+void rs_gles_camera_uniforms(const struct gles *g, const struct rs_gles_program *p,
+                             const struct rs_camera *c);
+/* The cube maps and whether pass `pass` reads them (RS_REFLECT_ENVMAP, _INTERREFLECT). */
+void rs_gles_envmap_uniforms(const struct gles *g, const struct rs_gles_program *p, uint32_t pass);
+/* Light i of the frame in the packed frame (R1), rounded to fp32. */
+void rs_gles_light_position(const struct gles *g, uint32_t i, GLfloat out[3]);
 
-/* Tests only: compile `source` in place of kernel file `name` (NULL name: none). */
-void rs__gles_override_kernel(const char *name, const char *source);
-
-/* Check glGetError after `what`; RS_ERR_NO_MEMORY for GL_OUT_OF_MEMORY, else RS_ERR_DEVICE. */
-enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err);
-
-/* Read glGetError right after allocating `what` (internal `format`, w x h x layers texels;
- * format 0: an object without storage): RS_ERR_NO_MEMORY "gles: out of GPU memory for
- * <what> (<size> <format>, <KiB or MiB>)" for GL_OUT_OF_MEMORY, RS_ERR_DEVICE for another error
- * (gles_alloc.c). What was made before stays in the renderer for delete_scene(). */
-enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenum format, GLsizei w,
-                                 GLsizei h, GLsizei layers, struct rs_error *err);
+/* gles_scene.c: the packed textures, the per-pixel targets the plans use and the display
+ * target (each allocation checked, rs_gles_allocated); rs_gles_scene_delete() frees
+ * everything set_scene made. */
+enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err);
+void rs_gles_scene_delete(struct gles *g);
+/* The texture a plan's REF_* names. */
+GLuint rs_gles_target(const struct gles *g, uint8_t ref);
 
 /* gles_storage.c: at creation, whether the context has buffer textures (g->buffer_glsl, the
  * kernels' version line for them, and g->max_tex_buffer; `version` is GL_VERSION); per scene,
@@ -144,79 +302,49 @@ enum rs_status rs_gles_buffer_texture(struct gles *g, int i, GLenum format,
                                       const struct rs_texture *t, const char *what,
                                       struct rs_error *err);
 
+/* ---- 5 leaf: GL state, allocation, the GL table -------------------------------------- */
+
+/* gles_state.c. The renderer's draw state for a w x h viewport (its framebuffer and vertex
+ * array bound, the fixed-function state that would change results off). */
+void rs_gles_frame_state(const struct gles *g, GLsizei w, GLsizei h);
+/* Attach `n` colour targets (a 0 drops that output), draw the fullscreen triangle with the
+ * bound program, finish and add the time since `t0` to kernel `name` of `stats`. */
+enum rs_status rs_gles_draw(const struct gles *g, const char *name, const GLuint *targets, int n,
+                            struct rs_render_stats *stats, double t0, struct rs_error *err);
 /* Add `ms` to the kernel timing `name` of `stats` (a new entry while there is room). */
 void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms);
-
 /* Monotonic clock in milliseconds. */
 double rs_gles_now_ms(void);
 
-/* Which texture of each ping-pong pair holds the current per-pixel state: g->state[st[s]][s]
- * and g->cnt[cnt] (a kernel that writes a texture writes the other one of its pair). */
-struct rs_gles_cursor {
-	int st[ST_COUNT];
-	int cnt;
-};
+/* gles_alloc.c. Check glGetError after `what`; RS_ERR_NO_MEMORY for GL_OUT_OF_MEMORY, else
+ * RS_ERR_DEVICE. */
+enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err);
+/* Read glGetError right after allocating `what` (internal `format`, w x h x layers texels;
+ * format 0: an object without storage): RS_ERR_NO_MEMORY "gles: out of GPU memory for
+ * <what> (<size> <format>, <KiB or MiB>)" for GL_OUT_OF_MEMORY, RS_ERR_DEVICE for another error.
+ * What was made before stays in the renderer for rs_gles_scene_delete(). */
+enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenum format, GLsizei w,
+                                 GLsizei h, GLsizei layers, struct rs_error *err);
 
-/* Attach `n` colour targets (a 0 drops that output), draw the fullscreen triangle with the
- * bound program, finish and add the time since `t0` to kernel `name` of `stats`
- * (gles_frame.c). */
-enum rs_status rs_gles_draw(struct gles *g, const char *name, const GLuint *targets, int n,
-                            struct rs_render_stats *stats, double t0, struct rs_error *err);
-/* Bind the per-pixel state `c` points at as u_orig, u_dir, u_acc (and u_cnt). */
-void rs_gles_state_inputs(const struct gles *g, GLuint prog, const struct rs_gles_cursor *c);
+/* ---- 2 capture ------------------------------------------------------------------------ */
 
-/* RS_CHAIN_PAPER: the environment, shading and next-ray passes of segment `pass` after its
- * hits are in `hit`; advances `c` (gles_paper.c). */
-enum rs_status rs_gles_paper_segment(struct gles *g, uint32_t pass, GLuint hit,
-                                     struct rs_gles_cursor *c, struct rs_render_stats *stats,
-                                     struct rs_error *err);
-
-/* One frame: passes, display, readback (gles_frame.c). */
-enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
-                             const struct rs_frame *frame, struct rs_render_stats *stats,
-                             struct rs_error *err);
-
-/* Render the cube shadow maps of every light (set_scene: lights and geometry are fixed). */
+/* gles_shadow.c: the cube shadow maps of every light (set_scene: lights and geometry are
+ * fixed). */
 enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);
 
-/* RS_REFLECT_ENVMAP: capture the cube map from the centre of `scene` (6 traced frames of
- * 1 pass, 90 degrees, the frame's square size). */
-enum rs_status rs_gles_envmap(struct gles *g, const struct rs_scene *scene, struct rs_error *err);
+/* gles_envmap.c. RS_REFLECT_ENVMAP (and _INTERREFLECT, for rays leaving no mirror): the
+ * classic cube map captured from the centre of the scene's bounds (PLAN_ENVMAP). */
+enum rs_status rs_gles_envmap(struct gles *g, struct rs_error *err);
+/* Render the 6 faces of cube map `tex` from `eye` with `plan` (90 degrees, the frame's
+ * square size; primary rays start `near` from the eye). */
+enum rs_status rs_gles_capture_cube(struct gles *g, const struct rs_gles_plan *plan,
+                                    const double eye[3], float near, GLuint tex,
+                                    struct rs_error *err);
 
-/* RS_REFLECT_ENVMAP and _INTERREFLECT: the cube maps and whether pass `pass` reads them. */
-void rs_gles_envmap_uniforms(const struct gles *g, GLuint prog, uint32_t pass);
-
-/* Render the 6 faces of cube map `tex` from `eye` (traced frames of `passes` passes, 90
- * degrees, the frame's square size; primary rays start `near` from the eye). */
-enum rs_status rs_gles_capture_cube(struct gles *g, const double eye[3], float near,
-                                    uint32_t passes, GLuint tex, struct rs_error *err);
-
-/* RS_REFLECT_INTERREFLECT, set_scene: group the mirrors, upload the triangle -> object
- * texture, make the cube maps (gles_interreflect.c). */
-enum rs_status rs_gles_interreflect_setup(struct gles *g, const struct rs_scene *scene,
-                                          struct rs_error *err);
-/* RS_REFLECT_INTERREFLECT, every frame: capture the objects' maps, bounce by bounce. */
+/* gles_interreflect.c. RS_REFLECT_INTERREFLECT, set_scene: group the mirrors, upload the
+ * triangle -> object texture, make the cube maps; every frame: capture the objects' maps,
+ * bounce by bounce (PLAN_BOUNCE_1, PLAN_BOUNCE_N). */
+enum rs_status rs_gles_interreflect_setup(struct gles *g, struct rs_error *err);
 enum rs_status rs_gles_interreflect_capture(struct gles *g, struct rs_error *err);
-
-/* Bind `tex` (target GL_TEXTURE_2D or GL_TEXTURE_2D_ARRAY) to `unit` as sampler `name`. */
-void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,
-                  GLuint tex);
-void rs_gles_bind_2d(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLuint tex);
-/* Uniforms by name; a name the compiler dropped (unused in this specialisation) is skipped. */
-void rs_gles_uniform_i(const struct rs_gl *gl, GLuint prog, const char *name, GLint v);
-void rs_gles_uniform_f(const struct rs_gl *gl, GLuint prog, const char *name, GLfloat v);
-void rs_gles_uniform_3fv(const struct rs_gl *gl, GLuint prog, const char *name, GLsizei n,
-                         const GLfloat *v);
-/* The packed textures and scene constants of the tracing kernels (gles_uniforms.c). */
-void rs_gles_scene_uniforms(const struct gles *g, GLuint prog);
-/* Light i of the frame in the packed frame (R1), rounded to fp32. */
-void rs_gles_light_position(const struct gles *g, uint32_t i, GLfloat out[3]);
-/* Camera basis, eye moved into the packed frame (R1), size, fov, lens shift. */
-void rs_gles_camera_uniforms(const struct gles *g, GLuint prog, const struct rs_camera *c);
-
-/* The whole chain once on a 1x1 viewport, results unused: drivers (llvmpipe) compile a
- * kernel at its first draw, which would otherwise land in the first frame's timings. */
-enum rs_status rs_gles_warm_up(struct gles *g, const struct rs_camera *camera,
-                               struct rs_error *err);
 
 #endif

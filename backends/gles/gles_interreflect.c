@@ -12,10 +12,10 @@
 /* Row width of the triangle -> object texture; GLES 3.0 guarantees 2048. */
 #define OBJECT_ROW 2048u
 
-enum rs_status rs_gles_interreflect_setup(struct gles *g, const struct rs_scene *scene,
-                                          struct rs_error *err)
+enum rs_status rs_gles_interreflect_setup(struct gles *g, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
+	const struct rs_scene *scene = g->scene;
 	size_t tris = rs_scene_triangle_count(scene), count = 0;
 	size_t rows = tris ? (tris + OBJECT_ROW - 1) / OBJECT_ROW : 1;
 	if (rows > (size_t)g->max_tex)
@@ -88,7 +88,9 @@ enum rs_status rs_gles_interreflect_capture(struct gles *g, struct rs_error *err
 			 * beyond every triangle of the object, and rays leaving the centre's sphere
 			 * outwards never come back into it. */
 			float near = (float)(g->objects[o].radius * (1.0 + 1e-4) + 1e-6);
-			st = rs_gles_capture_cube(g, g->objects[o].center, near, b == 0 ? 1u : 2u,
+			const struct rs_gles_plan *plan =
+			    &g->plans[b == 0 ? PLAN_BOUNCE_1 : PLAN_BOUNCE_N];
+			st = rs_gles_capture_cube(g, plan, g->objects[o].center, near,
 			                          g->objmap[set][o], err);
 		}
 		if (st == RS_OK)

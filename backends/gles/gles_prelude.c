@@ -50,6 +50,8 @@ enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_
 	    {"RS_PARALLEL_EPS", true, rules->parallel_eps},
 	    {"RS_SPAWN_PULL_HEIGHT", true, rules->spawn_pull_height},
 	    {"RS_SPAWN_PULL", true, rules->spawn_pull},
+	    /* material flags (rs_scene.h) */
+	    {"RS_FRESNEL", false, RS_MATERIAL_FRESNEL},
 	    /* the paper's ray states (enum rs_ray_state) */
 	    {"RS_STATE_ACTIVE", true, RS_RAY_ACTIVE},
 	    {"RS_STATE_MISSED", true, RS_RAY_MISSED},

@@ -1,33 +1,128 @@
-/* Kernel programs: sources assembled from the embedded files with a version line and the
- * scene's #defines; compile errors translated into one line naming file, line and text. */
+/* The program table: each kernel program's files and variant, compiled per scene for the
+ * programs the scene's plans use (no program is built that no plan runs), with the version
+ * line, the precision prelude and the #define prelude (gles_prelude.c); each program's
+ * uniform locations looked up once at link. Compile errors are translated into one line
+ * naming file, line and text. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "gles_internal.h"
+#include "gles_seams.h"
 #include "kernels.h"
 
 #define LINE_BASE 1000
 
 /* Every kernel runs at full precision (ray tracing in mediump would be meaningless). */
-static const char prelude[] = "precision highp float;\n"
-                              "precision highp int;\n"
-                              "precision highp sampler2D;\n"
-                              "precision highp sampler2DArray;\n";
+static const char precision[] = "precision highp float;\n"
+                                "precision highp int;\n"
+                                "precision highp sampler2D;\n"
+                                "precision highp sampler2DArray;\n";
 
-/* Test seam (gles_internal.h): one kernel's source replaced, to check compile errors. */
-static const char *override_name, *override_source;
+/* Which #define prelude a program takes (rs_gles_programs_build()'s three). */
+enum { ALL_PASSES, FIRST_PASS, RASTER_FIRST_PASS };
 
-void rs__gles_override_kernel(const char *name, const char *source)
-{
-	override_name = name;
-	override_source = source;
-}
+/* The fragment stage of a tracing kernel: the library files in dependency order, then
+ * the kernel's own (and camera.glsl, visibility.glsl where it makes primaries). */
+#define PATH_FILES                                                                                 \
+	"common.glsl", "surface.glsl", "envcube.glsl", "lighting.glsl", "optics.glsl",             \
+	    "cubemaps.glsl", "path.glsl"
+#define PATH_COUNT 7
+enum { MAX_FILES = 12 };
+
+static const struct {
+	const char *files[MAX_FILES]; /* fragment stage, in order */
+	size_t count;
+	const char *vertex[3]; /* NULL: the fullscreen triangle */
+	size_t vcount;
+	int variant;
+} programs[PROG_COUNT] = {
+    [PROG_RAYGEN] = {{"camera.glsl", "raygen.glsl"}, 2, {NULL}, 0, ALL_PASSES},
+    [PROG_INTERSECT] =
+        {{"common.glsl", "cubemaps.glsl", "intersect.glsl"}, 3, {NULL}, 0, ALL_PASSES},
+    [PROG_SHADE] = {{PATH_FILES, "shade.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
+    [PROG_FUSED] = {{PATH_FILES, "fused.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
+    [PROG_DISPLAY] = {{"display.glsl"}, 1, {NULL}, 0, ALL_PASSES},
+    [PROG_RASTER] =
+        {{"raster.glsl"}, 1, {"common.glsl", "camera.glsl", "raster_vertex.glsl"}, 3, ALL_PASSES},
+    [PROG_SHADOW] = {{"shadow.glsl"}, 1, {"common.glsl", "shadow_vertex.glsl"}, 2, ALL_PASSES},
+    [PROG_FUSED_FIRST] =
+        {{PATH_FILES, "camera.glsl", "fused.glsl"}, PATH_COUNT + 2, {NULL}, 0, FIRST_PASS},
+    [PROG_ENVIRONMENT] = {{PATH_FILES, "environment.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
+    [PROG_SHADING] = {{PATH_FILES, "shading.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
+    [PROG_NEXTRAY] = {{PATH_FILES, "nextray.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
+    [PROG_RESOLVE] = {{"common.glsl", "camera.glsl", "visibility.glsl", "resolve.glsl"},
+                      4,
+                      {NULL},
+                      0,
+                      ALL_PASSES},
+    [PROG_FUSED_RASTER] = {{PATH_FILES, "camera.glsl", "visibility.glsl", "fused.glsl"},
+                           PATH_COUNT + 3,
+                           {NULL},
+                           0,
+                           RASTER_FIRST_PASS},
+};
+
+/* The uniforms' names, in the order of the U_* enum. */
+static const char *const uniform_names[U_COUNT] = {
+    [U_NODES] = "u_nodes",
+    [U_TRIS] = "u_tris",
+    [U_NORMALS] = "u_normals",
+    [U_MATERIALS] = "u_materials",
+    [U_NODE_COUNT] = "u_node_count",
+    [U_GRID_ORIGIN] = "u_grid_origin",
+    [U_GRID_STEP] = "u_grid_step",
+    [U_TRI_COUNT] = "u_tri_count",
+    [U_MATERIAL_COUNT] = "u_material_count",
+    [U_SPAWN_SCALE] = "u_spawn_scale",
+    [U_SPAWN_FLOOR] = "u_spawn_floor",
+    [U_AMBIENT] = "u_ambient",
+    [U_LIGHT_POS] = "u_light_pos",
+    [U_LIGHT_COLOR] = "u_light_color",
+    [U_ENV_CENTER] = "u_env_center",
+    [U_ENV_HALF] = "u_env_half",
+    [U_ENV_COLOR] = "u_env_color",
+    [U_ENV_GRID] = "u_env_grid",
+    [U_ENV_LINE_WIDTH] = "u_env_line_width",
+    [U_ENV_LINE_SCALE] = "u_env_line_scale",
+    [U_SHADOW] = "u_shadow",
+    [U_SHADOW_SIZE] = "u_shadow_size",
+    [U_SHADOW_FILTER] = "u_shadow_filter",
+    [U_EYE] = "u_eye",
+    [U_FWD] = "u_fwd",
+    [U_RIGHT] = "u_right",
+    [U_UP] = "u_up",
+    [U_SIZE] = "u_size",
+    [U_TAN] = "u_tan",
+    [U_SHIFT] = "u_shift",
+    [U_NEAR] = "u_near",
+    [U_FAR] = "u_far",
+    [U_ORIG] = "u_orig",
+    [U_DIR] = "u_dir",
+    [U_ACC] = "u_acc",
+    [U_CNT] = "u_cnt",
+    [U_HIT] = "u_hit",
+    [U_VIS] = "u_vis",
+    [U_ENVMAP] = "u_envmap",
+    [U_ENVMAP_ON] = "u_envmap_on",
+    [U_OBJECTS] = "u_objects",
+    [U_OBJMAP_ON] = "u_objmap_on",
+    [U_OBJMAP0] = "u_objmap0",
+    [U_OBJMAP0 + 1] = "u_objmap1",
+    [U_OBJMAP0 + 2] = "u_objmap2",
+    [U_OBJMAP0 + 3] = "u_objmap3",
+    [U_LIGHT] = "u_light",
+    [U_AXIS] = "u_axis",
+    [U_SIGN] = "u_sign",
+};
+_Static_assert(RS_RENDER_MAX_MIRROR_OBJECTS == 4, "one u_objmapN name per mirror object");
 
 static const char *kernel_source(const char *name)
 {
-	if (override_name && strcmp(override_name, name) == 0)
-		return override_source;
+	/* test builds only (gles_seams.h): a kernel's source replaced */
+	const char *override = rs__gles_kernel_override ? rs__gles_kernel_override(name) : NULL;
+	if (override)
+		return override;
 	for (const struct rs_gles_kernel *k = rs_gles_kernels; k->name; ++k)
 		if (strcmp(k->name, name) == 0)
 			return k->source;
@@ -102,13 +197,12 @@ static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *ver
                             const char *const *files, size_t count, const char *defines,
                             GLuint *out, struct rs_error *err)
 {
-	enum { MAX_FILES = 6 };
 	RS_ASSERT(count > 0 && count <= MAX_FILES);
 	const char *parts[3 + 2 * MAX_FILES];
 	char lines[MAX_FILES][32];
 	GLsizei n = 0;
 	parts[n++] = version;
-	parts[n++] = prelude;
+	parts[n++] = precision;
 	parts[n++] = defines;
 	for (size_t i = 0; i < count; ++i) {
 		const char *src = kernel_source(files[i]);
@@ -122,9 +216,9 @@ static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *ver
 	return compile(gl, type, parts, n, files, count, out, err);
 }
 
-enum rs_status rs_gles_program(const struct rs_gl *gl, const char *version,
-                               const char *const *vfiles, size_t vcount, const char *const *files,
-                               size_t count, const char *defines, GLuint *out, struct rs_error *err)
+static enum rs_status program(const struct rs_gl *gl, const char *version,
+                              const char *const *vfiles, size_t vcount, const char *const *files,
+                              size_t count, const char *defines, GLuint *out, struct rs_error *err)
 {
 	static const char *const fullscreen[1] = {"fullscreen.glsl"};
 	*out = 0;
@@ -158,15 +252,37 @@ enum rs_status rs_gles_program(const struct rs_gl *gl, const char *version,
 	return RS_OK;
 }
 
-enum rs_status rs_gles_check(const struct rs_gl *gl, const char *what, struct rs_error *err)
+enum rs_status rs_gles_programs_build(struct gles *g, const char *const prelude[3],
+                                      struct rs_error *err)
 {
-	GLenum e = gl->GetError();
-	if (e == GL_NO_ERROR)
-		return RS_OK;
-	while (gl->GetError() != GL_NO_ERROR) {
+	bool used[PROG_COUNT] = {false};
+	used[PROG_DISPLAY] = true;
+	used[PROG_SHADOW] = g->desc.shadows == RS_SHADOW_MAP;
+	for (int k = 0; k < PLAN_COUNT; ++k)
+		for (uint32_t i = 0; i < g->plans[k].count; ++i)
+			used[g->plans[k].steps[i].prog] = true;
+	const char *version =
+	    g->storage == RS_SCENE_STORAGE_BUFFER ? g->buffer_glsl : "#version 300 es\n";
+	for (int i = 0; i < PROG_COUNT; ++i) {
+		struct rs_gles_program *p = &g->prog[i];
+		if (!used[i])
+			continue;
+		const char *const *vs = programs[i].vcount ? programs[i].vertex : NULL;
+		enum rs_status st =
+		    program(&g->gl, version, vs, programs[i].vcount, programs[i].files,
+		            programs[i].count, prelude[programs[i].variant], &p->id, err);
+		if (st != RS_OK)
+			return st;
+		for (int u = 0; u < U_COUNT; ++u)
+			p->loc[u] = g->gl.GetUniformLocation(p->id, uniform_names[u]);
 	}
-	if (e == GL_OUT_OF_MEMORY)
-		return rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of GPU memory (%s)", what);
-	return rs_error_set(err, RS_ERR_DEVICE, "gles: GL error 0x%04x after %s", (unsigned)e,
-	                    what);
+	return RS_OK;
+}
+
+void rs_gles_programs_delete(struct gles *g)
+{
+	for (int i = 0; i < PROG_COUNT; ++i)
+		if (g->prog[i].id)
+			g->gl.DeleteProgram(g->prog[i].id);
+	memset(g->prog, 0, sizeof g->prog);
 }

@@ -1,64 +1,14 @@
-/* The GLES renderer object: capability probe at creation, and per scene the upload of the
- * packed textures, the per-pixel state targets and the kernels specialised for the scene
- * (lights, whether any material reflects or refracts, triangle test, counters). */
+/* The GLES renderer object, the top of the backend's stack (gles_internal.h): the ops table,
+ * the capability probe at creation; per scene the frame description, the plans, the
+ * kernels specialised for the scene (lights, whether any material reflects or refracts,
+ * triangle test, counters), the upload and the captures; per frame the captures that
+ * change, the frame's plan, the display pass and the readback. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "gles_internal.h"
-
-static void delete_scene(struct gles *g)
-{
-	const struct rs_gl *gl = &g->gl;
-	for (int i = 0; i < PROG_COUNT; ++i)
-		if (g->prog[i])
-			gl->DeleteProgram(g->prog[i]);
-	memset(g->prog, 0, sizeof g->prog);
-	GLuint *tex[] = {g->scene_tex, &g->state[0][0], g->cnt, g->hit, &g->color};
-	size_t n[] = {4, 2 * ST_COUNT, 2, 2, 1};
-	for (int i = 0; i < 5; ++i) {
-		gl->DeleteTextures((GLsizei)n[i], tex[i]);
-		memset(tex[i], 0, n[i] * sizeof(GLuint));
-	}
-	gl->DeleteBuffers(4, g->scene_buf);
-	memset(g->scene_buf, 0, sizeof g->scene_buf);
-	GLuint rbs[2] = {g->depth, g->shadow_depth};
-	gl->DeleteRenderbuffers(2, rbs);
-	gl->DeleteTextures(1, &g->shadow);
-	gl->DeleteTextures(1, &g->envmap);
-	gl->DeleteTextures(1, &g->object_tex);
-	gl->DeleteTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
-	memset(g->objmap, 0, sizeof g->objmap);
-	g->depth = g->shadow_depth = g->shadow = g->envmap = g->object_tex = 0;
-	g->envmap_ready = false;
-	g->object_count = 0;
-	g->objmap_read = -1;
-	rs_render_accel_free(&g->accel);
-	free(g->scratch);
-	g->scratch = NULL;
-	g->scene = NULL;
-}
-
-/* A one-level texture (immutable storage: a driver may then know no other level is ever
- * read; llvmpipe 22.3 still does per-lane level arithmetic in texelFetch, no measured
- * difference). */
-static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h, GLenum type,
-                      const void *data)
-{
-	GLuint t;
-	gl->GenTextures(1, &t);
-	gl->BindTexture(GL_TEXTURE_2D, t);
-	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-	gl->TexStorage2D(GL_TEXTURE_2D, 1, (GLenum)format, w, h);
-	if (data)
-		gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h,
-		                  format == GL_RGBA32UI ? GL_RGBA_INTEGER : GL_RGBA, type, data);
-	return t;
-}
 
 /* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). 2D
  * storage only: buffer textures have no rows (rs_gles_choose_storage checked their length). */
@@ -126,8 +76,9 @@ static int row_shift(uint32_t items)
 	return -1;
 }
 
-static enum rs_status build_programs(struct gles *g, const struct rs_scene *scene,
-                                     struct rs_error *err)
+/* The three #define preludes (every program, the fused first pass, it over raster hits) and
+ * the programs the plans use. */
+static enum rs_status build_programs(struct gles *g, struct rs_error *err)
 {
 	const struct rs_packed *p = &g->accel.packed;
 	struct rs_gles_spec spec = {
@@ -137,7 +88,7 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    .node_orders = p->node_orders,
 	    .watertight = g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT,
 	    .counters = g->desc.counters,
-	    .optics = scene_has_optics(scene),
+	    .optics = scene_has_optics(g->scene),
 	    .geometry = g->frame.has_geometry,
 	    .shadow_map = g->desc.shadows == RS_SHADOW_MAP,
 	    .envmap = g->desc.reflections != RS_REFLECT_TRACE,
@@ -145,117 +96,61 @@ static enum rs_status build_programs(struct gles *g, const struct rs_scene *scen
 	    .compact_nodes = p->node_format == RS_PACK_NODES_COMPACT,
 	    .scene_buffers = g->storage == RS_SCENE_STORAGE_BUFFER,
 	};
-	/* three variants: every program, the fused first pass, and it over raster hits */
-	char full[1024], first[1024], raster_first[1024];
-	enum rs_status st = rs_gles_prelude(&spec, &g->frame.rules, full, sizeof full, err);
-	spec.first_pass = true;
-	if (st == RS_OK)
-		st = rs_gles_prelude(&spec, &g->frame.rules, first, sizeof first, err);
-	spec.raster_first = true;
-	if (st == RS_OK)
-		st =
-		    rs_gles_prelude(&spec, &g->frame.rules, raster_first, sizeof raster_first, err);
-	if (st != RS_OK)
-		return st;
-	static const char *const files[PROG_COUNT][5] = {
-	    {"camera.glsl", "raygen.glsl"},
-	    {"common.glsl", "surface.glsl", "intersect.glsl"},
-	    {"common.glsl", "surface.glsl", "shade.glsl"},
-	    {"common.glsl", "surface.glsl", "fused.glsl"},
-	    {"display.glsl"},
-	    {"raster.glsl"},
-	    {"shadow.glsl"},
-	    {"common.glsl", "surface.glsl", "camera.glsl", "fused.glsl"},
-	    {"common.glsl", "surface.glsl", "environment.glsl"},
-	    {"common.glsl", "surface.glsl", "shading.glsl"},
-	    {"common.glsl", "surface.glsl", "nextray.glsl"},
-	    {"common.glsl", "camera.glsl", "visibility.glsl", "resolve.glsl"},
-	    {"common.glsl", "surface.glsl", "camera.glsl", "visibility.glsl", "fused.glsl"},
-	};
-	static const size_t counts[PROG_COUNT] = {2, 3, 3, 3, 1, 1, 1, 4, 3, 3, 3, 4, 5};
-	bool paper = g->desc.chain == RS_CHAIN_PAPER;
-	static const char *const raster_vertex[3] = {"common.glsl", "camera.glsl",
-	                                             "raster_vertex.glsl"};
-	static const char *const shadow_vertex[2] = {"common.glsl", "shadow_vertex.glsl"};
-	const char *version =
-	    g->storage == RS_SCENE_STORAGE_BUFFER ? g->buffer_glsl : "#version 300 es\n";
-	for (int i = 0; i < PROG_COUNT; ++i) {
-		bool fused = i == PROG_FUSED || i == PROG_FUSED_FIRST || i == PROG_FUSED_RASTER;
-		if (fused && (g->desc.counters || paper))
-			continue; /* counters run the separate chain (render targets) */
-		if (i == PROG_SHADE && paper)
-			continue;
-		if ((i == PROG_ENVIRONMENT || i == PROG_SHADING || i == PROG_NEXTRAY) && !paper)
-			continue;
-		if ((i == PROG_RASTER || i == PROG_RESOLVE || i == PROG_FUSED_RASTER) &&
-		    g->desc.primary != RS_PRIMARY_RASTER)
-			continue;
-		if (i == PROG_SHADOW && g->desc.shadows != RS_SHADOW_MAP)
-			continue;
-		const char *const *vs = i == PROG_RASTER   ? raster_vertex
-		                        : i == PROG_SHADOW ? shadow_vertex
-		                                           : NULL;
-		st = rs_gles_program(&g->gl, version, vs, i == PROG_SHADOW ? 2 : 3, files[i],
-		                     counts[i],
-		                     i == PROG_FUSED_FIRST    ? first
-		                     : i == PROG_FUSED_RASTER ? raster_first
-		                                              : full,
-		                     &g->prog[i], err);
-		if (st != RS_OK)
-			return st;
+	char preludes[3][1024];
+	enum rs_status st = RS_OK;
+	for (int v = 0; st == RS_OK && v < 3; ++v) {
+		spec.first_pass = v >= 1;
+		spec.raster_first = v == 2;
+		st = rs_gles_prelude(&spec, &g->frame.rules, preludes[v], sizeof preludes[v], err);
 	}
-	return RS_OK;
+	const char *const list[3] = {preludes[0], preludes[1], preludes[2]};
+	return st == RS_OK ? rs_gles_programs_build(g, list, err) : st;
 }
 
-/* Each allocation is checked on its own (rs_gles_allocated), so out of GPU memory names
- * the texture; what was made stays in g for delete_scene(). */
-static enum rs_status upload(struct gles *g, struct rs_error *err)
+/* The frame's plan and the capture frames' (decided here, once per scene). */
+static void make_plans(struct gles *g)
 {
-	const struct rs_gl *gl = &g->gl;
-	const struct rs_packed *p = &g->accel.packed;
-	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
-	static const char *const names[4] = {
-	    "the scene's node texture", "the scene's triangle texture",
-	    "the scene's normal texture", "the scene's material texture"};
+	const struct rs_render_desc *d = &g->desc;
+	struct rs_gles_plan_desc pd = {.passes = d->passes,
+	                               .primary = d->primary,
+	                               .chain = d->chain,
+	                               .counters = d->counters,
+	                               .envmap = d->reflections != RS_REFLECT_TRACE};
+	rs_gles_plan_make(&pd, &g->plans[PLAN_FRAME]);
+	if (!pd.envmap)
+		return;
+	/* the classic map: what the centre sees directly, with the frame's primaries */
+	pd.passes = 1;
+	rs_gles_plan_make(&pd, &g->plans[PLAN_ENVMAP]);
+	if (d->reflections != RS_REFLECT_INTERREFLECT)
+		return;
+	/* the objects' maps: rays start on a sphere, which a raster pass cannot do */
+	pd.primary = RS_PRIMARY_TRACE;
+	rs_gles_plan_make(&pd, &g->plans[PLAN_BOUNCE_1]);
+	pd.passes = 2;
+	rs_gles_plan_make(&pd, &g->plans[PLAN_BOUNCE_N]);
+}
+
+/* The captures set_scene makes and the warm-up: the whole chain once on a 1x1 viewport,
+ * results unused (drivers such as llvmpipe compile a kernel at its first draw, which would
+ * otherwise land in the first frame's timings). */
+static enum rs_status prepare(struct gles *g, struct rs_error *err)
+{
 	enum rs_status st = RS_OK;
-	for (int i = 0; st == RS_OK && i < 4; ++i) {
-		bool words = t[i]->format == RS_TEXEL_RGBA32UI;
-		GLenum format = words ? GL_RGBA32UI : GL_RGBA32F;
-		if (g->storage == RS_SCENE_STORAGE_BUFFER)
-			st = rs_gles_buffer_texture(g, i, format, t[i], names[i], err);
-		else
-			g->scene_tex[i] =
-			    texture(gl, (GLint)format, (GLsizei)t[i]->width, (GLsizei)t[i]->height,
-			            words ? GL_UNSIGNED_INT : GL_FLOAT, t[i]->texels);
-		if (st == RS_OK) /* the 2D storage; or glTexBuffer after the buffer's own check */
-			st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
-			                       (GLsizei)t[i]->height, 1, err);
-	}
-	GLsizei w = (GLsizei)g->desc.width, h = (GLsizei)g->desc.height;
-	GLuint *targets[2 * (ST_COUNT + 2)];
-	int n = 0;
-	for (int k = 0; k < 2; ++k) {
-		for (int s = 0; s < ST_COUNT; ++s)
-			targets[n++] = &g->state[k][s];
-		targets[n++] = &g->hit[k];
-		if (g->desc.counters)
-			targets[n++] = &g->cnt[k];
-	}
-	for (int i = 0; st == RS_OK && i < n; ++i) {
-		*targets[i] = texture(gl, GL_RGBA32F, w, h, GL_FLOAT, NULL);
-		st = rs_gles_allocated(gl, "a per-pixel state target", GL_RGBA32F, w, h, 1, err);
-	}
-	if (st == RS_OK) {
-		g->color = texture(gl, GL_RGBA8, w, h, GL_UNSIGNED_BYTE, NULL);
-		st = rs_gles_allocated(gl, "the display target", GL_RGBA8, w, h, 1, err);
-	}
-	if (st == RS_OK && g->desc.primary == RS_PRIMARY_RASTER) {
-		gl->GenRenderbuffers(1, &g->depth);
-		gl->BindRenderbuffer(GL_RENDERBUFFER, g->depth);
-		gl->RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
-		st = rs_gles_allocated(gl, "the raster depth buffer", GL_DEPTH_COMPONENT32F, w, h,
-		                       1, err);
-	}
+	if (g->desc.shadows == RS_SHADOW_MAP)
+		st = rs_gles_shadow_maps(g, err);
+	/* Inter-reflection: rays that leave no mirror object read the classic map. */
+	if (st == RS_OK && g->desc.reflections != RS_REFLECT_TRACE)
+		st = rs_gles_envmap(g, err);
+	if (st == RS_OK && g->desc.reflections == RS_REFLECT_INTERREFLECT)
+		st = rs_gles_interreflect_setup(g, err);
+	struct rs_camera cam;
+	rs_camera_resolve(rs_scene_camera(g->scene), &cam);
+	struct rs_render_stats stats = {0};
+	if (st == RS_OK)
+		st = rs_gles_plan_run(g, &g->plans[PLAN_FRAME], &cam, 0.0f, 1, 1, &stats, err);
+	if (st == RS_OK)
+		st = rs_gles_display(g, &g->plans[PLAN_FRAME], &stats, err);
 	return st;
 }
 
@@ -267,8 +162,9 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	enum rs_status st = g->cops->make_current(g->ctx, err);
 	if (st != RS_OK)
 		return st;
-	delete_scene(g);
+	rs_gles_scene_delete(g);
 	g->desc = *desc;
+	g->scene = scene;
 	struct rs_pack_desc pack;
 	st = pack_desc(g, desc, &pack, err);
 	if (st == RS_OK)
@@ -286,32 +182,25 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	if (st == RS_OK && !(g->scratch = malloc(floats * sizeof(float))))
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for %ux%u",
 		                  desc->width, desc->height);
+	if (st == RS_OK)
+		make_plans(g);
+	/* upload_ms: the kernels' compile and the textures' upload, nothing else */
 	double t0 = rs_gles_now_ms();
 	if (st == RS_OK)
-		st = build_programs(g, scene, err);
+		st = build_programs(g, err);
 	if (st == RS_OK)
-		st = upload(g, err);
-	if (st == RS_OK && desc->shadows == RS_SHADOW_MAP)
-		st = rs_gles_shadow_maps(g, err);
-	bool interreflect = desc->reflections == RS_REFLECT_INTERREFLECT;
-	/* Inter-reflection: rays that leave no mirror object read the classic map. */
-	if (st == RS_OK && (desc->reflections == RS_REFLECT_ENVMAP || interreflect))
-		st = rs_gles_envmap(g, scene, err);
-	if (st == RS_OK && interreflect)
-		st = rs_gles_interreflect_setup(g, scene, err);
+		st = rs_gles_scene_upload(g, err);
 	if (st == RS_OK) {
-		struct rs_camera cam;
-		rs_camera_resolve(rs_scene_camera(scene), &cam);
-		st = rs_gles_warm_up(g, &cam, err);
+		g->gl.Finish();
+		stats->upload_ms = rs_gles_now_ms() - t0;
+		st = prepare(g, err);
 	}
 	if (st == RS_OK) {
 		g->gl.Finish();
 		stats->build_ms = g->accel.build_ms;
 		stats->pack_ms = g->accel.pack_ms;
-		stats->upload_ms = rs_gles_now_ms() - t0;
-		g->scene = scene;
 	} else {
-		delete_scene(g);
+		rs_gles_scene_delete(g);
 	}
 	g->cops->release(g->ctx);
 	return st;
@@ -332,11 +221,23 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 		st = rs_gles_interreflect_capture(g, err);
 		capture_ms = rs_gles_now_ms() - t0;
 	}
+	const struct rs_gles_plan *plan = &g->plans[PLAN_FRAME];
+	double t1 = rs_gles_now_ms();
 	if (st == RS_OK)
-		st = rs_gles_frame(g, camera, frame, stats, err);
-	if (st == RS_OK && capture_ms > 0.0) {
-		stats->render_ms += capture_ms;
+		st = rs_gles_plan_run(g, plan, camera, 0.0f, (GLsizei)g->desc.width,
+		                      (GLsizei)g->desc.height, stats, err);
+	/* The display pass is a step of its own: RGBA8 is made only when asked for. */
+	if (st == RS_OK && frame->rgba8)
+		st = rs_gles_display(g, plan, stats, err);
+	stats->render_ms = rs_gles_now_ms() - t1 + capture_ms;
+	stats->pixels = (uint64_t)g->desc.width * g->desc.height;
+	stats->primary_rays = stats->pixels;
+	if (capture_ms > 0.0)
 		rs_gles_kernel_time(stats, "envmap capture", capture_ms);
+	if (st == RS_OK) {
+		double t2 = rs_gles_now_ms();
+		st = rs_gles_readback(g, plan, frame, stats, err);
+		stats->readback_ms = rs_gles_now_ms() - t2;
 	}
 	g->cops->release(g->ctx);
 	return st;
@@ -348,7 +249,7 @@ static void gles_destroy(void *impl)
 	if (!g)
 		return;
 	if (g->gl.DeleteTextures && g->cops->make_current(g->ctx, NULL) == RS_OK) {
-		delete_scene(g);
+		rs_gles_scene_delete(g);
 		if (g->fbo)
 			g->gl.DeleteFramebuffers(1, &g->fbo);
 		if (g->vao)

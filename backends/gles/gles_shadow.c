@@ -6,8 +6,8 @@
 
 #include "gles_internal.h"
 
-static enum rs_status face(struct gles *g, GLuint prog, uint32_t light, int f, double far,
-                           struct rs_error *err)
+static enum rs_status face(struct gles *g, const struct rs_gles_program *p, uint32_t light, int f,
+                           double far, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
 	gl->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, g->shadow, 0,
@@ -19,10 +19,10 @@ static enum rs_status face(struct gles *g, GLuint prog, uint32_t light, int f, d
 	static const GLfloat one = 1.0f;
 	gl->ClearBufferfv(GL_COLOR, 0, none);
 	gl->ClearBufferfv(GL_DEPTH, 0, &one);
-	gl->Uniform1i(gl->GetUniformLocation(prog, "u_axis"), f / 2);
-	gl->Uniform1f(gl->GetUniformLocation(prog, "u_sign"), f % 2 ? -1.0f : 1.0f);
-	gl->Uniform1f(gl->GetUniformLocation(prog, "u_far"), (GLfloat)far);
-	gl->Uniform1f(gl->GetUniformLocation(prog, "u_near"), (GLfloat)(far * 1e-5));
+	rs_gles_uniform_i(gl, p, U_AXIS, f / 2);
+	rs_gles_uniform_f(gl, p, U_SIGN, f % 2 ? -1.0f : 1.0f);
+	rs_gles_uniform_f(gl, p, U_FAR, (GLfloat)far);
+	rs_gles_uniform_f(gl, p, U_NEAR, (GLfloat)(far * 1e-5));
 	gl->DrawArrays(GL_TRIANGLES, 0, (GLsizei)(3 * g->accel.packed.triangle_count));
 	return RS_OK;
 }
@@ -51,9 +51,9 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err)
 	if (st != RS_OK || g->accel.packed.triangle_count == 0)
 		return st;
 
-	GLuint prog = g->prog[PROG_SHADOW];
-	gl->UseProgram(prog);
-	rs_gles_bind(gl, prog, UNIT_TRIS, "u_tris", g->scene_target, g->scene_tex[UNIT_TRIS]);
+	const struct rs_gles_program *p = &g->prog[PROG_SHADOW];
+	gl->UseProgram(p->id);
+	rs_gles_bind(gl, p, UNIT_TRIS, U_TRIS, g->scene_target, g->scene_tex[UNIT_TRIS]);
 	gl->BindVertexArray(g->vao);
 	gl->BindFramebuffer(GL_FRAMEBUFFER, g->fbo);
 	static const GLenum buf0 = GL_COLOR_ATTACHMENT0;
@@ -73,13 +73,13 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err)
 	for (uint32_t l = 0; st == RS_OK && l < lights; ++l) {
 		float lp[3];
 		rs_gles_light_position(g, l, lp);
-		gl->Uniform3f(gl->GetUniformLocation(prog, "u_light"), lp[0], lp[1], lp[2]);
+		rs_gles_uniform_3fv(gl, p, U_LIGHT, 1, lp);
 		double d2 = 0.0;
 		for (int a = 0; a < 3; ++a)
 			d2 += (lp[a] - bc[a]) * (lp[a] - bc[a]);
 		double far = 1.01 * (sqrt(d2) + g->frame.bounds_radius) + 1e-30;
 		for (int f = 0; st == RS_OK && f < 6; ++f)
-			st = face(g, prog, l, f, far, err);
+			st = face(g, p, l, f, far, err);
 	}
 	gl->Disable(GL_DEPTH_TEST);
 	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, 0);

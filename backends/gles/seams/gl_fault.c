@@ -1,4 +1,4 @@
-/* Test seam (gl_api.h, never installed): GPU out-of-memory on demand. When armed before a
+/* Test seam (gles_seams.h; test builds only): GPU out-of-memory on demand. When armed before a
  * renderer loads its GL table, the allocating entry points (texture and renderbuffer
  * storage: glTexImage2D/3D, glTexStorage2D, glRenderbufferStorage; buffer storage,
  * glBufferData; framebuffer and vertex array objects) are wrapped: allocation number N is not made
@@ -7,7 +7,7 @@
  * One renderer at a time (the state is static). */
 #include <string.h>
 
-#include "gl_api.h"
+#include "gles_seams.h"
 
 enum { KIND_TEXTURE, KIND_RENDERBUFFER, KIND_BUFFER, KIND_FRAMEBUFFER, KIND_VERTEX_ARRAY, KINDS };
 #define MAX_LIVE 512

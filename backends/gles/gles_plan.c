@@ -1,0 +1,170 @@
+/* The per-frame plan: which programs run, in which order, reading and writing which
+ * targets. Decided once per set_scene (the frame's plan and the capture frames'), then run
+ * by gles_frame.c. The chain is chosen here and only here:
+ *   fused     one trace pass per segment (the first one makes its own primary rays, or
+ *             takes them from the visibility pass); only without counters (its fourth target
+ *             carries the hit) and without cube maps (which switch tracing off per pass);
+ *   separate  ray generation, then per segment intersect (or the raster visibility and
+ *             resolve passes) and shade;
+ *   paper     as separate, with shade split into the paper's environment, shading and
+ *             next-ray kernels, each writing only the state it changes.
+ * The state lives in ping-pong pairs: a pass reads one texture of each pair it uses and
+ * writes the other, which then becomes the current one. */
+#include <string.h>
+
+#include "gles_internal.h"
+
+/* Which texture of each ping-pong pair holds the current per-pixel state. */
+struct cursor {
+	int st[ST_COUNT];
+	int cnt;
+};
+
+static uint8_t state_ref(int k, int s)
+{
+	return (uint8_t)(REF_STATE + 3 * k + s);
+}
+
+/* The current state as a step's inputs (u_orig, u_dir, u_acc, u_cnt), and `hit`. */
+static void inputs(const struct cursor *c, uint8_t hit, struct rs_gles_step *s)
+{
+	for (int k = 0; k < ST_COUNT; ++k)
+		s->in[k] = state_ref(c->st[k], k);
+	s->in[3] = (uint8_t)(REF_CNT + c->cnt);
+	s->in[4] = hit;
+}
+
+/* State pair `s` moves to its other texture, which the step writes. */
+static uint8_t flip(struct cursor *c, int s)
+{
+	c->st[s] = 1 - c->st[s];
+	return state_ref(c->st[s], s);
+}
+
+static uint8_t flip_cnt(struct cursor *c)
+{
+	c->cnt = 1 - c->cnt;
+	return (uint8_t)(REF_CNT + c->cnt);
+}
+
+static struct rs_gles_step *add(struct rs_gles_plan *plan, const char *name, int prog, uint8_t bind,
+                                uint32_t pass)
+{
+	struct rs_gles_step *s = &plan->steps[plan->count++];
+	memset(s, 0, sizeof *s);
+	s->name = name;
+	s->prog = (uint8_t)prog;
+	s->bind = bind;
+	s->pass = pass;
+	return s;
+}
+
+/* The fused chain's pass: intersection and path step in one kernel. */
+static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pass, bool last,
+                       bool rasterized)
+{
+	if (rasterized) {
+		struct rs_gles_step *v =
+		    add(plan, "raster", PROG_RASTER, BIND_SCENE | BIND_CAMERA, pass);
+		v->raster = true;
+		v->out[0] = REF_HIT + 1; /* free until the second pass */
+		v->n_out = 1;
+	}
+	int prog = pass > 0 ? PROG_FUSED : rasterized ? PROG_FUSED_RASTER : PROG_FUSED_FIRST;
+	uint8_t bind = BIND_SCENE;
+	bind |= pass == 0 ? BIND_CAMERA | BIND_NEAR | (rasterized ? BIND_VIS : 0) : BIND_STATE;
+	struct rs_gles_step *s = add(plan, "trace", prog, bind, pass);
+	inputs(c, REF_NONE, s);
+	for (int k = 0; k < ST_COUNT; ++k)
+		s->out[k] = flip(c, k);
+	s->out[3] = (uint8_t)(REF_HIT + (pass == 0 ? 0 : 1));
+	s->n_out = 4;
+	/* Nothing reads the last pass's rays, nor its hits after pass 0's (the frame's depth):
+	 * not stored (3-5 % of a Cow17 2-pass frame, llvmpipe). */
+	if (last) {
+		s->out[ST_ORIG] = s->out[ST_DIR] = REF_NONE;
+		if (pass > 0)
+			s->out[3] = REF_NONE;
+	}
+}
+
+/* The separate and paper chains' segment after its hits are in `hit`. */
+static void path_step(struct rs_gles_plan *plan, struct cursor *c, uint32_t pass, uint8_t hit,
+                      bool paper, uint8_t envmap)
+{
+	uint8_t bind = BIND_SCENE | BIND_STATE | BIND_HIT | envmap;
+	bool counters = plan->counters;
+	if (!paper) {
+		struct rs_gles_step *s = add(plan, "shade", PROG_SHADE, bind, pass);
+		inputs(c, hit, s);
+		for (int k = 0; k < ST_COUNT; ++k)
+			s->out[k] = flip(c, k);
+		s->out[3] = counters ? flip_cnt(c) : REF_NONE;
+		s->n_out = counters ? 4 : 3;
+		return;
+	}
+	struct rs_gles_step *s = add(plan, "environment", PROG_ENVIRONMENT, bind, pass);
+	inputs(c, hit, s);
+	s->out[0] = flip(c, ST_ACC);
+	s->n_out = 1;
+	s = add(plan, "shading", PROG_SHADING, bind, pass);
+	inputs(c, hit, s);
+	s->out[0] = flip(c, ST_ACC);
+	s->out[1] = counters ? flip_cnt(c) : REF_NONE;
+	s->n_out = counters ? 2 : 1;
+	s = add(plan, "next ray", PROG_NEXTRAY, bind, pass);
+	inputs(c, hit, s);
+	s->out[0] = flip(c, ST_ORIG);
+	s->out[1] = flip(c, ST_DIR);
+	s->out[2] = flip(c, ST_ACC);
+	s->n_out = 3;
+}
+
+void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *out)
+{
+	memset(out, 0, sizeof *out);
+	out->counters = d->counters;
+	bool fused = d->chain == RS_CHAIN_FUSED && !d->counters && !d->envmap;
+	bool paper = d->chain == RS_CHAIN_PAPER;
+	uint8_t envmap = d->envmap ? BIND_ENVMAP : 0;
+	/* With cube maps every path ends in the second pass: later ones would be empty. */
+	uint32_t passes = d->envmap && d->passes > 2 ? 2 : d->passes;
+	struct cursor c = {{0, 0, 0}, 0};
+	if (!fused) {
+		struct rs_gles_step *s =
+		    add(out, "raygen", PROG_RAYGEN, BIND_CAMERA | BIND_NEAR, 0);
+		for (int k = 0; k < ST_COUNT; ++k)
+			s->out[k] = state_ref(0, k);
+		s->out[3] = REF_CNT;
+		s->n_out = d->counters ? 4 : 3;
+	}
+	for (uint32_t pass = 0; pass < passes; ++pass) {
+		bool rasterized = pass == 0 && d->primary == RS_PRIMARY_RASTER;
+		uint8_t hit = (uint8_t)(REF_HIT + (pass == 0 ? 0 : 1));
+		if (fused) {
+			fused_pass(out, &c, pass, pass + 1 == passes, rasterized);
+			continue;
+		}
+		if (rasterized) {
+			struct rs_gles_step *v =
+			    add(out, "raster", PROG_RASTER, BIND_SCENE | BIND_CAMERA, pass);
+			v->raster = true;
+			v->out[0] = REF_HIT + 1;
+			v->n_out = 1;
+			struct rs_gles_step *s = add(out, "resolve", PROG_RESOLVE,
+			                             BIND_SCENE | BIND_CAMERA | BIND_VIS, pass);
+			s->out[0] = hit;
+			s->n_out = 1;
+		} else {
+			struct rs_gles_step *s = add(out, "intersect", PROG_INTERSECT,
+			                             BIND_SCENE | BIND_STATE | envmap, pass);
+			inputs(&c, REF_NONE, s);
+			s->out[0] = hit;
+			s->out[1] = d->counters ? flip_cnt(&c) : REF_NONE;
+			s->n_out = d->counters ? 2 : 1;
+		}
+		path_step(out, &c, pass, hit, paper, envmap);
+	}
+	out->result_acc = state_ref(c.st[ST_ACC], ST_ACC);
+	out->result_cnt = (uint8_t)(REF_CNT + c.cnt);
+}

@@ -1,0 +1,120 @@
+/* Scene storage on the GPU: the four packed textures (2D or buffer textures, gles_storage.c),
+ * the per-pixel ping-pong targets the plans draw into, the display target and the raster
+ * depth buffer; and the one place that frees what set_scene made. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "gles_internal.h"
+
+/* A one-level texture (immutable storage: a driver may then know no other level is ever
+ * read; llvmpipe 22.3 still does per-lane level arithmetic in texelFetch, no measured
+ * difference). */
+static GLuint texture(const struct rs_gl *gl, GLint format, GLsizei w, GLsizei h, GLenum type,
+                      const void *data)
+{
+	GLuint t;
+	gl->GenTextures(1, &t);
+	gl->BindTexture(GL_TEXTURE_2D, t);
+	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+	gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+	gl->TexStorage2D(GL_TEXTURE_2D, 1, (GLenum)format, w, h);
+	if (data)
+		gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h,
+		                  format == GL_RGBA32UI ? GL_RGBA_INTEGER : GL_RGBA, type, data);
+	return t;
+}
+
+GLuint rs_gles_target(const struct gles *g, uint8_t ref)
+{
+	if (ref >= REF_STATE && ref < REF_HIT)
+		return g->state[(ref - REF_STATE) / ST_COUNT][(ref - REF_STATE) % ST_COUNT];
+	if (ref >= REF_HIT && ref < REF_CNT)
+		return g->hit[ref - REF_HIT];
+	if (ref >= REF_CNT && ref < REF_COLOR)
+		return g->cnt[ref - REF_CNT];
+	return ref == REF_COLOR ? g->color : 0;
+}
+
+/* Each allocation is checked on its own (rs_gles_allocated), so out of GPU memory names
+ * the texture; what was made stays in g for rs_gles_scene_delete(). */
+enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	const struct rs_packed *p = &g->accel.packed;
+	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
+	static const char *const names[4] = {
+	    "the scene's node texture", "the scene's triangle texture",
+	    "the scene's normal texture", "the scene's material texture"};
+	enum rs_status st = RS_OK;
+	for (int i = 0; st == RS_OK && i < 4; ++i) {
+		bool words = t[i]->format == RS_TEXEL_RGBA32UI;
+		GLenum format = words ? GL_RGBA32UI : GL_RGBA32F;
+		if (g->storage == RS_SCENE_STORAGE_BUFFER)
+			st = rs_gles_buffer_texture(g, i, format, t[i], names[i], err);
+		else
+			g->scene_tex[i] =
+			    texture(gl, (GLint)format, (GLsizei)t[i]->width, (GLsizei)t[i]->height,
+			            words ? GL_UNSIGNED_INT : GL_FLOAT, t[i]->texels);
+		if (st == RS_OK) /* the 2D storage; or glTexBuffer after the buffer's own check */
+			st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
+			                       (GLsizei)t[i]->height, 1, err);
+	}
+	GLsizei w = (GLsizei)g->desc.width, h = (GLsizei)g->desc.height;
+	GLuint *targets[2 * (ST_COUNT + 2)];
+	int n = 0;
+	for (int k = 0; k < 2; ++k) {
+		for (int s = 0; s < ST_COUNT; ++s)
+			targets[n++] = &g->state[k][s];
+		targets[n++] = &g->hit[k];
+		if (g->desc.counters)
+			targets[n++] = &g->cnt[k];
+	}
+	for (int i = 0; st == RS_OK && i < n; ++i) {
+		*targets[i] = texture(gl, GL_RGBA32F, w, h, GL_FLOAT, NULL);
+		st = rs_gles_allocated(gl, "a per-pixel state target", GL_RGBA32F, w, h, 1, err);
+	}
+	if (st == RS_OK) {
+		g->color = texture(gl, GL_RGBA8, w, h, GL_UNSIGNED_BYTE, NULL);
+		st = rs_gles_allocated(gl, "the display target", GL_RGBA8, w, h, 1, err);
+	}
+	if (st == RS_OK && g->desc.primary == RS_PRIMARY_RASTER) {
+		gl->GenRenderbuffers(1, &g->depth);
+		gl->BindRenderbuffer(GL_RENDERBUFFER, g->depth);
+		gl->RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+		st = rs_gles_allocated(gl, "the raster depth buffer", GL_DEPTH_COMPONENT32F, w, h,
+		                       1, err);
+	}
+	return st;
+}
+
+void rs_gles_scene_delete(struct gles *g)
+{
+	const struct rs_gl *gl = &g->gl;
+	rs_gles_programs_delete(g);
+	GLuint *tex[] = {g->scene_tex, &g->state[0][0], g->cnt, g->hit, &g->color};
+	size_t n[] = {4, 2 * ST_COUNT, 2, 2, 1};
+	for (int i = 0; i < 5; ++i) {
+		gl->DeleteTextures((GLsizei)n[i], tex[i]);
+		memset(tex[i], 0, n[i] * sizeof(GLuint));
+	}
+	gl->DeleteBuffers(4, g->scene_buf);
+	memset(g->scene_buf, 0, sizeof g->scene_buf);
+	GLuint rbs[2] = {g->depth, g->shadow_depth};
+	gl->DeleteRenderbuffers(2, rbs);
+	gl->DeleteTextures(1, &g->shadow);
+	gl->DeleteTextures(1, &g->envmap);
+	gl->DeleteTextures(1, &g->object_tex);
+	gl->DeleteTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
+	memset(g->objmap, 0, sizeof g->objmap);
+	g->depth = g->shadow_depth = g->shadow = g->envmap = g->object_tex = 0;
+	g->envmap_ready = false;
+	g->object_count = 0;
+	g->objmap_read = -1;
+	memset(g->plans, 0, sizeof g->plans);
+	rs_render_accel_free(&g->accel);
+	free(g->scratch);
+	g->scratch = NULL;
+	g->scene = NULL;
+}
