@@ -1,4 +1,4 @@
-/* Out of GPU memory (issue 8 item 11): through the private fault seam of gl_api.h, every
+/* Out of GPU memory (issue 8 item 11): through the private fault seam of gles_seams.h, every
  * GL allocation the renderer makes (textures, renderbuffers, the buffer objects of buffer
  * texture storage, framebuffer and vertex array objects, shadow and environment maps, the
  * inter-reflection maps captured per frame) is made to fail in turn. Each failure must give

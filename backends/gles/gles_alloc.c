@@ -1,7 +1,7 @@
 /* GPU allocations checked one by one: after each texture or renderbuffer storage (and each
  * framebuffer or vertex array object) glGetError is read, so out of GPU memory is reported
  * as RS_ERR_NO_MEMORY naming what was being allocated and its size, not as a later pass
- * drawing into an incomplete target. */
+ * drawing into an incomplete target; and glGetError after any other step (rs_gles_check). */
 #include <stdbool.h>
 #include <stdio.h>
 

@@ -3,7 +3,6 @@
  * kernels specialised for the scene (lights, whether any material reflects or refracts,
  * triangle test, counters), the upload and the captures; per frame the captures that
  * change, the frame's plan, the display pass and the readback. */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,9 +1,6 @@
 /* Kernel inputs through each program's cached uniform locations (gles_program.c looks them
  * up once at link): texture units, the frame description (rs_trace_frame) and the camera
  * basis (rs_trace_view) of lib/trace handed to the kernels in fp32, and the cube maps. */
-#include <math.h>
-#include <stdio.h>
-
 #include "gles_internal.h"
 
 void rs_gles_bind(const struct rs_gl *gl, const struct rs_gles_program *p, int unit, int u,
