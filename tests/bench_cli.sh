@@ -9,7 +9,7 @@ expect_fail() {
   fails_cleanly "$name" "$code" "$regex" "$@" && ok "$name"
 }
 
-expect_fail "unknown table" 2 "--table" --table 3
+expect_fail "unknown table" 2 "--table" --table 4
 expect_fail "unknown backend" 2 "unknown backend 'vulkan'" --table 2 --backend vulkan
 expect_fail "unknown peer" 2 "--peer" --table 2 --peer optix
 expect_fail "unknown builder" 2 "BVH builder" --table 2 --bvh octree

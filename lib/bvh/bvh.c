@@ -27,6 +27,8 @@ void rs_bvh_desc_resolve(const struct rs_bvh_desc *desc, struct rs_bvh_desc *out
 		d.sah_bins = DEFAULT_BINS;
 	if (d.traversal_cost == 0.0f)
 		d.traversal_cost = 1.0f;
+	if (d.threads == 0)
+		d.threads = 1;
 	*out = d;
 }
 
@@ -92,6 +94,9 @@ static enum rs_status validate(const struct rs_bvh_desc *d, const float *positio
 	if (d->sah_bins < 2 || d->sah_bins > RS_BVH_MAX_BINS)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: sah_bins %u outside 2..%u",
 		                    d->sah_bins, RS_BVH_MAX_BINS);
+	if (d->threads > RS_BVH_MAX_THREADS)
+		return rs_error_set(err, RS_ERR_INVALID, "bvh: threads %u above %u", d->threads,
+		                    RS_BVH_MAX_THREADS);
 	if (!(d->traversal_cost > 0.0f) || !isfinite(d->traversal_cost))
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: traversal_cost must be positive");
 	if (triangle_count == 0)
