@@ -25,8 +25,8 @@
  * every bin (the same planes: one per distinct bin, in bin order). */
 #define SMALL_NODE 12u
 /* Nodes of at least this many records bin in chunks of CHUNK on the pool. */
-#define PAR_BIN_MIN 32768u
-#define CHUNK 8192u
+#define PAR_BIN_MIN 16384u
+#define CHUNK 4096u
 
 static inline void grow(float lo[4], float hi[4], const float plo[4], const float phi[4])
 {
@@ -209,16 +209,14 @@ static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
 	return b;
 }
 
-/* Price every plane between non-empty bins of axis a; keep the cheapest in *out. */
-static void sweep_axis(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
-                       const struct rs_bvh__binning *b, int a, double area, struct split *out)
+/* Price every plane between the non-empty bins ne[0..m) of axis a (ascending); keep the
+ * cheapest in *out. */
+static void sweep_bins(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
+                       const struct rs_bvh__binning *b, int a, const uint32_t *ne, uint32_t m,
+                       double area, struct split *out)
 {
 	const struct rs_bvh__bin *bins = &b->bins[a * s->nbins];
 	const uint32_t *counts = &b->counts[a * s->nbins];
-	uint32_t ne[RS_BVH_MAX_BINS], m = 0;
-	for (uint32_t j = 0; j < s->nbins; j++)
-		if (counts[j])
-			ne[m++] = j;
 	float rlo[4], rhi[4];
 	box_empty4(rlo, rhi);
 	uint32_t rn = 0;
@@ -245,60 +243,40 @@ static void sweep_axis(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 	}
 }
 
-/* sweep_axis() for a small node: its records sorted by bin, each run of equal bins
- * standing for its bin (the same unions, counts and costs, in the same order). */
-static void sweep_small(const struct rs_bvh__sah *s, const struct rs_bvh__item *items, uint32_t n,
-                        const int32_t (*bins)[4], int a, double area, struct split *out)
+/* All bins of axis a were filled: sweep the non-empty ones. */
+static void sweep_axis(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
+                       const struct rs_bvh__binning *b, int a, double area, struct split *out)
 {
-	uint32_t bin[SMALL_NODE], ord[SMALL_NODE];
-	for (uint32_t i = 0; i < n; i++) {
-		uint32_t b = (uint32_t)bins[i][a], j = i;
-		for (; j > 0 && bin[j - 1] > b; j--) {
-			bin[j] = bin[j - 1];
-			ord[j] = ord[j - 1];
-		}
-		bin[j] = b;
-		ord[j] = i;
+	const uint32_t *counts = &b->counts[a * s->nbins];
+	uint32_t ne[RS_BVH_MAX_BINS], m = 0;
+	for (uint32_t j = 0; j < s->nbins; j++) {
+		ne[m] = j;
+		m += counts[j] != 0;
 	}
-	uint32_t start[SMALL_NODE + 1], m = 0;
-	for (uint32_t i = 0; i < n; i++)
-		if (i == 0 || bin[i] != bin[i - 1])
-			start[m++] = i;
-	start[m] = n;
-	float rlo[SMALL_NODE][4], rhi[SMALL_NODE][4], lo[4], hi[4];
-	double right_cost[SMALL_NODE];
-	box_empty4(lo, hi);
-	for (uint32_t g = m; g-- > 1;) {
-		for (uint32_t i = start[g]; i < start[g + 1]; i++)
-			grow(lo, hi, items[ord[i]].lo, items[ord[i]].hi);
-		right_cost[g] = box_area(lo, hi) * (n - start[g]);
-		rs_v4_store(rlo[g], rs_v4_load(lo));
-		rs_v4_store(rhi[g], rs_v4_load(hi));
-	}
-	box_empty4(lo, hi);
-	for (uint32_t g = 1; g < m; g++) {
-		for (uint32_t i = start[g - 1]; i < start[g]; i++)
-			grow(lo, hi, items[ord[i]].lo, items[ord[i]].hi);
-		double c = 2.0 * s->ct * area + box_area(lo, hi) * start[g] + right_cost[g];
-		if (c < out->cost)
-			take(out, SPLIT_PLANE, a, bin[start[g]], c, lo, hi, rlo[g], rhi[g]);
-	}
+	sweep_bins(s, w, b, a, ne, m, area, out);
 }
 
-/* Every plane and the size split of a small node, without bins. */
+enum { BIN_WORDS = RS_BVH_MAX_BINS / 64 };
+
+/* A small node: only the bins its few records fall in are cleared, filled and swept
+ * (sparse binning; the same bins, so the same planes and costs as sweep_axis()), and the
+ * size split's two sides are gathered on the way. */
 static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
                         const struct rs_bvh__task *t, const struct node_scale *sc, double area,
                         struct split *out)
 {
 	const struct rs_bvh__item *items = s->items + t->begin;
-	uint32_t n = t->end - t->begin;
+	uint32_t n = t->end - t->begin, nb = s->nbins, words = (nb + 63) / 64;
 	int32_t bins[SMALL_NODE][4];
+	uint64_t used[3][BIN_WORDS] = {{0}};
 	struct rs_bvh__binning *b = &w->binning;
 	box_empty4(b->blo, b->bhi);
 	box_empty4(b->slo, b->shi);
 	b->large = 0;
 	for (uint32_t i = 0; i < n; i++) {
 		item_bins(&items[i], sc, bins[i]);
+		for (int a = 0; a < 3; a++)
+			used[a][bins[i][a] >> 6] |= 1ull << (bins[i][a] & 63);
 		if (is_large(&items[i], sc)) {
 			grow(b->blo, b->bhi, items[i].lo, items[i].hi);
 			b->large++;
@@ -306,9 +284,27 @@ static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 			grow(b->slo, b->shi, items[i].lo, items[i].hi);
 		}
 	}
+	uint32_t ne[3][SMALL_NODE], m[3] = {0, 0, 0};
+	for (int a = 0; a < 3; a++) {
+		for (uint32_t wd = 0; wd < words; wd++) {
+			for (uint64_t bits = used[a][wd]; bits; bits &= bits - 1) {
+				uint32_t j = 64 * wd + (uint32_t)__builtin_ctzll(bits);
+				box_empty4(b->bins[a * nb + j].lo, b->bins[a * nb + j].hi);
+				b->counts[a * nb + j] = 0;
+				ne[a][m[a]++] = j;
+			}
+		}
+	}
+	for (uint32_t i = 0; i < n; i++) {
+		for (uint32_t a = 0; a < 3; a++) {
+			uint32_t j = a * nb + (uint32_t)bins[i][a];
+			grow(b->bins[j].lo, b->bins[j].hi, items[i].lo, items[i].hi);
+			b->counts[j]++;
+		}
+	}
 	for (int a = 0; a < 3; a++)
 		if (sc->k[a] != 0.0f)
-			sweep_small(s, items, n, (const int32_t(*)[4])bins, a, area, out);
+			sweep_bins(s, w, b, a, ne[a], m[a], area, out);
 }
 
 /* Size split: the few large triangles (floor, walls) against the rest. Centroid planes
@@ -328,6 +324,18 @@ static void price_size_split(const struct rs_bvh__sah *s, const struct rs_bvh__b
 		take(out, SPLIT_SIZE, -1, 0, cost, b->blo, b->bhi, b->slo, b->shi);
 }
 
+/* Whether no split can beat the leaf, so the search may be skipped: a child's box holds
+ * each of its triangles' boxes, so a split costs at least 2 ct area + the sum of the
+ * triangles' box areas (with a margin far above the rounding of either sum). Decides about
+ * half the nodes of at most leaf_size triangles on the Cow scenes. */
+static int leaf_is_cheapest(const struct rs_bvh__sah *s, const struct rs_bvh__task *t, double area)
+{
+	double bound = 2.0 * s->ct * area;
+	for (uint32_t i = t->begin; i < t->end; i++)
+		bound += box_area(s->items[i].lo, s->items[i].hi);
+	return (double)(t->end - t->begin) * area <= bound * (1.0 - 1e-9);
+}
+
 /* Best split of task t, or SPLIT_LEAF when making a leaf is better (or required). */
 static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
                        const struct rs_bvh__task *t, struct node_scale *sc, struct split *out)
@@ -339,6 +347,11 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 	 * is never dearer: no need to price one. */
 	if (n == 1 || (n <= s->leaf_size && (double)n <= 2.0 * s->ct))
 		return;
+	/* Unnormalised costs (times the node area) so flat or point-like nodes (area 0)
+	 * still compare. */
+	double area = rs_bvh__box_area(t->lo, t->hi);
+	if (n <= s->leaf_size && leaf_is_cheapest(s, t, area))
+		return;
 	node_scale(s->nbins, t, sc);
 	if (sc->axes == 0) {
 		/* All centroids coincide: no plane separates them; split the list in halves if
@@ -347,9 +360,6 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 			out->kind = SPLIT_MEDIAN;
 		return;
 	}
-	/* Unnormalised costs (times the node area) so flat or point-like nodes (area 0)
-	 * still compare. */
-	double area = rs_bvh__box_area(t->lo, t->hi);
 	if (n <= SMALL_NODE) {
 		split_small(s, w, t, sc, area, out);
 		price_size_split(s, &w->binning, n, area, out);
