@@ -80,10 +80,14 @@ static inline void item_bins(const struct rs_bvh__item *it, const struct node_sc
 }
 
 /* A "large" triangle spans at least half the node on some axis. */
+static inline int spans_half(rs_v4 lo, rs_v4 hi, const struct node_scale *sc)
+{
+	return (rs_v4_ge_mask(rs_v4_mul(rs_v4_sub(hi, lo), sc->inv), sc->half) & 7) != 0;
+}
+
 static inline int is_large(const struct rs_bvh__item *it, const struct node_scale *sc)
 {
-	rs_v4 span = rs_v4_mul(rs_v4_sub(rs_v4_load(it->hi), rs_v4_load(it->lo)), sc->inv);
-	return (rs_v4_ge_mask(span, sc->half) & 7) != 0;
+	return spans_half(rs_v4_load(it->lo), rs_v4_load(it->hi), sc);
 }
 
 static void take(struct split *out, enum split_kind kind, int axis, uint32_t bin, double cost,
@@ -138,25 +142,34 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 {
 	binning_clear(b, nb);
 	struct rs_bvh__bin *bins = b->bins;
-	uint32_t *counts = b->counts;
+	uint32_t *counts = b->counts, large = 0;
+	/* The size split's sides stay in registers (the bins' stores could alias them). */
+	rs_v4 blo = rs_v4_load(b->blo), bhi = rs_v4_load(b->bhi);
+	rs_v4 slo = rs_v4_load(b->slo), shi = rs_v4_load(b->shi);
 	for (uint32_t i = begin; i < end; i++) {
-		const struct rs_bvh__item *it = &items[i];
+		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
 		int32_t bin[4];
-		item_bins(it, sc, bin);
-		rs_v4 lo = rs_v4_load(it->lo), hi = rs_v4_load(it->hi);
+		rs_v4_bins(rs_v4_centroid(lo, hi), sc->clo, sc->kv, sc->top, bin);
 		for (uint32_t a = 0; a < 3; a++) {
 			uint32_t j = a * nb + (uint32_t)bin[a];
 			rs_v4_store(bins[j].lo, rs_v4_min(rs_v4_load(bins[j].lo), lo));
 			rs_v4_store(bins[j].hi, rs_v4_max(rs_v4_load(bins[j].hi), hi));
 			counts[j]++;
 		}
-		if (is_large(it, sc)) {
-			grow(b->blo, b->bhi, it->lo, it->hi);
-			b->large++;
+		if (spans_half(lo, hi, sc)) {
+			blo = rs_v4_min(blo, lo);
+			bhi = rs_v4_max(bhi, hi);
+			large++;
 		} else {
-			grow(b->slo, b->shi, it->lo, it->hi);
+			slo = rs_v4_min(slo, lo);
+			shi = rs_v4_max(shi, hi);
 		}
 	}
+	rs_v4_store(b->blo, blo);
+	rs_v4_store(b->bhi, bhi);
+	rs_v4_store(b->slo, slo);
+	rs_v4_store(b->shi, shi);
+	b->large = large;
 }
 
 struct chunk_job {

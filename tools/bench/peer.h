@@ -46,9 +46,9 @@ enum rs_status bench_embree_build_create(uint32_t threads, const float *position
                                          size_t vertex_count, const uint32_t *indices,
                                          size_t triangle_count, struct bench_embree_build **out,
                                          struct rs_error *err);
-/* One build from scratch; *out_ms is rtcCommitScene's wall time. */
+/* One build from scratch: rtcCommitScene's wall time and the process's CPU time in it. */
 enum rs_status bench_embree_build_once(struct bench_embree_build *build, double *out_ms,
-                                       struct rs_error *err);
+                                       double *out_cpu_ms, struct rs_error *err);
 void bench_embree_build_destroy(struct bench_embree_build **build);
 
 #endif
