@@ -137,6 +137,23 @@ static void random_mesh_tree_is_independent_of_threads(void **state)
 	}
 }
 
+/* 300,000 triangles on two threads: subtrees of n / 16 records, above the size at which the
+ * upper nodes bin in chunks on the threads; a subtree, already on a thread, must bin on its
+ * own (two threads, one build each: a nested loop on the threads would hang or race). */
+static void big_subtrees_bin_on_their_own_thread(void **state)
+{
+	(void)state;
+	struct mesh m = random_mesh(300000);
+	struct built one = build(&m, 1), two = build(&m, 2);
+	assert_int_equal(two.count, one.count);
+	assert_memory_equal(two.nodes, one.nodes, one.count * sizeof *one.nodes);
+	assert_memory_equal(two.order, one.order, m.tris * sizeof *one.order);
+	built_free(&one);
+	built_free(&two);
+	free(m.pos);
+	free(m.idx);
+}
+
 static void signed_zeros_and_duplicates_are_independent_of_threads(void **state)
 {
 	(void)state;
@@ -195,6 +212,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(random_mesh_tree_is_independent_of_threads),
 	    cmocka_unit_test(signed_zeros_and_duplicates_are_independent_of_threads),
+	    cmocka_unit_test(big_subtrees_bin_on_their_own_thread),
 	    cmocka_unit_test(threads_keep_the_sah_cost),
 	    cmocka_unit_test(thread_count_is_validated),
 	};

@@ -21,6 +21,9 @@ struct by_size {
 
 struct build {
 	struct rs_bvh__sah s;
+	/* The same, without the pool: a subtree already runs on a worker, so it bins serially
+	 * (the pool runs one loop at a time; the bins are the same either way). */
+	struct rs_bvh__sah sub;
 	struct rs_bvh__scratch *scratch; /* one per worker */
 	uint32_t workers;
 	const float *positions;
@@ -62,7 +65,7 @@ static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 	const struct rs_bvh__task *t = &b->top.deferred[j];
 	struct rs_bvh__emit e = {.nodes = b->tmp + 2 * (size_t)t->begin,
 	                         .parent = b->tmp_parent + 2 * (size_t)t->begin};
-	rs_bvh__build_subtree(&b->s, &b->scratch[worker], t, &e);
+	rs_bvh__build_subtree(&b->sub, &b->scratch[worker], t, &e);
 	b->sub_count[j] = e.count;
 }
 
@@ -243,6 +246,8 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	size_t count;
 	if (b.workers > 1) {
 		b.top.defer = defer;
+		b.sub = b.s;
+		b.sub.pool = NULL;
 		count = build_parallel(&b, &root);
 	} else {
 		struct rs_bvh__emit e = {.nodes = nodes, .parent = b.parent};
