@@ -7,6 +7,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
@@ -207,6 +208,42 @@ static void thread_count_is_validated(void **state)
 	free(m.idx);
 }
 
+/* The mesh is checked as the threads read it: the first bad triangle is named, whatever
+ * chunk finds a bad one first. */
+static void bad_input_is_named_the_same_on_threads(void **state)
+{
+	(void)state;
+	struct mesh m = random_mesh(40000);
+	m.pos[9 * 30000 + 4] = -INFINITY; /* triangle 30000's vertex 90001 */
+	m.idx[3 * 35000 + 2] = (uint32_t)m.verts + 5;
+	struct rs_bvh_desc d = {.threads = 1};
+	size_t cap = rs_bvh_node_bound(&d, m.tris), count = 3;
+	struct rs_bvh_node *nodes = malloc(cap * sizeof *nodes);
+	uint32_t *order = malloc(m.tris * sizeof *order);
+	assert_non_null(nodes);
+	assert_non_null(order);
+	const uint32_t threads[] = {1, 2, 7};
+	for (size_t k = 0; k < 3; k++) {
+		d.threads = threads[k];
+		struct rs_error err;
+		assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, cap, order,
+		                              &count, &err),
+		                 RS_ERR_BAD_DATA);
+		assert_string_equal(err.message, "bvh: vertex 90001 is not finite");
+		assert_int_equal(count, 0);
+	}
+	m.pos[9 * 30000 + 4] = 1.0f;
+	struct rs_error err;
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, cap, order, &count, &err),
+	    RS_ERR_BAD_DATA);
+	assert_string_equal(err.message, "bvh: triangle 35000 uses vertex 120005 of 120000");
+	free(nodes);
+	free(order);
+	free(m.pos);
+	free(m.idx);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -215,6 +252,7 @@ int main(void)
 	    cmocka_unit_test(big_subtrees_bin_on_their_own_thread),
 	    cmocka_unit_test(threads_keep_the_sah_cost),
 	    cmocka_unit_test(thread_count_is_validated),
+	    cmocka_unit_test(bad_input_is_named_the_same_on_threads),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -512,33 +512,67 @@ void rs_bvh__build_subtree(const struct rs_bvh__sah *s, struct rs_bvh__scratch *
 	}
 }
 
-void rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, const uint32_t *indices,
-                        uint32_t begin, uint32_t end, struct rs_bvh__task *bounds)
+/* Vertex v as four lanes (lane 3 zero). A four-wide load reads one float past the vertex,
+ * so the last vertex of the array comes from a padded copy. */
+static inline rs_v4 vertex(const float *positions, uint32_t v, size_t vertex_count,
+                           const float last[4])
 {
-	float lo[4], hi[4];
-	box_empty4(lo, hi);
-	rs_v4 clo = rs_v4_load(lo), chi = rs_v4_load(hi);
-	box_empty4(bounds->lo, bounds->hi);
-	for (uint32_t t = begin; t < end; t++) {
+	return v + (size_t)1 < vertex_count ? rs_v4_load3(positions + 3 * (size_t)v)
+	                                    : rs_v4_load(last);
+}
+
+/* x - x is 0 for every finite x, NaN for an infinity or a NaN. */
+static inline int finite3(rs_v4 v)
+{
+	rs_v4 zero = rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f);
+	return (rs_v4_ge_mask(rs_v4_sub(v, v), zero) & rs_v4_ge_mask(zero, rs_v4_sub(v, v)) & 7) ==
+	       7;
+}
+
+uint32_t rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, size_t vertex_count,
+                            const uint32_t *indices, uint32_t begin, uint32_t end,
+                            struct rs_bvh__task *bounds)
+{
+	float lo4[4], hi4[4];
+	box_empty4(lo4, hi4);
+	rs_v4_store(bounds->lo, rs_v4_load(lo4));
+	rs_v4_store(bounds->hi, rs_v4_load(hi4));
+	if (vertex_count == 0)
+		return begin; /* every index is out of range */
+	rs_v4 blo = rs_v4_load(lo4), bhi = rs_v4_load(hi4), clo = blo, chi = bhi;
+	const float *p = positions + 3 * (vertex_count - 1);
+	const float last[4] = {p[0], p[1], p[2], 0.0f};
+	/* Adding +0 turns -0 into +0. Chunks merge in list order, where min and max of equal
+	 * values keep the later one either way; without signed zeros they would not depend on
+	 * the order at all. */
+	const rs_v4 zero = rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f);
+	uint32_t t = begin;
+	for (; t < end; t++) {
+		const uint32_t *tri = indices + 3 * (size_t)t;
+		if (tri[0] >= vertex_count || tri[1] >= vertex_count || tri[2] >= vertex_count)
+			break;
+		rs_v4 v0 = vertex(positions, tri[0], vertex_count, last);
+		rs_v4 v1 = vertex(positions, tri[1], vertex_count, last);
+		rs_v4 v2 = vertex(positions, tri[2], vertex_count, last);
+		if (!finite3(v0) || !finite3(v1) || !finite3(v2))
+			break;
+		rs_v4 lo = rs_v4_add(rs_v4_min(rs_v4_min(v0, v1), v2), zero);
+		rs_v4 hi = rs_v4_add(rs_v4_max(rs_v4_max(v0, v1), v2), zero);
 		struct rs_bvh__item *it = &items[t];
-		rs_bvh__box_empty(it->lo, it->hi);
-		rs_bvh__box_add_triangle(it->lo, it->hi, positions, indices, t);
-		/* -0 becomes +0. Chunks merge in list order, where min and max of equal values
-		 * keep the later one either way; without signed zeros they would not depend on
-		 * the order at all. */
-		for (int a = 0; a < 3; a++) {
-			it->lo[a] += 0.0f;
-			it->hi[a] += 0.0f;
-		}
+		rs_v4_store(it->lo, lo);
+		rs_v4_store(it->hi, hi);
 		rs_bvh__item_set_id(it, t);
-		rs_v4 l = rs_v4_load(it->lo), h = rs_v4_load(it->hi), c = rs_v4_centroid(l, h);
-		rs_v4_store(bounds->lo, rs_v4_min(rs_v4_load(bounds->lo), l));
-		rs_v4_store(bounds->hi, rs_v4_max(rs_v4_load(bounds->hi), h));
+		rs_v4 c = rs_v4_centroid(lo, hi);
+		blo = rs_v4_min(blo, lo);
+		bhi = rs_v4_max(bhi, hi);
 		clo = rs_v4_min(clo, c);
 		chi = rs_v4_max(chi, c);
 	}
+	rs_v4_store(bounds->lo, blo);
+	rs_v4_store(bounds->hi, bhi);
 	rs_v4_store(bounds->clo, clo);
 	rs_v4_store(bounds->chi, chi);
+	return t;
 }
 
 int rs_bvh__scratch_init(struct rs_bvh__scratch *w, uint32_t nbins, size_t max_items)

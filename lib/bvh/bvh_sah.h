@@ -99,9 +99,12 @@ struct rs_bvh__emit {
 int rs_bvh__scratch_init(struct rs_bvh__scratch *s, uint32_t nbins, size_t max_items);
 void rs_bvh__scratch_free(struct rs_bvh__scratch *s);
 
-/* Records, root bounds and centroid bounds of triangles [begin, end). */
-void rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, const uint32_t *indices,
-                        uint32_t begin, uint32_t end, struct rs_bvh__task *bounds);
+/* Records, bounds and centroid bounds of triangles [begin, end), checking each triangle on
+ * the way: returns the first one with a vertex out of range or not finite (and stops
+ * there), or end. */
+uint32_t rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, size_t vertex_count,
+                            const uint32_t *indices, uint32_t begin, uint32_t end,
+                            struct rs_bvh__task *bounds);
 
 /* Build the subtree of `root` in pre-order into out (root's parent: RS_BVH_NO_PARENT). */
 void rs_bvh__build_subtree(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,

@@ -27,10 +27,13 @@ struct build {
 	struct rs_bvh__scratch *scratch; /* one per worker */
 	uint32_t workers;
 	const float *positions;
+	size_t vertex_count;
 	const uint32_t *indices;
 	uint32_t n;
-	/* Chunked record setup: bounds per chunk. */
+	/* Chunked record setup: bounds per chunk, and where each chunk stopped (its end, or
+	 * its first bad triangle). */
 	struct rs_bvh__task *fill_bounds;
+	uint32_t *fill_stop;
 	uint32_t fill_chunks;
 	/* The nodes above the subtrees, the subtrees (by size, largest first) and where
 	 * subtree j was built: tmp[2 * begin_j ...), sub_count[j] nodes. */
@@ -54,8 +57,9 @@ static void fill_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	struct build *b = ctx;
-	rs_bvh__items_fill(b->s.items, b->positions, b->indices, fill_edge(b, c),
-	                   fill_edge(b, c + 1), &b->fill_bounds[c]);
+	b->fill_stop[c] =
+	    rs_bvh__items_fill(b->s.items, b->positions, b->vertex_count, b->indices,
+	                       fill_edge(b, c), fill_edge(b, c + 1), &b->fill_bounds[c]);
 }
 
 static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
@@ -147,6 +151,7 @@ static void free_build(struct build *b)
 	free(b->s.chunk_bins);
 	free(b->s.items);
 	free(b->fill_bounds);
+	free(b->fill_stop);
 	free(b->top.nodes);
 	free(b->top.parent);
 	free(b->top.deferred);
@@ -193,11 +198,12 @@ static int alloc_parallel(struct build *b, uint32_t nbins)
 }
 
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
-                                 const uint32_t *indices, size_t triangle_count,
-                                 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
-                                 struct rs_error *err)
+                                 size_t vertex_count, const uint32_t *indices,
+                                 size_t triangle_count, struct rs_bvh_node *nodes, uint32_t *order,
+                                 size_t *out_count, struct rs_error *err)
 {
 	struct build b = {.positions = positions,
+	                  .vertex_count = vertex_count,
 	                  .indices = indices,
 	                  .n = (uint32_t)triangle_count,
 	                  .nodes = nodes};
@@ -219,7 +225,8 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	b.scratch = calloc(b.workers, sizeof *b.scratch);
 	b.fill_chunks = (b.n + FILL_CHUNK - 1) / FILL_CHUNK;
 	b.fill_bounds = malloc(b.fill_chunks * sizeof *b.fill_bounds);
-	ok = ok && b.s.items && b.parent && b.scratch && b.fill_bounds;
+	b.fill_stop = malloc(b.fill_chunks * sizeof *b.fill_stop);
+	ok = ok && b.s.items && b.parent && b.scratch && b.fill_bounds && b.fill_stop;
 	for (uint32_t w = 0; ok && w < b.workers; w++)
 		ok = rs_bvh__scratch_init(&b.scratch[w], b.s.nbins, w == 0 ? b.n : defer);
 	if (ok && b.workers > 1)
@@ -230,6 +237,14 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		                    triangle_count);
 	}
 	rs_bvh__pool_run(b.s.pool, b.fill_chunks, fill_chunk, &b);
+	for (uint32_t c = 0; c < b.fill_chunks; c++) {
+		if (b.fill_stop[c] != fill_edge(&b, c + 1)) {
+			enum rs_status s = rs_bvh__check_triangle(positions, vertex_count, indices,
+			                                          b.fill_stop[c], err);
+			free_build(&b);
+			return s;
+		}
+	}
 	/* Chunk bounds merge exactly (min and max), in any order. */
 	struct rs_bvh__task root = b.fill_bounds[0];
 	for (uint32_t c = 1; c < b.fill_chunks; c++) {

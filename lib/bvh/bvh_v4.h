@@ -62,6 +62,15 @@ static inline rs_v4 rs_v4_mul(rs_v4 a, rs_v4 b)
 {
 	return _mm_mul_ps(a, b);
 }
+static inline rs_v4 rs_v4_add(rs_v4 a, rs_v4 b)
+{
+	return _mm_add_ps(a, b);
+}
+/* p[0..2], lane 3 zero; p[3] must be readable (it is read, then dropped). */
+static inline rs_v4 rs_v4_load3(const float *p)
+{
+	return _mm_and_ps(_mm_loadu_ps(p), _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)));
+}
 #else
 typedef struct {
 	float f[4];
@@ -126,6 +135,16 @@ static inline rs_v4 rs_v4_mul(rs_v4 a, rs_v4 b)
 	for (int i = 0; i < 4; i++)
 		a.f[i] *= b.f[i];
 	return a;
+}
+static inline rs_v4 rs_v4_add(rs_v4 a, rs_v4 b)
+{
+	for (int i = 0; i < 4; i++)
+		a.f[i] += b.f[i];
+	return a;
+}
+static inline rs_v4 rs_v4_load3(const float *p)
+{
+	return (rs_v4){{p[0], p[1], p[2], 0.0f}};
 }
 #endif
 
