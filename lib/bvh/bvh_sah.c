@@ -43,8 +43,20 @@ static inline void box_empty4(float lo[4], float hi[4])
  * empty). */
 static inline double box_area(const float lo[4], const float hi[4])
 {
+#ifdef RS_BVH_SSE
+	/* The same operations two lanes at a time: exact conversions, then x y + y z + z x
+	 * summed in the same order. */
+	__m128 l = _mm_loadu_ps(lo), h = _mm_loadu_ps(hi);
+	__m128d xy = _mm_sub_pd(_mm_cvtps_pd(h), _mm_cvtps_pd(l));
+	__m128d zw =
+	    _mm_sub_pd(_mm_cvtps_pd(_mm_movehl_ps(h, h)), _mm_cvtps_pd(_mm_movehl_ps(l, l)));
+	__m128d p = _mm_mul_pd(xy, _mm_shuffle_pd(xy, zw, 1));
+	double x = _mm_cvtsd_f64(xy), z = _mm_cvtsd_f64(zw);
+	return 2.0 * (_mm_cvtsd_f64(p) + _mm_cvtsd_f64(_mm_unpackhi_pd(p, p)) + z * x);
+#else
 	double x = (double)hi[0] - lo[0], y = (double)hi[1] - lo[1], z = (double)hi[2] - lo[2];
 	return 2.0 * (x * y + y * z + z * x);
+#endif
 }
 
 /* What find_split() chose for a node. */

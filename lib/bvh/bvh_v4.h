@@ -1,14 +1,16 @@
 /* Four floats at a time for the SAH builder's box unions (SSE where the compiler targets
  * it, plain C elsewhere). Only exact operations live here (min, max, and the bin index
  * below), so both versions give the same bits and the tree never depends on which ran.
- * Lane 3 of a box carries no coordinate (a record keeps its id there) and is ignored. */
+ * Lane 3 of a box carries no coordinate (a record keeps its id there) and is ignored.
+ * -DRS_BVH_PLAIN_C forces the plain C version (to check that it builds the same tree). */
 #ifndef RS_BVH_V4_H
 #define RS_BVH_V4_H
 
 #include <float.h>
 #include <stdint.h>
 
-#if defined(__SSE2__) && defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+#if defined(__SSE2__) && defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0 &&                       \
+    !defined(RS_BVH_PLAIN_C)
 #include <emmintrin.h>
 #define RS_BVH_SSE 1
 
