@@ -1,9 +1,9 @@
 /* The SAH build on the threads it is given. One thread builds straight into the output.
  * With more, the nodes above subtrees of at most `defer` records are built first (their big
  * nodes binned in chunks on every thread), the subtrees are then built on the threads,
- * largest first, each into its own scratch range, and everything is stitched into the one
- * pre-order array. Each node is decided by bvh_sah.c from its records alone, so the tree is
- * the same for every thread count; only where its nodes were written differs. */
+ * largest first, each into its own range of the output array, and one sweep moves them to
+ * their places in the pre-order array. Each node is decided by bvh_sah.c from its records alone, so
+ * the tree is the same for every thread count; only where its nodes were written differs. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -35,15 +35,12 @@ struct build {
 	struct rs_bvh__task *fill_bounds;
 	uint32_t *fill_stop;
 	uint32_t fill_chunks;
-	/* The nodes above the subtrees, the subtrees (by size, largest first) and where
-	 * subtree j was built: tmp[2 * begin_j ...), sub_count[j] nodes. */
+	/* The nodes above the subtrees, the subtrees (by size, largest first), where subtree
+	 * j was built (nodes[sub_at[j]...), parent links local) and its node count. */
 	struct rs_bvh__emit top;
 	uint32_t *map; /* top node -> output index */
 	struct by_size *by_size;
-	struct rs_bvh_node *tmp;
-	uint32_t *tmp_parent;
-	size_t *sub_count, *sub_base;
-	uint32_t *sub_root_parent;
+	size_t *sub_at, *sub_count;
 	struct rs_bvh_node *nodes;
 	uint32_t *parent;
 };
@@ -66,26 +63,10 @@ static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 {
 	struct build *b = ctx;
 	uint32_t j = b->by_size[job].index;
-	const struct rs_bvh__task *t = &b->top.deferred[j];
-	struct rs_bvh__emit e = {.nodes = b->tmp + 2 * (size_t)t->begin,
-	                         .parent = b->tmp_parent + 2 * (size_t)t->begin};
-	rs_bvh__build_subtree(&b->sub, &b->scratch[worker], t, &e);
+	struct rs_bvh__emit e = {.nodes = b->nodes + b->sub_at[j],
+	                         .parent = b->parent + b->sub_at[j]};
+	rs_bvh__build_subtree(&b->sub, &b->scratch[worker], &b->top.deferred[j], &e);
 	b->sub_count[j] = e.count;
-}
-
-/* Copy subtree j to its place in the output, its parent links made global. */
-static void place_deferred(void *ctx, uint32_t j, uint32_t worker)
-{
-	(void)worker;
-	struct build *b = ctx;
-	const struct rs_bvh__task *t = &b->top.deferred[j];
-	size_t from = 2 * (size_t)t->begin, base = b->sub_base[j], count = b->sub_count[j];
-	memcpy(b->nodes + base, b->tmp + from, count * sizeof *b->nodes);
-	for (size_t i = 0; i < count; i++) {
-		uint32_t p = b->tmp_parent[from + i];
-		b->parent[base + i] =
-		    p == RS_BVH_NO_PARENT ? b->sub_root_parent[j] : p + (uint32_t)base;
-	}
 }
 
 /* Larger first; equal sizes in list order (qsort is not stable). */
@@ -97,28 +78,50 @@ static int larger_first(const void *pa, const void *pb)
 	return (a->index > b->index) - (a->index < b->index);
 }
 
-/* Output index of every top node and base of every subtree, in pre-order. */
-static size_t stitch_top(struct build *b)
+/* Where each subtree is built: the top tree's entries in pre-order, each top node given one
+ * slot and subtree j room for its worst case, 2 m_j - 1 nodes. A full binary tree over D
+ * subtrees has D - 1 top nodes, so the slots add up to exactly 2n - 1, the output's
+ * capacity; and an entry's final place (actual counts before it) is never to the right of
+ * its slot (worst cases before it). */
+static void place_subtrees(struct build *b)
+{
+	size_t at = 0;
+	for (size_t i = 0; i < b->top.count; i++) {
+		const struct rs_bvh_node *node = &b->top.nodes[i];
+		if (node->level != RS_BVH_DEFERRED) {
+			at++;
+			continue;
+		}
+		const struct rs_bvh__task *t = &b->top.deferred[node->first];
+		b->sub_at[node->first] = at;
+		at += 2 * (size_t)(t->end - t->begin) - 1;
+	}
+}
+
+/* One sweep in pre-order: top nodes written, subtrees moved left to their final places
+ * (never onto a slot still to be read: see place_subtrees()), parent links made global. */
+static size_t stitch(struct build *b)
 {
 	const struct rs_bvh__emit *top = &b->top;
 	size_t out = 0;
-	uint32_t *map = b->map;
 	for (size_t i = 0; i < top->count; i++) {
-		map[i] = (uint32_t)out;
+		b->map[i] = (uint32_t)out;
+		uint32_t up =
+		    top->parent[i] == RS_BVH_NO_PARENT ? RS_BVH_NO_PARENT : b->map[top->parent[i]];
 		const struct rs_bvh_node *node = &top->nodes[i];
-		if (node->level == RS_BVH_DEFERRED) {
-			uint32_t j = node->first;
-			b->sub_base[j] = out;
-			b->sub_root_parent[j] = top->parent[i] == RS_BVH_NO_PARENT
-			                            ? RS_BVH_NO_PARENT
-			                            : map[top->parent[i]];
-			out += b->sub_count[j];
-		} else {
+		if (node->level != RS_BVH_DEFERRED) {
 			b->nodes[out] = *node;
-			b->parent[out] = top->parent[i] == RS_BVH_NO_PARENT ? RS_BVH_NO_PARENT
-			                                                    : map[top->parent[i]];
-			out++;
+			b->parent[out++] = up;
+			continue;
 		}
+		size_t from = b->sub_at[node->first], count = b->sub_count[node->first];
+		memmove(b->nodes + out, b->nodes + from, count * sizeof *b->nodes);
+		/* Forward, reading at or after where it writes (out <= from). */
+		for (size_t k = 0; k < count; k++) {
+			uint32_t p = b->parent[from + k];
+			b->parent[out + k] = p == RS_BVH_NO_PARENT ? up : p + (uint32_t)out;
+		}
+		out += count;
 	}
 	return out;
 }
@@ -132,10 +135,9 @@ static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
 		b->by_size[j] = (struct by_size){t->end - t->begin, (uint32_t)j};
 	}
 	qsort(b->by_size, subs, sizeof *b->by_size, larger_first);
+	place_subtrees(b);
 	rs_bvh__pool_run(b->s.pool, (uint32_t)subs, build_deferred, b);
-	size_t count = stitch_top(b);
-	rs_bvh__pool_run(b->s.pool, (uint32_t)subs, place_deferred, b);
-	return count;
+	return stitch(b);
 }
 
 static void free_build(struct build *b)
@@ -157,11 +159,8 @@ static void free_build(struct build *b)
 	free(b->top.deferred);
 	free(b->map);
 	free(b->by_size);
-	free(b->tmp);
-	free(b->tmp_parent);
+	free(b->sub_at);
 	free(b->sub_count);
-	free(b->sub_base);
-	free(b->sub_root_parent);
 	free(b->parent);
 }
 
@@ -188,13 +187,10 @@ static int alloc_parallel(struct build *b, uint32_t nbins)
 	b->top.deferred = malloc(n * sizeof *b->top.deferred);
 	b->map = malloc(cap * sizeof *b->map);
 	b->by_size = malloc(n * sizeof *b->by_size);
-	b->tmp = malloc(cap * sizeof *b->tmp);
-	b->tmp_parent = malloc(cap * sizeof *b->tmp_parent);
+	b->sub_at = malloc(n * sizeof *b->sub_at);
 	b->sub_count = malloc(n * sizeof *b->sub_count);
-	b->sub_base = malloc(n * sizeof *b->sub_base);
-	b->sub_root_parent = malloc(n * sizeof *b->sub_root_parent);
-	return b->top.nodes && b->top.parent && b->top.deferred && b->map && b->by_size && b->tmp &&
-	       b->tmp_parent && b->sub_count && b->sub_base && b->sub_root_parent;
+	return b->top.nodes && b->top.parent && b->top.deferred && b->map && b->by_size &&
+	       b->sub_at && b->sub_count;
 }
 
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
