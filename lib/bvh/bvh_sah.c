@@ -12,8 +12,9 @@
  *
  * Every decision depends on the node's set of records only (bins are unions and counts),
  * never on how the work was split: big nodes bin in chunks on several threads and small
- * ones sort their few records instead of binning, with the same planes, boxes and costs
- * to the bit, so the tree is the same whatever the thread count. */
+ * ones bin sparsely, with the same planes, boxes and costs to the bit, so the tree is the
+ * same whatever the thread count (and the same as the one-thread builder's before the
+ * threads came, docs/bvh.md). */
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,8 +22,8 @@
 #include "bvh_sah.h"
 #include "bvh_v4.h"
 
-/* Nodes of at most this many records sort them per axis instead of clearing and sweeping
- * every bin (the same planes: one per distinct bin, in bin order). */
+/* Nodes of at most this many records bin sparsely: only the bins their records fall in are
+ * cleared, filled and swept (split_small()). */
 #define SMALL_NODE 12u
 /* Nodes of at least this many records bin in chunks of CHUNK on the pool. */
 #define PAR_BIN_MIN 16384u
