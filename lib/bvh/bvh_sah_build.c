@@ -213,9 +213,12 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		ok = b.s.pool != NULL;
 	}
 	b.workers = rs_bvh__pool_workers(b.s.pool);
-	/* Subtrees of at most `defer` records: about eight per worker, so the largest-first
-	 * order keeps every worker busy to the end. */
-	uint32_t defer = b.workers > 1 ? b.n / (8 * b.workers) : 0;
+	/* Subtrees of at most `defer` records: at least four per worker, so the largest-first
+	 * order keeps every worker busy to the end, while the upper nodes (whose partition
+	 * is serial) stay few. Measured on Cow17, two threads (callgrind, per thread): n / 16
+	 * left the caller 158 M instructions against the helper's 124 M, n / 8 141 M against
+	 * 141 M. */
+	uint32_t defer = b.workers > 1 ? b.n / (4 * b.workers) : 0;
 	b.s.items = malloc(triangle_count * sizeof *b.s.items);
 	b.parent = malloc((2 * triangle_count - 1) * sizeof *b.parent);
 	b.scratch = calloc(b.workers, sizeof *b.scratch);
