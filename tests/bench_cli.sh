@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Usage: bench_cli.sh BENCH_BINARY WORK_DIR. Checks the plumbing of raystream-bench --table 2
-# (no timing is asserted). Prints "N passed, N failed" and exits non-zero on any failure.
+# and --table 3 (no timing is asserted). Prints "N passed, N failed" and exits non-zero on any
+# failure.
 source "$(dirname "$0")/cli_harness.sh"
 
 expect_fail() {
@@ -9,7 +10,7 @@ expect_fail() {
   fails_cleanly "$name" "$code" "$regex" "$@" && ok "$name"
 }
 
-expect_fail "unknown table" 2 "--table" --table 3
+expect_fail "unknown table" 2 "--table" --table 4
 expect_fail "unknown backend" 2 "unknown backend 'vulkan'" --table 2 --backend vulkan
 expect_fail "unknown peer" 2 "--peer" --table 2 --peer optix
 expect_fail "unknown builder" 2 "BVH builder" --table 2 --bvh octree
@@ -80,5 +81,20 @@ elif grep -q "unknown backend 'egl'" egl_err.txt; then
   ok "egl not in this build (GL checks skipped)"
 else
   bad "egl: $(head -c 300 egl_err.txt)"
+fi
+
+# --table 3: our build beside the peer's, one row per thread count, and the tree built on
+# two threads is the one-thread tree.
+if "$bin" --table 3 --scene cow1 --threads 2 >build.txt 2>build_err.txt; then
+  for t in 1 2; do
+    row=$(grep -E "^\| cow1 +\| +5837 \| $t \|" build.txt)
+    if [ -z "$row" ]; then bad "table 3: no row for $t thread(s)"
+    elif echo "$row" | grep -q "| yes |$"; then ok "table 3: $t thread(s), same tree"
+    else bad "table 3: $t thread(s): $row"; fi
+  done
+  grep -q "median of 7 builds" build.txt && ok "table 3: at least 7 builds" ||
+    bad "table 3: repeats not raised to 7"
+else
+  bad "table 3: exit $? ($(head -c 300 build_err.txt))"
 fi
 finish

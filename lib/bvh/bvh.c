@@ -27,6 +27,8 @@ void rs_bvh_desc_resolve(const struct rs_bvh_desc *desc, struct rs_bvh_desc *out
 		d.sah_bins = DEFAULT_BINS;
 	if (d.traversal_cost == 0.0f)
 		d.traversal_cost = 1.0f;
+	if (d.threads == 0)
+		d.threads = 1;
 	*out = d;
 }
 
@@ -92,6 +94,9 @@ static enum rs_status validate(const struct rs_bvh_desc *d, const float *positio
 	if (d->sah_bins < 2 || d->sah_bins > RS_BVH_MAX_BINS)
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: sah_bins %u outside 2..%u",
 		                    d->sah_bins, RS_BVH_MAX_BINS);
+	if (d->threads > RS_BVH_MAX_THREADS)
+		return rs_error_set(err, RS_ERR_INVALID, "bvh: threads %u above %u", d->threads,
+		                    RS_BVH_MAX_THREADS);
 	if (!(d->traversal_cost > 0.0f) || !isfinite(d->traversal_cost))
 		return rs_error_set(err, RS_ERR_INVALID, "bvh: traversal_cost must be positive");
 	if (triangle_count == 0)
@@ -99,11 +104,25 @@ static enum rs_status validate(const struct rs_bvh_desc *d, const float *positio
 	if (triangle_count >= (size_t)1 << 31)
 		return rs_error_set(err, RS_ERR_LIMIT, "bvh: %zu triangles exceed 2^31",
 		                    triangle_count);
-	for (size_t i = 0; i < 3 * triangle_count; i++) {
-		uint32_t v = indices[i];
+	/* The SAH builder checks each triangle as it reads it (in one pass, on its threads). */
+	if (d->builder == RS_BVH_SAH)
+		return RS_OK;
+	for (size_t t = 0; t < triangle_count; t++) {
+		enum rs_status s = rs_bvh__check_triangle(positions, vertex_count, indices, t, err);
+		if (s != RS_OK)
+			return s;
+	}
+	return RS_OK;
+}
+
+enum rs_status rs_bvh__check_triangle(const float *positions, size_t vertex_count,
+                                      const uint32_t *indices, size_t tri, struct rs_error *err)
+{
+	for (int k = 0; k < 3; k++) {
+		uint32_t v = indices[3 * tri + (size_t)k];
 		if (v >= vertex_count)
 			return rs_error_set(err, RS_ERR_BAD_DATA,
-			                    "bvh: triangle %zu uses vertex %u of %zu", i / 3, v,
+			                    "bvh: triangle %zu uses vertex %u of %zu", tri, v,
 			                    vertex_count);
 		const float *p = positions + 3 * (size_t)v;
 		if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
@@ -145,8 +164,8 @@ enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positio
 		return rs_bvh__build_paper(positions, indices, triangle_count, out_nodes,
 		                           out_triangle_order, out_node_count, err);
 	case RS_BVH_SAH:
-		return rs_bvh__build_sah(&d, positions, indices, triangle_count, out_nodes,
-		                         out_triangle_order, out_node_count, err);
+		return rs_bvh__build_sah(&d, positions, vertex_count, indices, triangle_count,
+		                         out_nodes, out_triangle_order, out_node_count, err);
 	}
 	return rs_error_set(err, RS_ERR_INVALID, "bvh: unknown builder");
 }

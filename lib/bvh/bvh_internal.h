@@ -31,8 +31,25 @@ double rs_bvh__box_area(const float lo[3], const float hi[3]);
  */
 int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_t *parent);
 
-/* Builders. Inputs are validated by rs_bvh_build(); each writes nodes, triangle order and
- * the node count. SAH may fail with RS_ERR_NO_MEMORY. */
+/* Worker threads of one build (bvh_pool.c). A loop runs fn(ctx, job, worker) for every job
+ * in [0, jobs), worker in [0, rs_bvh__pool_workers()); the caller's thread is worker 0.
+ * rs_bvh__pool_start() may start fewer helpers than asked (NULL: out of memory); a NULL
+ * pool runs loops on the caller's thread. */
+struct rs_bvh__pool;
+typedef void (*rs_bvh__job_fn)(void *ctx, uint32_t job, uint32_t worker);
+struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads);
+uint32_t rs_bvh__pool_workers(const struct rs_bvh__pool *pool);
+void rs_bvh__pool_run(struct rs_bvh__pool *pool, uint32_t jobs, rs_bvh__job_fn fn, void *ctx);
+void rs_bvh__pool_stop(struct rs_bvh__pool *pool);
+
+/* RS_OK, or RS_ERR_BAD_DATA naming the first of triangle tri's vertices that is out of
+ * range or not finite (the message rs_bvh_build() gives for the first bad triangle). */
+enum rs_status rs_bvh__check_triangle(const float *positions, size_t vertex_count,
+                                      const uint32_t *indices, size_t tri, struct rs_error *err);
+
+/* Builders. Inputs are validated by rs_bvh_build() (the SAH builder checks the mesh itself,
+ * with rs_bvh__check_triangle() for the message); each writes nodes, triangle order and
+ * the node count. SAH may fail with RS_ERR_NO_MEMORY (and RS_ERR_BAD_DATA). */
 enum rs_status rs_bvh__build_flat(uint32_t leaf_size, const float *positions,
                                   const uint32_t *indices, size_t triangle_count,
                                   struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
@@ -41,8 +58,8 @@ enum rs_status rs_bvh__build_paper(const float *positions, const uint32_t *indic
                                    size_t triangle_count, struct rs_bvh_node *nodes,
                                    uint32_t *order, size_t *out_count, struct rs_error *err);
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
-                                 const uint32_t *indices, size_t triangle_count,
-                                 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
-                                 struct rs_error *err);
+                                 size_t vertex_count, const uint32_t *indices,
+                                 size_t triangle_count, struct rs_bvh_node *nodes, uint32_t *order,
+                                 size_t *out_count, struct rs_error *err);
 
 #endif

@@ -1,92 +1,70 @@
-/* Top-down binned SAH builder (Wald 2007 style): centroids are binned on all three axes,
- * the best plane is found by one sweep over the bins, and the triangle records are
- * partitioned in place, so no sorting and O(n log n) work. Records (box, centroid, id) are
- * moved rather than indexed so every pass reads memory in order; a node's bounds come
- * from its parent's bins, its centroid bounds from the parent's partition pass, so each
- * node costs one binning pass and one partition pass. Nodes are emitted in pre-order from
- * an explicit stack (no recursion: degenerate inputs cannot overflow the C stack).
+/* Top-down binned SAH (Wald 2007 style), one node at a time: centroids are binned on all
+ * three axes, the best plane is found by one sweep over the bins, and the records are
+ * partitioned in place, so no sorting and O(n log n) work. Each node costs one binning pass
+ * (which also gathers the two sides of the size split) and one partition pass (which also
+ * gathers the children's centroid bounds); a node's bounds come from its parent's bins.
+ * Nodes are emitted in pre-order from an explicit stack (no recursion: degenerate inputs
+ * cannot overflow the C stack).
  *
  * The cost model matches how the traversal counts hit numbers: a leaf hit costs its
  * triangle count; an interior hit costs one box test per child (traversal_cost each) plus
- * the children's costs weighted by their surface-area hit probability. */
+ * the children's costs weighted by their surface-area hit probability.
+ *
+ * Every decision depends on the node's set of records only (bins are unions and counts),
+ * never on how the work was split: big nodes bin in chunks on several threads and small
+ * ones bin sparsely, with the same planes, boxes and costs to the bit, so the tree is the
+ * same whatever the thread count (and the same as the one-thread builder's before the
+ * threads came, docs/bvh.md). */
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "bvh_internal.h"
+#include "bvh_sah.h"
+#include "bvh_v4.h"
 
-struct item {
-	float lo[3], hi[3];
-	float c[3]; /* centroid */
-	uint32_t id;
-};
+/* Nodes of at most this many records bin sparsely: only the bins their records fall in are
+ * cleared, filled and swept (split_small()). */
+#define SMALL_NODE 12u
+/* Nodes of at least this many records bin in chunks of CHUNK on the pool. */
+#define PAR_BIN_MIN 16384u
+#define CHUNK 4096u
 
-struct bin {
-	float lo[3], hi[3];
-	uint32_t count;
-};
-
-struct task {
-	uint32_t begin, end, parent;
-	float lo[3], hi[3];   /* bounds of the items */
-	float clo[3], chi[3]; /* bounds of their centroids */
-};
-
-struct sah_ctx {
-	struct item *items;
-	struct bin *bins;  /* 3 * nbins */
-	struct bin *right; /* nbins: suffix unions of the best axis candidates */
-	uint32_t nbins;
-	uint32_t leaf_size;
-	double ct;
-};
-
-static void grow(float lo[3], float hi[3], const float plo[3], const float phi[3])
+static inline void grow(float lo[4], float hi[4], const float plo[4], const float phi[4])
 {
-	for (int a = 0; a < 3; a++) {
-		lo[a] = plo[a] < lo[a] ? plo[a] : lo[a];
-		hi[a] = phi[a] > hi[a] ? phi[a] : hi[a];
-	}
+	rs_v4_grow(lo, hi, plo, phi);
 }
 
-/* Surface area (inlined copy of rs_bvh__box_area for the sweep; boxes here are never
- * empty). */
-static inline double box_area(const float lo[3], const float hi[3])
+static inline void box_empty4(float lo[4], float hi[4])
 {
+	rs_v4_store(lo, rs_v4_set(FLT_MAX, FLT_MAX, FLT_MAX, 0.0f));
+	rs_v4_store(hi, rs_v4_set(-FLT_MAX, -FLT_MAX, -FLT_MAX, 0.0f));
+}
+
+/* Surface area (inlined copy of rs_bvh__box_area for the sweeps; boxes here are never
+ * empty). */
+static inline double box_area(const float lo[4], const float hi[4])
+{
+#ifdef RS_BVH_SSE
+	/* The same operations two lanes at a time: exact conversions, then x y + y z + z x
+	 * summed in the same order. */
+	__m128 l = _mm_loadu_ps(lo), h = _mm_loadu_ps(hi);
+	__m128d xy = _mm_sub_pd(_mm_cvtps_pd(h), _mm_cvtps_pd(l));
+	__m128d zw =
+	    _mm_sub_pd(_mm_cvtps_pd(_mm_movehl_ps(h, h)), _mm_cvtps_pd(_mm_movehl_ps(l, l)));
+	__m128d p = _mm_mul_pd(xy, _mm_shuffle_pd(xy, zw, 1));
+	double x = _mm_cvtsd_f64(xy), z = _mm_cvtsd_f64(zw);
+	return 2.0 * (_mm_cvtsd_f64(p) + _mm_cvtsd_f64(_mm_unpackhi_pd(p, p)) + z * x);
+#else
 	double x = (double)hi[0] - lo[0], y = (double)hi[1] - lo[1], z = (double)hi[2] - lo[2];
 	return 2.0 * (x * y + y * z + z * x);
-}
-
-static uint32_t bin_of(float c, float clo, float k, uint32_t nb)
-{
-	/* NaN (inf * 0 for coordinates near FLT_MAX) and out-of-range go to an end bin,
-	 * never through an undefined float-to-integer conversion. */
-	float f = (c - clo) * k;
-	return f >= 0.0f && f < (float)nb ? (uint32_t)f : f >= (float)nb ? nb - 1 : 0;
-}
-
-/* A "large" triangle spans at least half the node on some axis. */
-static int is_large(const struct item *it, const float inv_ext[3])
-{
-	for (int a = 0; a < 3; a++)
-		if ((it->hi[a] - it->lo[a]) * inv_ext[a] >= 0.5f)
-			return 1;
-	return 0;
-}
-
-static void inverse_extent(const struct task *t, float inv_ext[3])
-{
-	for (int a = 0; a < 3; a++) {
-		float e = t->hi[a] - t->lo[a];
-		inv_ext[a] = e > 0.0f ? 1.0f / e : 0.0f;
-	}
+#endif
 }
 
 /* What find_split() chose for a node. */
 enum split_kind {
 	SPLIT_LEAF,   /* no split: a leaf is cheaper (or required) */
-	SPLIT_PLANE,  /* centroid plane: items in bins below `bin` on `axis` go left */
-	SPLIT_MEDIAN, /* all centroids coincide: halves of the list, bounds from the items */
+	SPLIT_PLANE,  /* centroid plane: records in bins below `bin` on `axis` go left */
+	SPLIT_MEDIAN, /* all centroids coincide: halves of the list, bounds from the records */
 	SPLIT_SIZE,   /* the large triangles (left) against the rest (right) */
 };
 
@@ -94,12 +72,39 @@ struct split {
 	enum split_kind kind;
 	int axis;     /* SPLIT_PLANE only */
 	uint32_t bin; /* SPLIT_PLANE only */
-	float llo[3], lhi[3], rlo[3], rhi[3];
+	float llo[4], lhi[4], rlo[4], rhi[4];
 	double cost; /* unnormalised (times the node area), DBL_MAX when none priced yet */
 };
 
+/* The node's split parameters: bin scale per axis (0 for an axis whose centroids
+ * coincide) and inverse extent (size split). */
+struct node_scale {
+	float k[4], inv_ext[4]; /* lane 3: 0 */
+	rs_v4 clo, kv, top, inv, half;
+	int axes; /* axes that can be split */
+};
+
+/* A record's bin on every axis (lane 3 meaningless). */
+static inline void item_bins(const struct rs_bvh__item *it, const struct node_scale *sc,
+                             int32_t out[4])
+{
+	rs_v4_bins(rs_v4_centroid(rs_v4_load(it->lo), rs_v4_load(it->hi)), sc->clo, sc->kv, sc->top,
+	           out);
+}
+
+/* A "large" triangle spans at least half the node on some axis. */
+static inline int spans_half(rs_v4 lo, rs_v4 hi, const struct node_scale *sc)
+{
+	return (rs_v4_ge_mask(rs_v4_mul(rs_v4_sub(hi, lo), sc->inv), sc->half) & 7) != 0;
+}
+
+static inline int is_large(const struct rs_bvh__item *it, const struct node_scale *sc)
+{
+	return spans_half(rs_v4_load(it->lo), rs_v4_load(it->hi), sc);
+}
+
 static void take(struct split *out, enum split_kind kind, int axis, uint32_t bin, double cost,
-                 const float llo[3], const float lhi[3], const float rlo[3], const float rhi[3])
+                 const float llo[4], const float lhi[4], const float rlo[4], const float rhi[4])
 {
 	out->kind = kind;
 	out->axis = axis;
@@ -111,188 +116,359 @@ static void take(struct split *out, enum split_kind kind, int axis, uint32_t bin
 	memcpy(out->rhi, rhi, sizeof out->rhi);
 }
 
-/* Bin scale per axis (0 for an axis whose centroids coincide); empties the bins. Returns
- * how many axes can be split. */
-static int prepare_bins(struct sah_ctx *s, const struct task *t, float k[3])
+static void node_scale(uint32_t nb, const struct rs_bvh__task *t, struct node_scale *sc)
 {
-	uint32_t nb = s->nbins;
-	int axes = 0;
+	sc->axes = 0;
+	sc->k[3] = sc->inv_ext[3] = 0.0f;
 	for (int a = 0; a < 3; a++) {
 		float extent = t->chi[a] - t->clo[a];
 		double kk = extent > 0.0f ? (double)nb * (1.0 - 1e-6) / extent : 0.0;
 		/* A tiny extent could make k overflow to inf and (c - clo) * k NaN. */
-		k[a] = kk > 0.0 && kk < 1e30 ? (float)kk : 0.0f;
-		axes += k[a] != 0.0f;
-		for (uint32_t j = 0; j < nb; j++) {
-			struct bin *bn = &s->bins[a * nb + j];
-			rs_bvh__box_empty(bn->lo, bn->hi);
-			bn->count = 0;
-		}
+		sc->k[a] = kk > 0.0 && kk < 1e30 ? (float)kk : 0.0f;
+		sc->axes += sc->k[a] != 0.0f;
+		float e = t->hi[a] - t->lo[a];
+		sc->inv_ext[a] = e > 0.0f ? 1.0f / e : 0.0f;
 	}
-	return axes;
+	float top = (float)(nb - 1);
+	sc->clo = rs_v4_set(t->clo[0], t->clo[1], t->clo[2], 0.0f);
+	sc->kv = rs_v4_load(sc->k);
+	sc->top = rs_v4_set(top, top, top, top);
+	sc->inv = rs_v4_load(sc->inv_ext);
+	sc->half = rs_v4_set(0.5f, 0.5f, 0.5f, 0.5f);
 }
 
-static void fill_bins(struct sah_ctx *s, const struct task *t, const float k[3])
+static void binning_clear(struct rs_bvh__binning *b, uint32_t nb)
 {
-	uint32_t nb = s->nbins;
-	for (uint32_t i = t->begin; i < t->end; i++) {
-		const struct item *it = &s->items[i];
-		for (int a = 0; a < 3; a++) {
-			/* k = 0 (a flat axis) puts everything in bin 0; the sweep skips it. */
-			struct bin *bn = &s->bins[a * nb + bin_of(it->c[a], t->clo[a], k[a], nb)];
-			grow(bn->lo, bn->hi, it->lo, it->hi);
-			bn->count++;
-		}
+	for (uint32_t j = 0; j < 3 * nb; j++) {
+		box_empty4(b->bins[j].lo, b->bins[j].hi);
+		b->counts[j] = 0;
 	}
+	box_empty4(b->blo, b->bhi);
+	box_empty4(b->slo, b->shi);
+	b->large = 0;
 }
 
-/* Price every plane between non-empty bins of axis a; keep the cheapest in *out. */
-static void sweep_axis(struct sah_ctx *s, int a, double area, struct split *out)
+/* One pass over records [begin, end): the bins of all three axes (a flat axis, k = 0,
+ * fills bin 0, which the sweep skips) and both sides of the size split. */
+static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t end,
+                      const struct node_scale *sc, uint32_t nb, struct rs_bvh__binning *b)
 {
-	struct bin *bins = &s->bins[a * s->nbins];
-	uint32_t ne[RS_BVH_MAX_BINS], m = 0;
-	for (uint32_t j = 0; j < s->nbins; j++)
-		if (bins[j].count)
-			ne[m++] = j;
-	float rlo[3], rhi[3];
-	rs_bvh__box_empty(rlo, rhi);
+	binning_clear(b, nb);
+	struct rs_bvh__bin *bins = b->bins;
+	uint32_t *counts = b->counts, large = 0;
+	/* The size split's sides stay in registers (the bins' stores could alias them). */
+	rs_v4 blo = rs_v4_load(b->blo), bhi = rs_v4_load(b->bhi);
+	rs_v4 slo = rs_v4_load(b->slo), shi = rs_v4_load(b->shi);
+	for (uint32_t i = begin; i < end; i++) {
+		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
+		int32_t bin[4];
+		rs_v4_bins(rs_v4_centroid(lo, hi), sc->clo, sc->kv, sc->top, bin);
+		for (uint32_t a = 0; a < 3; a++) {
+			uint32_t j = a * nb + (uint32_t)bin[a];
+			rs_v4_store(bins[j].lo, rs_v4_min(rs_v4_load(bins[j].lo), lo));
+			rs_v4_store(bins[j].hi, rs_v4_max(rs_v4_load(bins[j].hi), hi));
+			counts[j]++;
+		}
+		if (spans_half(lo, hi, sc)) {
+			blo = rs_v4_min(blo, lo);
+			bhi = rs_v4_max(bhi, hi);
+			large++;
+		} else {
+			slo = rs_v4_min(slo, lo);
+			shi = rs_v4_max(shi, hi);
+		}
+	}
+	rs_v4_store(b->blo, blo);
+	rs_v4_store(b->bhi, bhi);
+	rs_v4_store(b->slo, slo);
+	rs_v4_store(b->shi, shi);
+	b->large = large;
+}
+
+struct chunk_job {
+	const struct rs_bvh__sah *s;
+	const struct rs_bvh__task *t;
+	const struct node_scale *sc;
+	uint32_t chunks;
+};
+
+static uint32_t chunk_edge(const struct rs_bvh__task *t, uint32_t c, uint32_t chunks)
+{
+	return t->begin + (uint32_t)((uint64_t)(t->end - t->begin) * c / chunks);
+}
+
+static void bin_chunk(void *ctx, uint32_t c, uint32_t worker)
+{
+	(void)worker;
+	const struct chunk_job *j = ctx;
+	bin_range(j->s->items, chunk_edge(j->t, c, j->chunks), chunk_edge(j->t, c + 1, j->chunks),
+	          j->sc, j->s->nbins, &j->s->chunk_bins[c]);
+}
+
+/* Bin a node, in chunks on the pool when it is big; min, max and counts merge exactly, so
+ * the bins are the same however the records were chunked. */
+static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
+                                              struct rs_bvh__scratch *w,
+                                              const struct rs_bvh__task *t,
+                                              const struct node_scale *sc)
+{
+	uint32_t n = t->end - t->begin, nb = s->nbins;
+	uint32_t chunks = s->pool && n >= PAR_BIN_MIN ? n / CHUNK : 1;
+	chunks = chunks < s->max_chunks ? chunks : s->max_chunks;
+	if (chunks < 2) {
+		bin_range(s->items, t->begin, t->end, sc, nb, &w->binning);
+		return &w->binning;
+	}
+	struct chunk_job job = {s, t, sc, chunks};
+	rs_bvh__pool_run(s->pool, chunks, bin_chunk, &job);
+	struct rs_bvh__binning *b = &s->chunk_bins[0];
+	for (uint32_t c = 1; c < chunks; c++) {
+		const struct rs_bvh__binning *o = &s->chunk_bins[c];
+		for (uint32_t j = 0; j < 3 * nb; j++) {
+			grow(b->bins[j].lo, b->bins[j].hi, o->bins[j].lo, o->bins[j].hi);
+			b->counts[j] += o->counts[j];
+		}
+		grow(b->blo, b->bhi, o->blo, o->bhi);
+		grow(b->slo, b->shi, o->slo, o->shi);
+		b->large += o->large;
+	}
+	return b;
+}
+
+/* Price every plane between the non-empty bins ne[0..m) of axis a (ascending); keep the
+ * cheapest in *out. */
+static void sweep_bins(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
+                       const struct rs_bvh__binning *b, int a, const uint32_t *ne, uint32_t m,
+                       double area, struct split *out)
+{
+	const struct rs_bvh__bin *bins = &b->bins[a * s->nbins];
+	const uint32_t *counts = &b->counts[a * s->nbins];
+	float rlo[4], rhi[4];
+	box_empty4(rlo, rhi);
 	uint32_t rn = 0;
 	double right_cost[RS_BVH_MAX_BINS];
 	for (uint32_t i = m; i-- > 1;) {
-		const struct bin *bn = &bins[ne[i]];
+		const struct rs_bvh__bin *bn = &bins[ne[i]];
 		grow(rlo, rhi, bn->lo, bn->hi);
-		rn += bn->count;
+		rn += counts[ne[i]];
 		right_cost[i] = box_area(rlo, rhi) * rn;
-		memcpy(s->right[i].lo, rlo, sizeof rlo);
-		memcpy(s->right[i].hi, rhi, sizeof rhi);
+		rs_v4_store(w->right[i].lo, rs_v4_load(rlo));
+		rs_v4_store(w->right[i].hi, rs_v4_load(rhi));
 	}
-	float llo[3], lhi[3];
-	rs_bvh__box_empty(llo, lhi);
+	float llo[4], lhi[4];
+	box_empty4(llo, lhi);
 	uint32_t ln = 0;
 	for (uint32_t i = 1; i < m; i++) {
-		const struct bin *bn = &bins[ne[i - 1]];
+		const struct rs_bvh__bin *bn = &bins[ne[i - 1]];
 		grow(llo, lhi, bn->lo, bn->hi);
-		ln += bn->count;
+		ln += counts[ne[i - 1]];
 		double c = 2.0 * s->ct * area + box_area(llo, lhi) * ln + right_cost[i];
 		if (c < out->cost)
-			take(out, SPLIT_PLANE, a, ne[i], c, llo, lhi, s->right[i].lo,
-			     s->right[i].hi);
+			take(out, SPLIT_PLANE, a, ne[i], c, llo, lhi, w->right[i].lo,
+			     w->right[i].hi);
 	}
+}
+
+/* All bins of axis a were filled: sweep the non-empty ones. */
+static void sweep_axis(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
+                       const struct rs_bvh__binning *b, int a, double area, struct split *out)
+{
+	const uint32_t *counts = &b->counts[a * s->nbins];
+	uint32_t ne[RS_BVH_MAX_BINS], m = 0;
+	for (uint32_t j = 0; j < s->nbins; j++) {
+		ne[m] = j;
+		m += counts[j] != 0;
+	}
+	sweep_bins(s, w, b, a, ne, m, area, out);
+}
+
+enum { BIN_WORDS = RS_BVH_MAX_BINS / 64 };
+
+/* A small node: only the bins its few records fall in are cleared, filled and swept
+ * (sparse binning; the same bins, so the same planes and costs as sweep_axis()), and the
+ * size split's two sides are gathered on the way. */
+static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
+                        const struct rs_bvh__task *t, const struct node_scale *sc, double area,
+                        struct split *out)
+{
+	const struct rs_bvh__item *items = s->items + t->begin;
+	uint32_t n = t->end - t->begin, nb = s->nbins, words = (nb + 63) / 64;
+	int32_t bins[SMALL_NODE][4];
+	uint64_t used[3][BIN_WORDS] = {{0}};
+	struct rs_bvh__binning *b = &w->binning;
+	box_empty4(b->blo, b->bhi);
+	box_empty4(b->slo, b->shi);
+	b->large = 0;
+	for (uint32_t i = 0; i < n; i++) {
+		item_bins(&items[i], sc, bins[i]);
+		for (int a = 0; a < 3; a++)
+			used[a][bins[i][a] >> 6] |= 1ull << (bins[i][a] & 63);
+		if (is_large(&items[i], sc)) {
+			grow(b->blo, b->bhi, items[i].lo, items[i].hi);
+			b->large++;
+		} else {
+			grow(b->slo, b->shi, items[i].lo, items[i].hi);
+		}
+	}
+	uint32_t ne[3][SMALL_NODE], m[3] = {0, 0, 0};
+	for (int a = 0; a < 3; a++) {
+		for (uint32_t wd = 0; wd < words; wd++) {
+			for (uint64_t bits = used[a][wd]; bits; bits &= bits - 1) {
+				uint32_t j = 64 * wd + (uint32_t)__builtin_ctzll(bits);
+				box_empty4(b->bins[a * nb + j].lo, b->bins[a * nb + j].hi);
+				b->counts[a * nb + j] = 0;
+				ne[a][m[a]++] = j;
+			}
+		}
+	}
+	for (uint32_t i = 0; i < n; i++) {
+		for (uint32_t a = 0; a < 3; a++) {
+			uint32_t j = a * nb + (uint32_t)bins[i][a];
+			grow(b->bins[j].lo, b->bins[j].hi, items[i].lo, items[i].hi);
+			b->counts[j]++;
+		}
+	}
+	for (int a = 0; a < 3; a++)
+		if (sc->k[a] != 0.0f)
+			sweep_bins(s, w, b, a, ne[a], m[a], area, out);
 }
 
 /* Size split: the few large triangles (floor, walls) against the rest. Centroid planes
- * leave such triangles in children whose boxes then overlap everything; one more pass
+ * leave such triangles in children whose boxes then overlap everything, so each node
  * prices putting them aside. Only when they are at most a quarter of the node: a node
  * made mostly of large triangles is a room, whose rays start inside it, where the SAH's
  * outside-ray model misleads (measured on Box, docs/bvh.md). */
-static void price_size_split(struct sah_ctx *s, const struct task *t, double area,
-                             struct split *out)
+static void price_size_split(const struct rs_bvh__sah *s, const struct rs_bvh__binning *b,
+                             uint32_t n, double area, struct split *out)
 {
-	uint32_t n = t->end - t->begin, large = 0;
-	float inv_ext[3];
-	inverse_extent(t, inv_ext);
-	float blo[3], bhi[3], slo[3], shi[3];
-	rs_bvh__box_empty(blo, bhi);
-	rs_bvh__box_empty(slo, shi);
-	for (uint32_t i = t->begin; i < t->end; i++) {
-		const struct item *it = &s->items[i];
-		if (is_large(it, inv_ext)) {
-			grow(blo, bhi, it->lo, it->hi);
-			large++;
-		} else {
-			grow(slo, shi, it->lo, it->hi);
-		}
-	}
+	uint32_t large = b->large;
 	if (large == 0 || large == n || (size_t)large * 4 > n)
 		return;
-	double cost =
-	    2.0 * s->ct * area + box_area(blo, bhi) * large + box_area(slo, shi) * (n - large);
+	double cost = 2.0 * s->ct * area + box_area(b->blo, b->bhi) * large +
+	              box_area(b->slo, b->shi) * (n - large);
 	if (cost < out->cost)
-		take(out, SPLIT_SIZE, -1, 0, cost, blo, bhi, slo, shi);
+		take(out, SPLIT_SIZE, -1, 0, cost, b->blo, b->bhi, b->slo, b->shi);
+}
+
+/* Whether no split can beat the leaf, so the search may be skipped: a child's box holds
+ * each of its triangles' boxes, so a split costs at least 2 ct area + the sum of the
+ * triangles' box areas (with a margin far above the rounding of either sum). Decides about
+ * half the nodes of at most leaf_size triangles on the Cow scenes. */
+static int leaf_is_cheapest(const struct rs_bvh__sah *s, const struct rs_bvh__task *t, double area)
+{
+	double bound = 2.0 * s->ct * area;
+	for (uint32_t i = t->begin; i < t->end; i++)
+		bound += box_area(s->items[i].lo, s->items[i].hi);
+	return (double)(t->end - t->begin) * area <= bound * (1.0 - 1e-9);
 }
 
 /* Best split of task t, or SPLIT_LEAF when making a leaf is better (or required). */
-static void find_split(struct sah_ctx *s, const struct task *t, float k[3], struct split *out)
+static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
+                       const struct rs_bvh__task *t, struct node_scale *sc, struct split *out)
 {
 	uint32_t n = t->end - t->begin;
-	memset(out, 0, sizeof *out);
 	out->kind = SPLIT_LEAF;
 	out->cost = DBL_MAX;
-	if (n == 1)
+	/* Every split costs at least 2 ct area, so a leaf of n <= 2 ct triangles (n * area)
+	 * is never dearer: no need to price one. */
+	if (n == 1 || (n <= s->leaf_size && (double)n <= 2.0 * s->ct))
 		return;
-	if (prepare_bins(s, t, k) == 0) {
+	/* Unnormalised costs (times the node area) so flat or point-like nodes (area 0)
+	 * still compare. */
+	double area = rs_bvh__box_area(t->lo, t->hi);
+	if (n <= s->leaf_size && leaf_is_cheapest(s, t, area))
+		return;
+	node_scale(s->nbins, t, sc);
+	if (sc->axes == 0) {
 		/* All centroids coincide: no plane separates them; split the list in halves if
 		 * the leaf would be too big. */
 		if (n > s->leaf_size)
 			out->kind = SPLIT_MEDIAN;
 		return;
 	}
-	fill_bins(s, t, k);
-	/* Unnormalised costs (times the node area) so flat or point-like nodes (area 0)
-	 * still compare. */
-	double area = rs_bvh__box_area(t->lo, t->hi);
-	for (int a = 0; a < 3; a++)
-		if (k[a] != 0.0f)
-			sweep_axis(s, a, area, out);
-	price_size_split(s, t, area, out);
+	if (n <= SMALL_NODE) {
+		split_small(s, w, t, sc, area, out);
+		price_size_split(s, &w->binning, n, area, out);
+	} else {
+		const struct rs_bvh__binning *b = bin_node(s, w, t, sc);
+		for (int a = 0; a < 3; a++)
+			if (sc->k[a] != 0.0f)
+				sweep_axis(s, w, b, a, area, out);
+		price_size_split(s, b, n, area, out);
+	}
 	if (n <= s->leaf_size && (double)n * area <= out->cost)
 		out->kind = SPLIT_LEAF;
 }
 
-/* Partition t's items by the split; fills the two child tasks (bounds and centroid
- * bounds) in list order. */
-static void partition(struct sah_ctx *s, const struct task *t, const float k[3],
-                      const struct split *sp, struct task *left, struct task *right)
+/* Partition t's records by the split (the swap order of the original builder, so the
+ * triangle order is unchanged); fills the two child tasks, whose centroid bounds are
+ * gathered on the way. */
+static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
+                      const struct node_scale *sc, const struct split *sp,
+                      struct rs_bvh__task *left, struct rs_bvh__task *right)
 {
-	*left = (struct task){.begin = t->begin};
-	*right = (struct task){.end = t->end};
-	rs_bvh__box_empty(left->clo, left->chi);
-	rs_bvh__box_empty(right->clo, right->chi);
+	struct rs_bvh__item *items = s->items;
+	*left = (struct rs_bvh__task){.begin = t->begin};
+	*right = (struct rs_bvh__task){.end = t->end};
+	rs_v4 lclo, lchi, rclo, rchi;
+	{
+		float lo[4], hi[4];
+		box_empty4(lo, hi);
+		lclo = rclo = rs_v4_load(lo);
+		lchi = rchi = rs_v4_load(hi);
+	}
 	uint32_t i = t->begin, j = t->end;
 	if (sp->kind == SPLIT_MEDIAN) {
 		i = t->begin + (t->end - t->begin) / 2;
-	} else if (sp->kind == SPLIT_SIZE) {
-		float inv_ext[3];
-		inverse_extent(t, inv_ext);
-		while (i < j) {
-			struct item *it = &s->items[i];
-			if (is_large(it, inv_ext)) {
-				i++;
+		box_empty4(left->lo, left->hi);
+		box_empty4(right->lo, right->hi);
+		for (uint32_t m = t->begin; m < t->end; m++) {
+			rs_v4 c = rs_v4_centroid(rs_v4_load(items[m].lo), rs_v4_load(items[m].hi));
+			if (m < i) {
+				lclo = rs_v4_min(lclo, c);
+				lchi = rs_v4_max(lchi, c);
+				grow(left->lo, left->hi, items[m].lo, items[m].hi);
 			} else {
-				struct item tmp = *it;
-				*it = s->items[--j];
-				s->items[j] = tmp;
+				rclo = rs_v4_min(rclo, c);
+				rchi = rs_v4_max(rchi, c);
+				grow(right->lo, right->hi, items[m].lo, items[m].hi);
 			}
 		}
 	} else {
-		int a = sp->axis;
+		int a = sp->axis, size = sp->kind == SPLIT_SIZE;
 		while (i < j) {
-			struct item *it = &s->items[i];
-			if (bin_of(it->c[a], t->clo[a], k[a], s->nbins) < sp->bin) {
+			struct rs_bvh__item *it = &items[i];
+			rs_v4 c = rs_v4_centroid(rs_v4_load(it->lo), rs_v4_load(it->hi));
+			int go_left;
+			if (size) {
+				go_left = is_large(it, sc);
+			} else {
+				int32_t bin[4];
+				rs_v4_bins(c, sc->clo, sc->kv, sc->top, bin);
+				go_left = (uint32_t)bin[a] < sp->bin;
+			}
+			if (go_left) {
+				lclo = rs_v4_min(lclo, c);
+				lchi = rs_v4_max(lchi, c);
 				i++;
 			} else {
-				struct item tmp = *it;
-				*it = s->items[--j];
-				s->items[j] = tmp;
+				struct rs_bvh__item tmp = *it;
+				*it = items[--j];
+				items[j] = tmp;
+				rclo = rs_v4_min(rclo, c);
+				rchi = rs_v4_max(rchi, c);
 			}
 		}
-	}
-	left->end = right->begin = i;
-	rs_bvh__box_empty(left->lo, left->hi);
-	rs_bvh__box_empty(right->lo, right->hi);
-	for (uint32_t m = t->begin; m < t->end; m++) {
-		const struct item *it = &s->items[m];
-		struct task *side = m < i ? left : right;
-		grow(side->clo, side->chi, it->c, it->c);
-		if (sp->kind == SPLIT_MEDIAN)
-			grow(side->lo, side->hi, it->lo, it->hi);
-	}
-	if (sp->kind != SPLIT_MEDIAN) {
 		memcpy(left->lo, sp->llo, sizeof left->lo);
 		memcpy(left->hi, sp->lhi, sizeof left->hi);
 		memcpy(right->lo, sp->rlo, sizeof right->lo);
 		memcpy(right->hi, sp->rhi, sizeof right->hi);
 	}
+	left->end = right->begin = i;
+	rs_v4_store(left->clo, lclo);
+	rs_v4_store(left->chi, lchi);
+	rs_v4_store(right->clo, rclo);
+	rs_v4_store(right->chi, rchi);
 }
 
 /* Which child comes first in the pre-order (the walk meets it first: for closest hit its
@@ -300,92 +476,139 @@ static void partition(struct sah_ctx *s, const struct task *t, const float k[3],
  * the one with the smaller surface area. Of the orders measured (docs/bvh.md: lower side
  * of the plane, larger area, more or fewer triangles, smaller area) it gave the lowest hit
  * numbers on Box, Cow9 and Cow17. */
-static int second_first(const struct task *l, const struct task *r)
+static int second_first(const struct rs_bvh__task *l, const struct rs_bvh__task *r)
 {
 	return rs_bvh__box_area(r->lo, r->hi) < rs_bvh__box_area(l->lo, l->hi);
 }
 
-enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
-                                 const uint32_t *indices, size_t triangle_count,
-                                 struct rs_bvh_node *nodes, uint32_t *order, size_t *out_count,
-                                 struct rs_error *err)
+void rs_bvh__build_subtree(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
+                           const struct rs_bvh__task *root, struct rs_bvh__emit *out)
 {
-	size_t n = triangle_count;
-	size_t cap = 2 * n - 1;
-	struct item *items = malloc(n * sizeof *items);
-	struct bin *bins = malloc(4 * (size_t)desc->sah_bins * sizeof *bins);
-	uint32_t *parent = malloc(cap * sizeof *parent);
-	struct task *stack = malloc((n + 1) * sizeof *stack);
-	enum rs_status status = RS_OK;
-	if (!items || !bins || !parent || !stack) {
-		status =
-		    rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory (%zu triangles)", n);
-		goto done;
-	}
-	struct task root = {0, (uint32_t)n, RS_BVH_NO_PARENT, {0}, {0}, {0}, {0}};
-	rs_bvh__box_empty(root.lo, root.hi);
-	rs_bvh__box_empty(root.clo, root.chi);
-	for (size_t t = 0; t < n; t++) {
-		struct item *it = &items[t];
-		rs_bvh__box_empty(it->lo, it->hi);
-		rs_bvh__box_add_triangle(it->lo, it->hi, positions, indices, (uint32_t)t);
-		for (int a = 0; a < 3; a++)
-			it->c[a] = 0.5f * it->lo[a] + 0.5f * it->hi[a]; /* no overflow */
-		it->id = (uint32_t)t;
-		grow(root.lo, root.hi, it->lo, it->hi);
-		grow(root.clo, root.chi, it->c, it->c);
-	}
-	struct sah_ctx s = {items,
-	                    bins,
-	                    bins + 3 * (size_t)desc->sah_bins,
-	                    desc->sah_bins,
-	                    desc->leaf_size,
-	                    desc->traversal_cost};
-	size_t top = 0, count = 0;
-	stack[top++] = root;
+	size_t top = 0;
+	w->stack[top] = *root;
+	w->stack[top++].parent = RS_BVH_NO_PARENT;
 	while (top > 0) {
-		struct task t = stack[--top];
-		uint32_t k = (uint32_t)count++;
-		struct rs_bvh_node *node = &nodes[k];
-		parent[k] = t.parent;
-		float kk[3];
-		struct split sp;
-		find_split(&s, &t, kk, &sp);
+		struct rs_bvh__task t = w->stack[--top];
+		uint32_t k = (uint32_t)out->count++;
+		struct rs_bvh_node *node = &out->nodes[k];
+		out->parent[k] = t.parent;
 		node->first = 0;
 		node->count = 0;
+		if (t.end - t.begin <= out->defer) {
+			node->level = RS_BVH_DEFERRED;
+			node->first = (uint32_t)out->deferred_count;
+			out->deferred[out->deferred_count++] = t;
+			continue;
+		}
+		struct node_scale sc;
+		struct split sp;
+		find_split(s, w, &t, &sc, &sp);
 		if (sp.kind == SPLIT_LEAF) {
-			memcpy(node->lo, t.lo, sizeof t.lo);
-			memcpy(node->hi, t.hi, sizeof t.hi);
+			memcpy(node->lo, t.lo, sizeof node->lo);
+			memcpy(node->hi, t.hi, sizeof node->hi);
 			node->first = t.begin;
 			node->count = t.end - t.begin;
 			continue;
 		}
 		rs_bvh__box_empty(node->lo, node->hi);
-		struct task l, r;
-		partition(&s, &t, kk, &sp, &l, &r);
+		struct rs_bvh__task l, r;
+		partition(s, &t, &sc, &sp, &l, &r);
 		l.parent = r.parent = k;
 		/* LIFO: push the second child first so the first child follows its parent. */
 		if (second_first(&l, &r)) {
-			stack[top++] = l;
-			stack[top++] = r;
+			w->stack[top++] = l;
+			w->stack[top++] = r;
 		} else {
-			stack[top++] = r;
-			stack[top++] = l;
+			w->stack[top++] = r;
+			w->stack[top++] = l;
 		}
 	}
-	if (!rs_bvh__finalize(nodes, count, parent)) {
-		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory");
-		goto done;
+}
+
+/* Vertex v as four lanes (lane 3 zero). A four-wide load reads one float past the vertex,
+ * so the last vertex of the array comes from a padded copy. */
+static inline rs_v4 vertex(const float *positions, uint32_t v, size_t vertex_count,
+                           const float last[4])
+{
+	return v + (size_t)1 < vertex_count ? rs_v4_load3(positions + 3 * (size_t)v)
+	                                    : rs_v4_load(last);
+}
+
+/* x - x is 0 for every finite x, NaN for an infinity or a NaN. */
+static inline int finite3(rs_v4 v)
+{
+	rs_v4 zero = rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f);
+	return (rs_v4_ge_mask(rs_v4_sub(v, v), zero) & rs_v4_ge_mask(zero, rs_v4_sub(v, v)) & 7) ==
+	       7;
+}
+
+uint32_t rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, size_t vertex_count,
+                            const uint32_t *indices, uint32_t begin, uint32_t end,
+                            struct rs_bvh__task *bounds)
+{
+	float lo4[4], hi4[4];
+	box_empty4(lo4, hi4);
+	rs_v4_store(bounds->lo, rs_v4_load(lo4));
+	rs_v4_store(bounds->hi, rs_v4_load(hi4));
+	if (vertex_count == 0)
+		return begin; /* every index is out of range */
+	rs_v4 blo = rs_v4_load(lo4), bhi = rs_v4_load(hi4), clo = blo, chi = bhi;
+	const float *p = positions + 3 * (vertex_count - 1);
+	const float last[4] = {p[0], p[1], p[2], 0.0f};
+	/* Adding +0 turns -0 into +0. Chunks merge in list order, where min and max of equal
+	 * values keep the later one either way; without signed zeros they would not depend on
+	 * the order at all. */
+	const rs_v4 zero = rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f);
+	uint32_t t = begin;
+	for (; t < end; t++) {
+		const uint32_t *tri = indices + 3 * (size_t)t;
+		if (tri[0] >= vertex_count || tri[1] >= vertex_count || tri[2] >= vertex_count)
+			break;
+		rs_v4 v0 = vertex(positions, tri[0], vertex_count, last);
+		rs_v4 v1 = vertex(positions, tri[1], vertex_count, last);
+		rs_v4 v2 = vertex(positions, tri[2], vertex_count, last);
+		if (!finite3(v0) || !finite3(v1) || !finite3(v2))
+			break;
+		rs_v4 lo = rs_v4_add(rs_v4_min(rs_v4_min(v0, v1), v2), zero);
+		rs_v4 hi = rs_v4_add(rs_v4_max(rs_v4_max(v0, v1), v2), zero);
+		struct rs_bvh__item *it = &items[t];
+		rs_v4_store(it->lo, lo);
+		rs_v4_store(it->hi, hi);
+		rs_bvh__item_set_id(it, t);
+		rs_v4 c = rs_v4_centroid(lo, hi);
+		blo = rs_v4_min(blo, lo);
+		bhi = rs_v4_max(bhi, hi);
+		clo = rs_v4_min(clo, c);
+		chi = rs_v4_max(chi, c);
 	}
-	/* Leaves own contiguous record ranges; when the right child is emitted first the
-	 * ranges are no longer increasing in pre-order, which the layout allows. */
-	for (size_t t = 0; t < n; t++)
-		order[t] = items[t].id;
-	*out_count = count;
-done:
-	free(items);
-	free(bins);
-	free(parent);
-	free(stack);
-	return status;
+	rs_v4_store(bounds->lo, blo);
+	rs_v4_store(bounds->hi, bhi);
+	rs_v4_store(bounds->clo, clo);
+	rs_v4_store(bounds->chi, chi);
+	return t;
+}
+
+int rs_bvh__scratch_init(struct rs_bvh__scratch *w, uint32_t nbins, size_t max_items)
+{
+	memset(w, 0, sizeof *w);
+	w->binning.bins = malloc(4 * (size_t)nbins * sizeof *w->binning.bins);
+	w->binning.counts = malloc(3 * (size_t)nbins * sizeof *w->binning.counts);
+	/* Each pop pushes at most two tasks, so the stack never holds more than the depth
+	 * plus one, and the depth is below the record count. */
+	w->stack_cap = max_items + 1;
+	w->stack = malloc(w->stack_cap * sizeof *w->stack);
+	if (!w->binning.bins || !w->binning.counts || !w->stack) {
+		rs_bvh__scratch_free(w);
+		return 0;
+	}
+	w->right = w->binning.bins + 3 * (size_t)nbins;
+	return 1;
+}
+
+void rs_bvh__scratch_free(struct rs_bvh__scratch *w)
+{
+	free(w->binning.bins);
+	free(w->binning.counts);
+	free(w->stack);
+	memset(w, 0, sizeof *w);
 }

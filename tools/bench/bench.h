@@ -29,5 +29,6 @@ void bench_min_max(const double *v, uint32_t n, double *out_min, double *out_max
 
 int bench_table1(const struct bench_options *o);
 int bench_table2(const struct bench_options *o);
+int bench_table3(const struct bench_options *o); /* BVH build time against Embree's */
 
 #endif

@@ -5,6 +5,8 @@
  *   --table 2: the paper's Table 2 on a render backend (fps, hit numbers, Mrays/s, time per
  *             kernel for tree BVH 1 pass, raster + BVH 1 and 2 passes) beside the Embree
  *             peer on the same rays when it was built (table2.c, embree/).
+ *   --table 3: BVH build time, ours against Embree's medium build on the same threads
+ *             (table3.c, embree/embree_build.c).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,7 +31,7 @@ void bench_min_max(const double *v, uint32_t n, double *out_min, double *out_max
 
 static void usage(void)
 {
-	puts("usage: raystream-bench [--table 1|2] [--size N] [--lights N] [--repeats N]\n"
+	puts("usage: raystream-bench [--table 1|2|3] [--size N] [--lights N] [--repeats N]\n"
 	     "                       [--threads N] [--scene NAME]\n"
 	     "  table 1: [--flat-size N] [--passes N] [--none-max-triangles N]\n"
 	     "  table 2: [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah]\n"
@@ -121,7 +123,7 @@ static int parse(int argc, char **argv, struct bench_options *o)
 			o->peer = !strcmp(v, "embree");
 		} else {
 			uint32_t max = dst == &o->repeats         ? 32
-			               : dst == &o->table         ? 2
+			               : dst == &o->table         ? 3
 			               : dst == &o->none_max_tris ? 1u << 24
 			               : dst == &o->lights        ? 64
 			                                          : 16384;
@@ -157,5 +159,7 @@ int main(int argc, char **argv)
 	int code = parse(argc, argv, &o);
 	if (code)
 		return code;
+	if (o.table == 3)
+		return bench_table3(&o);
 	return o.table == 2 ? bench_table2(&o) : bench_table1(&o);
 }

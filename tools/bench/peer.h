@@ -4,6 +4,7 @@
 #ifndef RS_BENCH_PEER_H
 #define RS_BENCH_PEER_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "raystream/rs_render.h"
@@ -37,5 +38,17 @@ enum rs_status bench_peer_recorded(const struct bench_peer *peer, uint64_t *out_
  * (equal to the recorded hits when the replay did the same work). */
 enum rs_status bench_peer_replay(struct bench_peer *peer, bool stream, double *out_ms,
                                  uint64_t *out_hits, struct rs_error *err);
+
+/* --table 3's peer: Embree's own BVH build (RTC_BUILD_QUALITY_MEDIUM) over a mesh (the
+ * caller keeps `indices` alive) on a device of `threads` threads. */
+struct bench_embree_build;
+enum rs_status bench_embree_build_create(uint32_t threads, const float *positions,
+                                         size_t vertex_count, const uint32_t *indices,
+                                         size_t triangle_count, struct bench_embree_build **out,
+                                         struct rs_error *err);
+/* One build from scratch: rtcCommitScene's wall time and the process's CPU time in it. */
+enum rs_status bench_embree_build_once(struct bench_embree_build *build, double *out_ms,
+                                       double *out_cpu_ms, struct rs_error *err);
+void bench_embree_build_destroy(struct bench_embree_build **build);
 
 #endif

@@ -32,7 +32,13 @@ struct rs_bvh_desc {
 	uint32_t leaf_size;   /**< max triangles per leaf: SAH 0 -> 4, LINEAR 0 -> 8; PAPER is 1 */
 	uint32_t sah_bins;    /**< 0 -> 16 */
 	float traversal_cost; /**< SAH cost of a box test relative to a triangle test; 0 -> 1 */
+	/** SAH builder threads, the caller's included; 0 -> 1. The tree is the same for every
+	 *  count (the threads share the work, never the decisions). */
+	uint32_t threads;
 };
+
+/** Largest rs_bvh_desc.threads. */
+#define RS_BVH_MAX_THREADS 256u
 
 /**
  * One node of the threaded pre-order layout.

@@ -1,0 +1,139 @@
+/* The SAH builder's worker threads: started once per build, then handed one parallel loop
+ * at a time (jobs taken from a shared counter, the caller's thread working too). A build
+ * runs a handful of loops, so one start per build instead of one per loop. */
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+
+#include "bvh_internal.h"
+
+struct rs_bvh__pool {
+	pthread_mutex_t lock;
+	pthread_cond_t wake, done;
+	pthread_t *ids;
+	uint32_t started; /* helper threads running (the caller is worker 0) */
+	/* The loop in progress; generation counts loops so a sleeping worker sees a new one. */
+	rs_bvh__job_fn fn;
+	void *ctx;
+	uint32_t jobs;
+	atomic_uint next;
+	uint32_t busy; /* helpers still inside the current loop */
+	uint64_t generation;
+	int quit;
+};
+
+struct worker_arg {
+	struct rs_bvh__pool *pool;
+	uint32_t worker;
+};
+
+static void run_jobs(struct rs_bvh__pool *p, rs_bvh__job_fn fn, void *ctx, uint32_t jobs,
+                     uint32_t worker)
+{
+	for (;;) {
+		uint32_t j = atomic_fetch_add_explicit(&p->next, 1, memory_order_relaxed);
+		if (j >= jobs)
+			return;
+		fn(ctx, j, worker);
+	}
+}
+
+static void *worker_main(void *arg)
+{
+	struct worker_arg *a = arg;
+	struct rs_bvh__pool *p = a->pool;
+	uint64_t seen = 0;
+	pthread_mutex_lock(&p->lock);
+	for (;;) {
+		while (!p->quit && p->generation == seen)
+			pthread_cond_wait(&p->wake, &p->lock);
+		if (p->quit)
+			break;
+		seen = p->generation;
+		rs_bvh__job_fn fn = p->fn;
+		void *ctx = p->ctx;
+		uint32_t jobs = p->jobs;
+		pthread_mutex_unlock(&p->lock);
+		run_jobs(p, fn, ctx, jobs, a->worker);
+		pthread_mutex_lock(&p->lock);
+		if (--p->busy == 0)
+			pthread_cond_signal(&p->done);
+	}
+	pthread_mutex_unlock(&p->lock);
+	free(a);
+	return NULL;
+}
+
+struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads)
+{
+	struct rs_bvh__pool *p = calloc(1, sizeof *p);
+	if (!p)
+		return NULL;
+	p->ids = calloc(threads, sizeof *p->ids);
+	if (!p->ids || pthread_mutex_init(&p->lock, NULL) != 0) {
+		free(p->ids);
+		free(p);
+		return NULL;
+	}
+	pthread_cond_init(&p->wake, NULL);
+	pthread_cond_init(&p->done, NULL);
+	atomic_init(&p->next, 0);
+	/* A helper that cannot be started only means fewer hands: the work is the same. */
+	for (uint32_t t = 1; t < threads; t++) {
+		struct worker_arg *a = malloc(sizeof *a);
+		if (!a)
+			break;
+		*a = (struct worker_arg){p, t};
+		if (pthread_create(&p->ids[p->started], NULL, worker_main, a) != 0) {
+			free(a);
+			break;
+		}
+		p->started++;
+	}
+	return p;
+}
+
+uint32_t rs_bvh__pool_workers(const struct rs_bvh__pool *p)
+{
+	return p ? p->started + 1 : 1;
+}
+
+void rs_bvh__pool_run(struct rs_bvh__pool *p, uint32_t jobs, rs_bvh__job_fn fn, void *ctx)
+{
+	if (!p || p->started == 0 || jobs <= 1) {
+		for (uint32_t j = 0; j < jobs; j++)
+			fn(ctx, j, 0);
+		return;
+	}
+	pthread_mutex_lock(&p->lock);
+	p->fn = fn;
+	p->ctx = ctx;
+	p->jobs = jobs;
+	atomic_store(&p->next, 0);
+	p->busy = p->started;
+	p->generation++;
+	pthread_cond_broadcast(&p->wake);
+	pthread_mutex_unlock(&p->lock);
+	run_jobs(p, fn, ctx, jobs, 0);
+	pthread_mutex_lock(&p->lock);
+	while (p->busy > 0)
+		pthread_cond_wait(&p->done, &p->lock);
+	pthread_mutex_unlock(&p->lock);
+}
+
+void rs_bvh__pool_stop(struct rs_bvh__pool *p)
+{
+	if (!p)
+		return;
+	pthread_mutex_lock(&p->lock);
+	p->quit = 1;
+	pthread_cond_broadcast(&p->wake);
+	pthread_mutex_unlock(&p->lock);
+	for (uint32_t t = 0; t < p->started; t++)
+		pthread_join(p->ids[t], NULL);
+	pthread_cond_destroy(&p->wake);
+	pthread_cond_destroy(&p->done);
+	pthread_mutex_destroy(&p->lock);
+	free(p->ids);
+	free(p);
+}

@@ -1,0 +1,258 @@
+/* rs_bvh's SAH builder on several threads: the tree (nodes and triangle order, to the byte)
+ * is the one-thread tree for every thread count, on meshes big enough for the threaded
+ * paths (subtrees on the threads, big nodes binned in chunks), including signed zeros and
+ * coincident centroids, whose min/max and list-order splits would show any dependence on
+ * how the work was divided. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "raystream/rs_bvh.h"
+
+struct mesh {
+	float *pos;
+	uint32_t *idx;
+	size_t verts, tris;
+};
+
+static uint64_t rng_state = 0x2545f4914f6cdd1dull;
+static double rnd(void)
+{
+	rng_state ^= rng_state << 13;
+	rng_state ^= rng_state >> 7;
+	rng_state ^= rng_state << 17;
+	return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static struct mesh mesh_alloc(size_t tris)
+{
+	struct mesh m = {malloc(9 * tris * sizeof(float)), malloc(3 * tris * sizeof(uint32_t)),
+	                 3 * tris, tris};
+	assert_non_null(m.pos);
+	assert_non_null(m.idx);
+	for (size_t i = 0; i < 3 * tris; i++)
+		m.idx[i] = (uint32_t)i;
+	return m;
+}
+
+/* Small triangles in a 100-unit cube, every seventh long and thin, a few floor-sized ones
+ * (the size split). */
+static struct mesh random_mesh(size_t tris)
+{
+	struct mesh m = mesh_alloc(tris);
+	for (size_t t = 0; t < tris; t++) {
+		double c[3] = {rnd() * 100, rnd() * 100, rnd() * 100};
+		double s = t % 997 == 0 ? 150.0 : t % 7 == 0 ? 20.0 : 2.0;
+		for (int k = 0; k < 9; k++)
+			m.pos[9 * t + k] = (float)(c[k % 3] + (rnd() - 0.5) * s);
+	}
+	return m;
+}
+
+/* A grid of triangles on the plane z = 0 around the origin, z written as +0 or -0 at
+ * random, each triangle present three times (coincident centroids: list-order splits). */
+static struct mesh zero_grid(size_t side)
+{
+	struct mesh m = mesh_alloc(3 * side * side);
+	size_t t = 0;
+	for (size_t i = 0; i < side; i++) {
+		for (size_t j = 0; j < side; j++) {
+			float x = (float)i - (float)side / 2, y = (float)j - (float)side / 2;
+			const float v[9] = {x, y, 0.0f, x + 1, y, 0.0f, x, y + 1, 0.0f};
+			for (int copy = 0; copy < 3; copy++, t++) {
+				memcpy(&m.pos[9 * t], v, sizeof v);
+				for (int k = 0; k < 3; k++)
+					m.pos[9 * t + 3 * k + 2] = rnd() < 0.5 ? -0.0f : 0.0f;
+				if (x == 0.0f && rnd() < 0.5)
+					m.pos[9 * t] = -0.0f;
+			}
+		}
+	}
+	return m;
+}
+
+struct built {
+	struct rs_bvh_node *nodes;
+	uint32_t *order;
+	size_t count;
+};
+
+static struct built build(const struct mesh *m, uint32_t threads)
+{
+	struct rs_bvh_desc d = {.builder = RS_BVH_SAH, .threads = threads};
+	size_t cap = rs_bvh_node_bound(&d, m->tris);
+	struct built b = {malloc(cap * sizeof *b.nodes), malloc(m->tris * sizeof *b.order), 0};
+	assert_non_null(b.nodes);
+	assert_non_null(b.order);
+	struct rs_error err;
+	if (rs_bvh_build(&d, m->pos, m->verts, m->idx, m->tris, b.nodes, cap, b.order, &b.count,
+	                 &err) != RS_OK)
+		fail_msg("build on %u threads: %s", threads, err.message);
+	if (rs_bvh_check(b.nodes, b.count, m->pos, m->idx, b.order, m->tris, &err) != RS_OK)
+		fail_msg("tree built on %u threads: %s", threads, err.message);
+	return b;
+}
+
+static void built_free(struct built *b)
+{
+	free(b->nodes);
+	free(b->order);
+}
+
+static void assert_same_for_every_thread_count(const struct mesh *m)
+{
+	struct built one = build(m, 1);
+	const uint32_t counts[] = {2, 3, 4, 7};
+	for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+		struct built b = build(m, counts[k]);
+		if (b.count != one.count)
+			fail_msg("%zu triangles, %u threads: %zu nodes, one thread %zu", m->tris,
+			         counts[k], b.count, one.count);
+		for (size_t i = 0; i < one.count; i++)
+			if (memcmp(&b.nodes[i], &one.nodes[i], sizeof one.nodes[i]) != 0)
+				fail_msg("%zu triangles, %u threads: node %zu differs", m->tris,
+				         counts[k], i);
+		if (memcmp(b.order, one.order, m->tris * sizeof *one.order) != 0)
+			fail_msg("%zu triangles, %u threads: triangle order differs", m->tris,
+			         counts[k]);
+		built_free(&b);
+	}
+	built_free(&one);
+}
+
+/* 40,000 triangles: past the threaded build's floor and the chunked binning's. */
+static void random_mesh_tree_is_independent_of_threads(void **state)
+{
+	(void)state;
+	const size_t sizes[] = {9000, 40000};
+	for (size_t k = 0; k < 2; k++) {
+		struct mesh m = random_mesh(sizes[k]);
+		assert_same_for_every_thread_count(&m);
+		free(m.pos);
+		free(m.idx);
+	}
+}
+
+/* 300,000 triangles on two threads: subtrees of n / 8 records, above the size at which the
+ * upper nodes bin in chunks on the threads; a subtree, already on a thread, must bin on its
+ * own (two threads, one build each: a nested loop on the threads would hang or race). */
+static void big_subtrees_bin_on_their_own_thread(void **state)
+{
+	(void)state;
+	struct mesh m = random_mesh(300000);
+	struct built one = build(&m, 1), two = build(&m, 2);
+	assert_int_equal(two.count, one.count);
+	assert_memory_equal(two.nodes, one.nodes, one.count * sizeof *one.nodes);
+	assert_memory_equal(two.order, one.order, m.tris * sizeof *one.order);
+	built_free(&one);
+	built_free(&two);
+	free(m.pos);
+	free(m.idx);
+}
+
+static void signed_zeros_and_duplicates_are_independent_of_threads(void **state)
+{
+	(void)state;
+	struct mesh m = zero_grid(120); /* 43,200 triangles */
+	assert_same_for_every_thread_count(&m);
+	free(m.pos);
+	free(m.idx);
+}
+
+/* The threads share the work: the SAH cost is the one-thread tree's, not merely close. */
+static void threads_keep_the_sah_cost(void **state)
+{
+	(void)state;
+	struct mesh m = random_mesh(20000);
+	struct built one = build(&m, 1), four = build(&m, 4);
+	struct rs_bvh_stats a, b;
+	rs_bvh_stats(one.nodes, one.count, 1.0f, &a);
+	rs_bvh_stats(four.nodes, four.count, 1.0f, &b);
+	assert_true(a.sah_cost == b.sah_cost);
+	assert_true(a.sah_cost > 0.0);
+	built_free(&one);
+	built_free(&four);
+	free(m.pos);
+	free(m.idx);
+}
+
+static void thread_count_is_validated(void **state)
+{
+	(void)state;
+	struct rs_bvh_desc d;
+	rs_bvh_desc_resolve(NULL, &d);
+	assert_int_equal(d.threads, 1);
+	struct mesh m = random_mesh(10);
+	struct rs_bvh_node nodes[32];
+	uint32_t order[10];
+	size_t count = 7;
+	struct rs_bvh_desc bad = {.threads = RS_BVH_MAX_THREADS + 1};
+	struct rs_error err;
+	assert_int_equal(
+	    rs_bvh_build(&bad, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count, &err),
+	    RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "threads"));
+	assert_int_equal(count, 0);
+	/* Below the threaded build's floor, many threads build the one-thread tree. */
+	struct rs_bvh_desc many = {.threads = 16};
+	assert_int_equal(
+	    rs_bvh_build(&many, m.pos, m.verts, m.idx, m.tris, nodes, 32, order, &count, &err),
+	    RS_OK);
+	assert_int_equal(rs_bvh_check(nodes, count, m.pos, m.idx, order, m.tris, &err), RS_OK);
+	free(m.pos);
+	free(m.idx);
+}
+
+/* The mesh is checked as the threads read it: the first bad triangle is named, whatever
+ * chunk finds a bad one first. */
+static void bad_input_is_named_the_same_on_threads(void **state)
+{
+	(void)state;
+	struct mesh m = random_mesh(40000);
+	m.pos[9 * 30000 + 4] = -INFINITY; /* triangle 30000's vertex 90001 */
+	m.idx[3 * 35000 + 2] = (uint32_t)m.verts + 5;
+	struct rs_bvh_desc d = {.threads = 1};
+	size_t cap = rs_bvh_node_bound(&d, m.tris), count = 3;
+	struct rs_bvh_node *nodes = malloc(cap * sizeof *nodes);
+	uint32_t *order = malloc(m.tris * sizeof *order);
+	assert_non_null(nodes);
+	assert_non_null(order);
+	const uint32_t threads[] = {1, 2, 7};
+	for (size_t k = 0; k < 3; k++) {
+		d.threads = threads[k];
+		struct rs_error err;
+		assert_int_equal(rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, cap, order,
+		                              &count, &err),
+		                 RS_ERR_BAD_DATA);
+		assert_string_equal(err.message, "bvh: vertex 90001 is not finite");
+		assert_int_equal(count, 0);
+	}
+	m.pos[9 * 30000 + 4] = 1.0f;
+	struct rs_error err;
+	assert_int_equal(
+	    rs_bvh_build(&d, m.pos, m.verts, m.idx, m.tris, nodes, cap, order, &count, &err),
+	    RS_ERR_BAD_DATA);
+	assert_string_equal(err.message, "bvh: triangle 35000 uses vertex 120005 of 120000");
+	free(nodes);
+	free(order);
+	free(m.pos);
+	free(m.idx);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+	    cmocka_unit_test(random_mesh_tree_is_independent_of_threads),
+	    cmocka_unit_test(signed_zeros_and_duplicates_are_independent_of_threads),
+	    cmocka_unit_test(big_subtrees_bin_on_their_own_thread),
+	    cmocka_unit_test(threads_keep_the_sah_cost),
+	    cmocka_unit_test(thread_count_is_validated),
+	    cmocka_unit_test(bad_input_is_named_the_same_on_threads),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
