@@ -297,7 +297,7 @@ done:
 		server_render_stop(s, threads, s->o.render_threads);
 	if (lfd >= 0)
 		close(lfd);
-	for (int i = 0; i < SERVER_MAX_VIEWERS; ++i) {
+	for (int i = 0; i < SERVER_SLOTS; ++i) {
 		free(s->viewers[i].pending.data);
 		free(s->viewers[i].inflight.data);
 	}

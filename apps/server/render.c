@@ -26,8 +26,8 @@ static struct worker workers[SERVER_MAX_THREADS];
 static struct viewer *pick(struct server *s, struct worker *w)
 {
 	double now = server_now_s();
-	for (uint32_t k = 0; k < SERVER_MAX_VIEWERS; ++k) {
-		uint32_t i = (w->cursor + k) % SERVER_MAX_VIEWERS;
+	for (uint32_t k = 0; k < SERVER_SLOTS; ++k) {
+		uint32_t i = (w->cursor + k) % SERVER_SLOTS;
 		struct viewer *v = &s->viewers[i];
 		if (!v->active || !v->hello_done || v->closing || !v->pose_new || v->busy)
 			continue;
@@ -49,12 +49,8 @@ static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int q
                       uint32_t *render_us, struct rs_error *err)
 {
 	struct server *s = w->s;
-	struct rs_camera cam = {
-	    .fov_y_deg = pose->fov_y_deg, .width = s->o.width, .height = s->o.height};
-	memcpy(cam.eye, pose->eye, sizeof cam.eye);
-	memcpy(cam.target, pose->target, sizeof cam.target);
-	memcpy(cam.up, pose->up, sizeof cam.up);
-	memcpy(cam.shift, pose->shift, sizeof cam.shift);
+	struct rs_camera cam;
+	server_pose_camera(s, pose, &cam);
 	struct rs_frame frame = {.rgba8 = w->rgba};
 	double t0 = server_now_s();
 	if (rs_renderer_render(w->renderer, &cam, &frame, err) != RS_OK)

@@ -32,6 +32,10 @@ struct viewer_link {
 	uint8_t *inbuf;
 	uint8_t out[RS_STREAM_HEADER_SIZE + 128]; /* the newest unsent pose (latest wins) */
 	size_t out_len, out_off;
+	/* frame acknowledgements (RS_STREAM_POSE_ACKS): a STATS after each frame received */
+	uint8_t ack[RS_STREAM_HEADER_SIZE + 32];
+	size_t ack_len, ack_off;
+	uint32_t frames_in, frames_acked;
 	uint32_t viewer_id;
 	uint64_t bytes_in;
 	struct rs_stream_stats server_stats; /* last STATS from the server */
