@@ -67,25 +67,19 @@ static void accept_all(struct server *s, int lfd, double now)
 /* Whether the next frame may go to the socket now. Frames must not wait in kernel buffers,
  * where they can no longer be dropped for newer ones: a new frame starts only once the
  * previous one has left this host (no unsent bytes), and, for a viewer that acknowledges
- * frames, once it has acknowledged every frame sent (one frame on the way at a time).
- * A pending frame that went stale meanwhile while a newer pose waits is dropped here. */
-static int frame_may_start(struct server *s, struct viewer *v, double now, double *wait_s)
+ * frames, once it has acknowledged every frame sent (one frame on the way at a time). */
+static int frame_may_start(struct viewer *v, double *wait_s)
 {
+	/* the viewer's STATS wakes us; meanwhile the render threads keep the pending frame
+	 * fresh (pick() replaces one older than --stale-ms when a newer pose is there) */
+	if (v->acks && (uint32_t)v->frames_sent != v->reported.frames)
+		return 0;
 	int unsent = 0;
 	if (ioctl(v->fd, SIOCOUTQNSD, &unsent) == 0 && unsent > 0) {
-		if (*wait_s > 0.002)
-			*wait_s = 0.002; /* POLLOUT would fire at once: look again shortly */
+		if (*wait_s > 0.01)
+			*wait_s = 0.01; /* POLLOUT would fire at once: look again shortly */
 		return 0;
 	}
-	if (v->acks && (uint32_t)v->frames_sent != v->reported.frames)
-		return 0; /* the viewer's STATS wakes us */
-	pthread_mutex_lock(&s->lock);
-	if (v->pending.full && v->pose_new && now - v->pending.queued_s > s->o.stale_s) {
-		v->pending.full = 0; /* its frame id stays used: the viewer sees the gap */
-		++v->frames_dropped;
-		pthread_cond_signal(&s->work);
-	}
-	pthread_mutex_unlock(&s->lock);
 	return 1;
 }
 
@@ -98,7 +92,7 @@ static int flush(struct server *s, struct viewer *v, double now, double *wait_s)
 		if (!v->sending_ctl && !mid_frame) {
 			if (v->ctl_len > v->ctl_off) {
 				v->sending_ctl = 1;
-			} else if (!v->inflight.full && frame_may_start(s, v, now, wait_s)) {
+			} else if (!v->inflight.full && frame_may_start(v, wait_s)) {
 				pthread_mutex_lock(&s->lock);
 				if (v->pending.full && v->pending.ready_s <= now) {
 					struct outframe t = v->inflight;

@@ -14,10 +14,12 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "raystream/rs_cli.h"
+#include "raystream/rs_scenegen.h"
+
 #include "app_net.h"
 #include "raystream/rs_renderers.h"
 #include "server.h"
-#include "tool_common.h"
 
 volatile sig_atomic_t server_signal;
 
@@ -129,30 +131,30 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 		else if (!strcmp(a, "--stats"))
 			o->stats = v;
 		else if (!strcmp(a, "--size")) {
-			if (!rs_tool_parse_size(v, &o->width, &o->height) ||
+			if (!rs_cli_parse_size(v, RS_STREAM_MAX_SIDE, &o->width, &o->height) ||
 			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
 				return fail_usage("--size wants WxH within 1..4096, not '%s'", v);
 		} else if (!strcmp(a, "--port")) {
-			if (!rs_tool_parse_u32(v, 0, 65535, &u))
+			if (!rs_cli_parse_u32(v, 0, 65535, &u))
 				return fail_usage("--port wants 0..65535, not '%s'", v);
 			o->port = (uint16_t)u;
 		} else if (!strcmp(a, "--passes")) {
-			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))
+			if (!rs_cli_parse_u32(v, 1, 64, &o->passes))
 				return fail_usage("--passes wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--lights")) {
-			if (!rs_tool_parse_u32(v, 1, 64, &o->lights))
+			if (!rs_cli_parse_u32(v, 1, 64, &o->lights))
 				return fail_usage("--lights wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--threads")) {
-			if (!rs_tool_parse_u32(v, 1, 256, &o->threads))
+			if (!rs_cli_parse_u32(v, 1, 256, &o->threads))
 				return fail_usage("--threads wants 1..256, not '%s'", v);
 		} else if (!strcmp(a, "--render-threads")) {
-			if (!rs_tool_parse_u32(v, 1, SERVER_MAX_THREADS, &o->render_threads))
+			if (!rs_cli_parse_u32(v, 1, SERVER_MAX_THREADS, &o->render_threads))
 				return fail_usage("--render-threads wants 1..16, not '%s'", v);
 		} else if (!strcmp(a, "--max-viewers")) {
-			if (!rs_tool_parse_u32(v, 1, SERVER_MAX_VIEWERS, &o->max_viewers))
+			if (!rs_cli_parse_u32(v, 1, SERVER_MAX_VIEWERS, &o->max_viewers))
 				return fail_usage("--max-viewers wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--quality")) {
-			if (!rs_tool_parse_u32(v, 1, 100, &u))
+			if (!rs_cli_parse_u32(v, 1, 100, &u))
 				return fail_usage("--quality wants 1..100, not '%s'", v);
 			o->quality = (int)u;
 		} else if (!strcmp(a, "--encoding")) {
@@ -221,7 +223,7 @@ static void write_stats(const struct server *s, double secs)
 	                                           : 0);
 	cJSON_AddNumberToObject(doc, "disconnects", (double)s->disconnects);
 	struct rs_error err = {0};
-	if (rs_tool_write_json(s->o.stats, doc, &err) != RS_OK)
+	if (app_write_json(s->o.stats, doc, &err) != RS_OK)
 		fprintf(stderr, "raystream-server: %s\n", err.message);
 	cJSON_Delete(doc);
 }
@@ -238,7 +240,7 @@ static int run(struct server *s)
 			fprintf(stderr, "raystream-server: --token must be printable ASCII\n");
 			return 2;
 		}
-	if (rs_tool_load_scene(s->o.scene, &scene, &err) != RS_OK) {
+	if (rs_scenegen_load(s->o.scene, &scene, &err) != RS_OK) {
 		fprintf(stderr, "raystream-server: %s\n", err.message);
 		return 1;
 	}
@@ -273,7 +275,7 @@ static int run(struct server *s)
 	if (s->o.port_file) {
 		cJSON *doc = cJSON_CreateObject();
 		cJSON_AddNumberToObject(doc, "port", port);
-		enum rs_status st = rs_tool_write_json(s->o.port_file, doc, &err);
+		enum rs_status st = app_write_json(s->o.port_file, doc, &err);
 		cJSON_Delete(doc);
 		if (st != RS_OK) {
 			fprintf(stderr, "raystream-server: %s\n", err.message);

@@ -13,8 +13,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "raystream/rs_cli.h"
+
 #include "app_net.h"
-#include "tool_common.h"
 #include "viewer.h"
 
 static void usage(FILE *to)
@@ -61,7 +62,8 @@ static int known_option(const char *a)
 	static const char *const names =
 	    " --backend --duration --every --eye --eye-frame --fov --frames --last --layout "
 	    "--linger --out "
-	    "--passes --pose-id-base --quality --scale --scene --screen --server --size --stats "
+	    "--passes --pose-id-base --present --quality --scale --scene --screen --server --size "
+	    "--stats "
 	    "--threads --token --tracker --view ";
 	size_t n = strlen(a);
 	for (const char *p = strstr(names, a); p; p = strstr(p + 1, a))
@@ -126,9 +128,15 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 		else if (!strcmp(a, "--last"))
 			o->last = v;
 		else if (!strcmp(a, "--size")) {
-			if (!rs_tool_parse_size(v, &o->width, &o->height) ||
+			if (!rs_cli_parse_size(v, RS_STREAM_MAX_SIDE, &o->width, &o->height) ||
 			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
 				return fail_usage("--size wants WxH within 1..4096, not '%s'", v);
+		} else if (!strcmp(a, "--present")) {
+			if (!strcmp(v, "direct") || !strcmp(v, "readback"))
+				o->readback = !strcmp(v, "readback");
+			else
+				return fail_usage("--present wants direct or readback, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--view")) {
 			if (!strcmp(v, "window"))
 				o->cal.mode = RS_VIEW_HEAD_COUPLED;
@@ -171,22 +179,22 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 				return fail_usage("--linger wants seconds 0..3600, not '%s'", v);
 			o->linger_s = d[0];
 		} else if (!strcmp(a, "--passes")) {
-			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))
+			if (!rs_cli_parse_u32(v, 1, 64, &o->passes))
 				return fail_usage("--passes wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--threads")) {
-			if (!rs_tool_parse_u32(v, 1, 256, &o->threads))
+			if (!rs_cli_parse_u32(v, 1, 256, &o->threads))
 				return fail_usage("--threads wants 1..256, not '%s'", v);
 		} else if (!strcmp(a, "--every")) {
-			if (!rs_tool_parse_u32(v, 1, 1000000, &o->every))
+			if (!rs_cli_parse_u32(v, 1, 1000000, &o->every))
 				return fail_usage("--every wants 1..1000000, not '%s'", v);
 		} else if (!strcmp(a, "--frames")) {
-			if (!rs_tool_parse_u32(v, 1, 100000000, &o->frames))
+			if (!rs_cli_parse_u32(v, 1, 100000000, &o->frames))
 				return fail_usage("--frames wants 1..1e8, not '%s'", v);
 		} else if (!strcmp(a, "--pose-id-base")) {
-			if (!rs_tool_parse_u32(v, 0, 4000000000u, &o->pose_id_base))
+			if (!rs_cli_parse_u32(v, 0, 4000000000u, &o->pose_id_base))
 				return fail_usage("--pose-id-base wants 0..4e9, not '%s'", v);
 		} else if (!strcmp(a, "--quality")) {
-			if (!rs_tool_parse_u32(v, 1, 100, &u))
+			if (!rs_cli_parse_u32(v, 1, 100, &u))
 				return fail_usage("--quality wants 1..100, not '%s'", v);
 			o->quality = (int)u;
 		} else

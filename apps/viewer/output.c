@@ -6,7 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tool_common.h"
+#include "app_net.h"
+#include "raystream/rs_image.h"
 #include "viewer.h"
 
 static void rgba_to_float(const uint8_t *rgba, uint32_t n, float *out)
@@ -93,7 +94,7 @@ void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t
 		verify(v, pose_id);
 	if (v->o.out_dir && (v->frames - 1) % v->o.every == 0)
 		write_frame(v);
-	if (v->window)
+	if (v->window && !(v->direct && !v->remote)) /* a direct frame is already shown */
 		viewer_window_present(v);
 }
 
@@ -171,7 +172,7 @@ int viewer_write_stats(struct viewer *v)
 		cJSON_AddNumberToObject(doc, "psnr_mean_db", v->psnr_sum / (double)v->psnr_n);
 	}
 	struct rs_error err = {0};
-	enum rs_status st = rs_tool_write_json(v->o.stats, doc, &err);
+	enum rs_status st = app_write_json(v->o.stats, doc, &err);
 	cJSON_Delete(doc);
 	if (st != RS_OK) {
 		fprintf(stderr, "raystream-viewer: %s\n", err.message);

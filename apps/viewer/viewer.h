@@ -17,6 +17,7 @@ struct viewer_options {
 	const char *tracker, *server, *scene, *backend, *token, *out_dir, *stats, *layout, *last;
 	uint32_t width, height, passes, threads, every, frames, pose_id_base;
 	int quality, headless, verify_local, start_remote;
+	int readback; /* --present readback: GPU frames read back and uploaded (benchmarks) */
 	double duration_s, linger_s;
 	struct rs_view_calibration cal;
 };
@@ -52,6 +53,7 @@ struct viewer {
 	struct viewer_link link;
 	struct rs_window *window; /* NULL when headless */
 	int remote;               /* showing remote frames (else local) */
+	int direct;               /* v->local draws into the window itself (no readback) */
 	uint8_t *rgba, *check;    /* the frame shown; a local render to compare with */
 	uint32_t pose_id;         /* last pose id sent or rendered */
 	struct rs_camera camera;  /* current camera */
@@ -88,6 +90,10 @@ int viewer_write_last(struct viewer *v, const char *path);
 /* The window (window.c, through backends/window when built). */
 enum viewer_key { VIEWER_KEY_NONE, VIEWER_KEY_QUIT, VIEWER_KEY_SWITCH, VIEWER_KEY_RECENTRE };
 int viewer_window_open(struct viewer *v);
+/* A GLES renderer on the window's own context (frames drawn straight into it); 0 on
+ * success, else -1 with the reason in err. */
+int viewer_window_renderer(struct viewer *v, const struct rs_render_desc *desc,
+                           struct rs_error *err);
 void viewer_window_present(struct viewer *v);
 void viewer_window_caption(struct viewer *v, const char *text);
 enum viewer_key viewer_window_poll(struct viewer *v);

@@ -19,6 +19,12 @@ int viewer_window_open(struct viewer *v)
 	return 0;
 }
 
+int viewer_window_renderer(struct viewer *v, const struct rs_render_desc *desc,
+                           struct rs_error *err)
+{
+	return rs_window_renderer_create(v->window, desc, &v->local, err) == RS_OK ? 0 : -1;
+}
+
 void viewer_window_present(struct viewer *v)
 {
 	struct rs_error err = {0};
@@ -51,6 +57,15 @@ void viewer_window_close(struct viewer *v)
 }
 
 #else
+
+int viewer_window_renderer(struct viewer *v, const struct rs_render_desc *desc,
+                           struct rs_error *err)
+{
+	(void)v;
+	(void)desc;
+	rs_error_set(err, RS_ERR_UNSUPPORTED, "this build has no window backend");
+	return -1;
+}
 
 int viewer_window_open(struct viewer *v)
 {

@@ -358,5 +358,9 @@ enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
 	double t1 = rs_gles_now_ms();
 	st = readback(g, frame, &c, stats, err);
 	stats->readback_ms = rs_gles_now_ms() - t1;
+	/* a window context: the frame goes to the screen from the colour state itself */
+	if (st == RS_OK && g->cops->display_target)
+		st = rs_gles_present(g, g->state[c.st[ST_ACC]][ST_ACC], g->desc.width,
+		                     g->desc.height, stats, err);
 	return st;
 }

@@ -92,6 +92,9 @@ struct gles {
 	float spawn_scale, ambient;
 	float env_center[3], env_half, env_color[18], env_grid, env_line_width, env_line_scale;
 	float *scratch; /* readback: width * height * 4 floats */
+	/* the display step into a window's default framebuffer (gles_display.c), made at the
+	 * first frame when the context has a display_target */
+	struct rs_gles_display *display;
 };
 
 /* Largest number of lights a kernel is specialised for (uniform arrays). */
@@ -161,6 +164,13 @@ enum rs_status rs_gles_paper_segment(struct gles *g, uint32_t pass, GLuint hit,
 enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
                              const struct rs_frame *frame, struct rs_render_stats *stats,
                              struct rs_error *err);
+
+/* gles_display.c: show float colour texture `tex` (width x height texels, row 0 = top) in
+ * the context's window (cops->display_target) and swap; its time is kernel "present".
+ * rs_gles_display_free releases the step (context current). */
+enum rs_status rs_gles_present(struct gles *g, GLuint tex, uint32_t width, uint32_t height,
+                               struct rs_render_stats *stats, struct rs_error *err);
+void rs_gles_display_free(struct gles *g);
 
 /* Render the cube shadow maps of every light (set_scene: lights and geometry are fixed). */
 enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);

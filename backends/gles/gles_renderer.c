@@ -387,6 +387,7 @@ static void gles_destroy(void *impl)
 		return;
 	if (g->gl.DeleteTextures && g->cops->make_current(g->ctx, NULL) == RS_OK) {
 		delete_scene(g);
+		rs_gles_display_free(g);
 		if (g->fbo)
 			g->gl.DeleteFramebuffers(1, &g->fbo);
 		if (g->vao)
