@@ -45,19 +45,19 @@ void server_log(const struct server *s, const char *fmt, ...)
 
 static void usage(FILE *to)
 {
-	fputs(
-	    "usage: raystream-server [--scene box|cowN|FILE] [--size WxH] [--backend "
-	    "cpu|egl|osmesa]\n"
-	    "         [--passes N] [--lights N] [--shadows rays|map] [--threads N]\n"
-	    "         [--render-threads N] [--quality 1..100] [--encoding jpeg|jpeg444|raw]\n"
-	    "         [--bind ADDR] [--port N] [--port-file FILE.json] [--token TEXT]\n"
-	    "         [--max-viewers N] [--link-mbps R] [--link-latency-ms L]\n"
-	    "         [--read-timeout-ms T] [--stale-ms T] [--duration S] [--stats FILE.json]\n"
-	    "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
-	    "Defaults: scene box, 256x256, cpu, 2 passes, 1 light, quality 85 (4:2:0), bind\n"
-	    "127.0.0.1, port 7878, 16 viewers, no link limit, read timeout 2000 ms, stale 200 ms.\n"
-	    "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n",
-	    to);
+	fputs("usage: raystream-server [--scene box|cowN|FILE] [--size WxH] [--backend "
+	      "auto|cpu|egl|osmesa]\n"
+	      "         [--passes N] [--lights N] [--shadows rays|map] [--threads N]\n"
+	      "         [--render-threads N] [--quality 1..100] [--encoding jpeg|jpeg444|raw]\n"
+	      "         [--bind ADDR] [--port N] [--port-file FILE.json] [--token TEXT]\n"
+	      "         [--max-viewers N] [--link-mbps R] [--link-latency-ms L]\n"
+	      "         [--read-timeout-ms T] [--stale-ms T] [--duration S] [--stats FILE.json]\n"
+	      "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
+	      "Defaults: scene box, 256x256, backend auto (GPU, else cpu with a note), 2 passes,\n"
+	      "1 light, quality 85 (4:2:0), bind 127.0.0.1, port 7878, 16 viewers, no link limit,\n"
+	      "read timeout 2000 ms, stale 200 ms.\n"
+	      "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n",
+	      to);
 }
 
 static int fail_usage(const char *fmt, const char *arg)
@@ -92,7 +92,7 @@ static int known_option(const char *a)
 static int parse_args(int argc, char **argv, struct server_options *o)
 {
 	*o = (struct server_options){.scene = "box",
-	                             .backend = "cpu",
+	                             .backend = "auto",
 	                             .bind = "127.0.0.1",
 	                             .port = 7878,
 	                             .width = 256,
@@ -211,7 +211,7 @@ static void write_stats(const struct server *s, double secs)
 {
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddStringToObject(doc, "scene", s->o.scene);
-	cJSON_AddStringToObject(doc, "backend", s->o.backend);
+	cJSON_AddStringToObject(doc, "backend", s->backend);
 	cJSON_AddNumberToObject(doc, "width", s->o.width);
 	cJSON_AddNumberToObject(doc, "height", s->o.height);
 	cJSON_AddNumberToObject(doc, "seconds", secs);
@@ -283,7 +283,7 @@ static int run(struct server *s)
 		}
 	}
 	server_log(s, "listening on %s:%u: scene %s, %ux%u, backend %s, %u pass(es), %s q%d%s",
-	           s->o.bind, port, s->o.scene, s->o.width, s->o.height, s->o.backend, s->o.passes,
+	           s->o.bind, port, s->o.scene, s->o.width, s->o.height, s->backend, s->o.passes,
 	           s->o.raw ? "raw" : "jpeg", s->o.quality,
 	           s->o.link_mbps > 0 ? ", link emulated" : "");
 	code = server_run(s, lfd);

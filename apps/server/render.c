@@ -159,12 +159,17 @@ int server_render_start(struct server *s, pthread_t *threads, uint32_t n)
 			fprintf(stderr, "raystream-server: out of memory for render buffers\n");
 			return -1;
 		}
-		if (rs_renderer_open(s->o.backend, &desc, &w->renderer, &err) != RS_OK ||
+		struct rs_error note = {0};
+		if (rs_renderer_open_noted(s->o.backend, &desc, &w->renderer, &note, &err) !=
+		        RS_OK ||
 		    rs_renderer_set_scene(w->renderer, s->scene, &err) != RS_OK ||
 		    rs_jpeg_create(&w->jpeg, &err) != RS_OK) {
 			fprintf(stderr, "raystream-server: %s\n", err.message);
 			return -1;
 		}
+		if (note.message[0] && i == 0) /* auto fell back to cpu: say so once */
+			fprintf(stderr, "raystream-server: %s\n", note.message);
+		s->backend = rs_renderer_backend(w->renderer);
 	}
 	for (uint32_t i = 0; i < n; ++i)
 		if (pthread_create(&threads[i], NULL, render_main, &workers[i]) != 0) {

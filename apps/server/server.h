@@ -70,7 +70,8 @@ struct viewer {
 struct server {
 	struct server_options o;
 	const struct rs_scene *scene;
-	size_t frame_cap; /* bytes of one FRAME message at most */
+	size_t frame_cap;    /* bytes of one FRAME message at most */
+	const char *backend; /* the backend opened ("auto" resolved) */
 	pthread_mutex_t lock;
 	pthread_cond_t work;
 	int stop;

@@ -22,14 +22,21 @@ static void usage(FILE *to)
 {
 	fputs(
 	    "usage: raystream-viewer [--tracker URI] [--server HOST:PORT] [--scene box|cowN|FILE]\n"
-	    "         [--size WxH] [--view window|camera] [--eye X,Y,Z] [--screen WxH_METRES]\n"
-	    "         [--fov DEG] [--scale UNITS_PER_M] [--layout FILE.json] [--local]\n"
-	    "         [--backend cpu|egl|osmesa] [--passes N] [--threads N] [--quality N]\n"
-	    "         [--token TEXT] [--headless] [--out DIR] [--every N] [--frames N]\n"
-	    "         [--duration S] [--stats FILE.json] [--verify-local] [--pose-id-base N]\n"
-	    "Defaults: tracker sim:realtime=1, scene box, 256x256, head-coupled window view with\n"
-	    "the eye 0.35 m in front of a 58 mm square screen; remote when --server is given.\n"
-	    "The first good pose is recentred onto the scene's camera; key r recentres again.\n",
+	    "         [--size WxH] [--view camera|window] [--eye X,Y,Z] [--eye-frame "
+	    "screen|tracker]\n"
+	    "         [--screen WxH_METRES] [--fov DEG] [--scale UNITS_PER_M] [--layout "
+	    "FILE.json]\n"
+	    "         [--local] [--backend auto|cpu|egl|osmesa] [--present direct|readback]\n"
+	    "         [--passes N] [--threads N] [--quality N] [--token TEXT] [--headless]\n"
+	    "         [--out DIR] [--every N] [--frames N] [--duration S] [--stats FILE.json]\n"
+	    "         [--verify-local] [--pose-id-base N] [--last FILE.png] [--linger S]\n"
+	    "Defaults: tracker sim:realtime=1, scene box, 256x256, camera view (the scene's own\n"
+	    "camera at the first pose, then moving with the handheld; --view window: "
+	    "head-coupled,\n"
+	    "the eye 0.35 m in front of a 58 mm square screen); backend auto (the GPU: in a "
+	    "window\n"
+	    "frames are drawn straight into it; cpu with one line when no GL context opens);\n"
+	    "remote when --server is given. Key r recentres onto the scene's camera.\n",
 	    to);
 }
 
@@ -76,11 +83,14 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 {
 	*o = (struct viewer_options){.tracker = "sim:realtime=1",
 	                             .scene = "box",
-	                             .backend = "cpu",
+	                             .backend = "auto",
 	                             .width = 256,
 	                             .height = 256,
 	                             .passes = 2,
-	                             .every = 1};
+	                             .every = 1,
+	                             /* the paper's mode: the start frame is the scene's own
+	                              * camera (a head-coupled window's frustum is narrower) */
+	                             .cal = {.mode = RS_VIEW_CAMERA}};
 	int local = 0;
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i];

@@ -58,9 +58,12 @@ static int open_local(struct viewer *v)
 		        "the other backends\n",
 		        err.message);
 	}
-	if (rs_renderer_open(o->backend, &d, &v->local, &err) != RS_OK ||
+	struct rs_error note = {0};
+	if (rs_renderer_open_noted(o->backend, &d, &v->local, &note, &err) != RS_OK ||
 	    rs_renderer_set_scene(v->local, v->scene, &err) != RS_OK)
 		return fail("", &err);
+	if (note.message[0]) /* auto fell back to cpu: one line, so slow frames are explained */
+		fprintf(stderr, "raystream-viewer: %s\n", note.message);
 	return 0;
 }
 
@@ -76,8 +79,13 @@ static int setup(struct viewer *v)
 		return fail("", &err);
 	if (rs_pose_solver_create(NULL, &layout, &v->solver, &err) != RS_OK)
 		return fail("", &err);
-	if (rs_view_create(&o->cal, rs_scene_camera(v->scene), o->width, o->height, &v->view,
-	                   &err) != RS_OK)
+	/* camera view without --fov: the scene camera's own, so the first frame is exactly
+	 * the scene's view */
+	struct rs_view_calibration cal = o->cal;
+	if (cal.mode == RS_VIEW_CAMERA && cal.fov_y_deg == 0.0)
+		cal.fov_y_deg = rs_scene_camera(v->scene)->fov_y_deg;
+	if (rs_view_create(&cal, rs_scene_camera(v->scene), o->width, o->height, &v->view, &err) !=
+	    RS_OK)
 		return fail("", &err);
 	/* a head-coupled view with the default square screen needs a square image */
 	struct rs_camera probe;
