@@ -30,13 +30,16 @@ static void usage(FILE *to)
 	    "         [--passes N] [--threads N] [--quality N] [--token TEXT] [--headless]\n"
 	    "         [--out DIR] [--every N] [--frames N] [--duration S] [--stats FILE.json]\n"
 	    "         [--verify-local] [--pose-id-base N] [--last FILE.png] [--linger S]\n"
+	    "         [--target-fps N] [--render-scale 1|0.71|0.5|0.35|0.25]\n"
 	    "Defaults: tracker sim:realtime=1, scene box, 256x256, camera view (the scene's own\n"
 	    "camera at the first pose, then moving with the handheld; --view window: "
 	    "head-coupled,\n"
 	    "the eye 0.35 m in front of a 58 mm square screen); backend auto (the GPU: in a "
 	    "window\n"
 	    "frames are drawn straight into it; cpu with one line when no GL context opens);\n"
-	    "remote when --server is given. Key r recentres onto the scene's camera.\n",
+	    "remote when --server is given. Key r recentres onto the scene's camera.\n"
+	    "--target-fps 30 (0: off): local frames in the window render at a smaller scale,\n"
+	    "upscaled, while they miss the budget (files and --headless stay full size).\n",
 	    to);
 }
 
@@ -69,7 +72,8 @@ static int known_option(const char *a)
 	static const char *const names =
 	    " --backend --duration --every --eye --eye-frame --fov --frames --last --layout "
 	    "--linger --out "
-	    "--passes --pose-id-base --present --quality --scale --scene --screen --server --size "
+	    "--passes --pose-id-base --present --quality --render-scale --target-fps --scale "
+	    "--scene --screen --server --size "
 	    "--stats "
 	    "--threads --token --tracker --view ";
 	size_t n = strlen(a);
@@ -88,6 +92,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	                             .height = 256,
 	                             .passes = 2,
 	                             .every = 1,
+	                             .target_fps = 30.0,
+	                             .fixed_level = -1,
 	                             /* the paper's mode: the start frame is the scene's own
 	                              * camera (a head-coupled window's frustum is narrower) */
 	                             .cal = {.mode = RS_VIEW_CAMERA}};
@@ -141,6 +147,21 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 			if (!rs_cli_parse_size(v, RS_STREAM_MAX_SIDE, &o->width, &o->height) ||
 			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
 				return fail_usage("--size wants WxH within 1..4096, not '%s'", v);
+		} else if (!strcmp(a, "--target-fps")) {
+			if (!parse_numbers(v, ',', 1, d) || !(d[0] >= 0 && d[0] <= 1000))
+				return fail_usage("--target-fps wants 0..1000 (0: off), not '%s'",
+				                  v);
+			o->target_fps = d[0];
+		} else if (!strcmp(a, "--render-scale")) {
+			o->fixed_level = -1;
+			for (int k = 0; k < APP_PACE_LEVELS && parse_numbers(v, ',', 1, d); ++k)
+				if (d[0] == app_pace_scales[k])
+					o->fixed_level = k;
+			if (o->fixed_level < 0)
+				return fail_usage(
+				    "--render-scale wants 1, 0.71, 0.5, 0.35 or 0.25, "
+				    "not '%s'",
+				    v);
 		} else if (!strcmp(a, "--present")) {
 			if (!strcmp(v, "direct") || !strcmp(v, "readback"))
 				o->readback = !strcmp(v, "readback");

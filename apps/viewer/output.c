@@ -94,7 +94,7 @@ void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t
 		verify(v, pose_id);
 	if (v->o.out_dir && (v->frames - 1) % v->o.every == 0)
 		write_frame(v);
-	if (v->window && !(v->direct && !v->remote)) /* a direct frame is already shown */
+	if (v->window && !(v->shown && !v->remote)) /* a direct or scaled frame is shown */
 		viewer_window_present(v);
 }
 
@@ -133,9 +133,10 @@ void viewer_status_line(struct viewer *v, double now, int force)
 	char line[256];
 	snprintf(
 	    line, sizeof line,
-	    "%s | %.1f fps | latency %.1f ms median | link %.2f Mbit/s | frame %u pose %u | %s",
+	    "%s | %.1f fps | latency %.1f ms median | link %.2f Mbit/s | frame %u pose %u | %s | "
+	    "scale %.2f",
 	    v->remote ? "remote" : "local", fps, lat, mbps, v->last_frame_id, v->last_pose_id_shown,
-	    rs_view_state_name(v->view_state));
+	    rs_view_state_name(v->view_state), v->remote ? 1.0 : app_pace_scales[v->pace.level]);
 	printf("raystream-viewer: %s\n", line);
 	fflush(stdout);
 	if (v->window)
@@ -166,6 +167,9 @@ int viewer_write_stats(struct viewer *v)
 	cJSON_AddNumberToObject(doc, "latency_p99_ms", percentile(v, 0.99));
 	cJSON_AddNumberToObject(doc, "frames_written", (double)v->frames_written);
 	cJSON_AddNumberToObject(doc, "server_frames_dropped", v->link.server_stats.dropped);
+	cJSON_AddNumberToObject(doc, "scale_final", app_pace_scales[v->pace.level]);
+	cJSON_AddNumberToObject(doc, "scale_steps_down", v->pace.steps_down);
+	cJSON_AddNumberToObject(doc, "scale_steps_up", v->pace.steps_up);
 	if (v->psnr_n) {
 		cJSON_AddNumberToObject(doc, "psnr_checked", (double)v->psnr_n);
 		cJSON_AddNumberToObject(doc, "psnr_min_db", v->psnr_min);

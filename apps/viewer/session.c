@@ -31,42 +31,6 @@ static int fail(const char *what, const struct rs_error *err)
 	return -1;
 }
 
-/* The local renderer (--local, key switching and --verify-local all render here). In a
- * window, a GPU backend (egl, or auto where EGL opens) draws on the window's own context
- * and shows each frame without a readback; --present readback keeps the old path. */
-static int open_local(struct viewer *v)
-{
-	const struct viewer_options *o = &v->o;
-	struct rs_error err = {0};
-	struct rs_render_desc d = {.width = o->width,
-	                           .height = o->height,
-	                           .passes = o->passes,
-	                           .lights = rs_scene_light_count(v->scene) ? 1u : 0u,
-	                           .threads = o->threads};
-	int gpu = !strcmp(o->backend, "egl") || !strcmp(o->backend, "auto");
-	if (v->window && gpu && !o->readback) {
-		if (viewer_window_renderer(v, &d, &err) == 0 &&
-		    rs_renderer_set_scene(v->local, v->scene, &err) == RS_OK) {
-			v->direct = 1;
-			return 0;
-		}
-		rs_renderer_destroy(&v->local);
-		if (strcmp(o->backend, "auto") != 0)
-			return fail("--backend egl in the window: ", &err);
-		fprintf(stderr,
-		        "raystream-viewer: no GLES context on the window (%s); trying "
-		        "the other backends\n",
-		        err.message);
-	}
-	struct rs_error note = {0};
-	if (rs_renderer_open_noted(o->backend, &d, &v->local, &note, &err) != RS_OK ||
-	    rs_renderer_set_scene(v->local, v->scene, &err) != RS_OK)
-		return fail("", &err);
-	if (note.message[0]) /* auto fell back to cpu: one line, so slow frames are explained */
-		fprintf(stderr, "raystream-viewer: %s\n", note.message);
-	return 0;
-}
-
 static int setup(struct viewer *v)
 {
 	struct rs_error err = {0};
@@ -103,7 +67,7 @@ static int setup(struct viewer *v)
 		return fail("", &err);
 	if (!o->headless && viewer_window_open(v) != 0)
 		return -1;
-	if (open_local(v) != 0)
+	if (viewer_local_open(v) != 0)
 		return -1;
 	if (rs_tracker_open(o->tracker, &v->tracker, &err) != RS_OK)
 		return fail("", &err);
@@ -118,7 +82,7 @@ static void teardown(struct viewer *v)
 {
 	if (v->link.fd >= 0 || v->link.inbuf)
 		viewer_disconnect(v, "viewer closing");
-	rs_renderer_destroy(&v->local); /* before the window: it may draw on its context */
+	viewer_local_close(v); /* before the window: it may draw on its context */
 	viewer_window_close(v);
 	rs_track_source_destroy(&v->tracker);
 	rs_jpeg_destroy(&v->jpeg);
@@ -178,17 +142,8 @@ static void new_camera(struct viewer *v)
 	if (v->link.fd >= 0)
 		viewer_send_pose(v, &v->camera,
 		                 v->view_state == RS_VIEW_FRESH ? 0u : RS_STREAM_POSE_STALE);
-	if (!v->remote && v->local) {
-		uint64_t t = (uint64_t)(viewer_now_s() * 1e6);
-		/* a direct frame is read back only for what needs its bytes */
-		int bytes = !v->direct || v->o.out_dir || v->o.last;
-		struct rs_frame f = {.rgba8 = bytes ? v->rgba : NULL};
-		struct rs_error err = {0};
-		if (rs_renderer_render(v->local, &v->camera, &f, &err) == RS_OK)
-			viewer_show(v, (uint32_t)v->frames + 1u, v->pose_id, t);
-		else
-			fprintf(stderr, "raystream-viewer: local render failed: %s\n", err.message);
-	}
+	if (!v->remote && v->local)
+		viewer_local_frame(v);
 }
 
 static int loop(struct viewer *v)
