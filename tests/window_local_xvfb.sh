@@ -99,6 +99,11 @@ steps=$(sed -n 's/.*"scale_steps_down":[[:space:]]*\([0-9]*\).*/\1/p' budget.jso
 [ "${steps:-0}" -ge 1 ] && ok "--target-fps 1000: $steps steps down" || bad "no step down: $(cat budget.json budget.err)"
 "$compare" budget.xwd ref.png 0 0 20 > budget.ref && ok "scaled-down window shows the scene: $(cat budget.ref)" ||
   bad "scaled-down window: $(cat budget.ref)"
+# pose prediction to display time: the horizon is the measured latency, capped at 30 ms
+pred=$(sed -n 's/.*"predicted_ms_mean":[[:space:]]*\([-0-9.e+]*\).*/\1/p' budget.json)
+lat=$(sed -n 's/.*"latency_median_ms":[[:space:]]*\([-0-9.e+]*\).*/\1/p' budget.json)
+awk "BEGIN { exit !(${pred:-0} > 0 && ${pred:-0} <= 30.001) }" &&
+  ok "poses predicted ${pred} ms ahead (measured latency ${lat} ms median)" || bad "prediction: '${pred}' ms"
 grep -q "drawing the frame failed" ./*.err && bad "a draw failed: $(grep -h failed ./*.err | head -2)" || ok "no failed draws"
 # the status strip: text under the image, in both lines at 128 px
 "$compare" local-cpu.xwd --lit 0 128 128 16 > strip1.txt && "$compare" local-cpu.xwd --lit 0 144 128 16 > strip2.txt &&

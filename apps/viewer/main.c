@@ -30,7 +30,7 @@ static void usage(FILE *to)
 	    "         [--passes N] [--threads N] [--quality N] [--token TEXT] [--headless]\n"
 	    "         [--out DIR] [--every N] [--frames N] [--duration S] [--stats FILE.json]\n"
 	    "         [--verify-local] [--pose-id-base N] [--last FILE.png] [--linger S]\n"
-	    "         [--target-fps N] [--render-scale 1|0.71|0.5|0.35|0.25]\n"
+	    "         [--target-fps N] [--render-scale 1|0.71|0.5|0.35|0.25] [--predict on|off]\n"
 	    "Defaults: tracker sim:realtime=1, scene box, 256x256, camera view (the scene's own\n"
 	    "camera at the first pose, then moving with the handheld; --view window: "
 	    "head-coupled,\n"
@@ -39,7 +39,8 @@ static void usage(FILE *to)
 	    "frames are drawn straight into it; cpu with one line when no GL context opens);\n"
 	    "remote when --server is given. Key r recentres onto the scene's camera.\n"
 	    "--target-fps 30 (0: off): local frames in the window render at a smaller scale,\n"
-	    "upscaled, while they miss the budget (files and --headless stay full size).\n",
+	    "upscaled, while they miss the budget (files and --headless stay full size).\n"
+	    "--predict on: each pose is moved ahead by the measured latency (at most 30 ms).\n",
 	    to);
 }
 
@@ -72,7 +73,8 @@ static int known_option(const char *a)
 	static const char *const names =
 	    " --backend --duration --every --eye --eye-frame --fov --frames --last --layout "
 	    "--linger --out "
-	    "--passes --pose-id-base --present --quality --render-scale --target-fps --scale "
+	    "--passes --pose-id-base --predict --present --quality --render-scale --target-fps "
+	    "--scale "
 	    "--scene --screen --server --size "
 	    "--stats "
 	    "--threads --token --tracker --view ";
@@ -162,6 +164,10 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 				    "--render-scale wants 1, 0.71, 0.5, 0.35 or 0.25, "
 				    "not '%s'",
 				    v);
+		} else if (!strcmp(a, "--predict")) {
+			if (strcmp(v, "on") != 0 && strcmp(v, "off") != 0)
+				return fail_usage("--predict wants on or off, not '%s'", v);
+			o->no_predict = !strcmp(v, "off");
 		} else if (!strcmp(a, "--present")) {
 			if (!strcmp(v, "direct") || !strcmp(v, "readback"))
 				o->readback = !strcmp(v, "readback");

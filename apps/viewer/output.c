@@ -78,6 +78,8 @@ void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t
 	double now = viewer_now_s();
 	if (v->latency_n < VIEWER_MAX_SAMPLES)
 		v->latency_ms[v->latency_n++] = (now - (double)pose_time_us * 1e-6) * 1e3;
+	double lat_ms = (now - (double)pose_time_us * 1e-6) * 1e3; /* what prediction covers */
+	v->latency_avg_ms = v->latency_avg_ms > 0 ? 0.9 * v->latency_avg_ms + 0.1 * lat_ms : lat_ms;
 	if (v->have_frame) {
 		if (frame_id <= v->last_frame_id)
 			++v->order_errors;
@@ -167,6 +169,8 @@ int viewer_write_stats(struct viewer *v)
 	cJSON_AddNumberToObject(doc, "latency_p99_ms", percentile(v, 0.99));
 	cJSON_AddNumberToObject(doc, "frames_written", (double)v->frames_written);
 	cJSON_AddNumberToObject(doc, "server_frames_dropped", v->link.server_stats.dropped);
+	cJSON_AddNumberToObject(doc, "predicted_ms_mean",
+	                        v->predicted_n ? v->predicted_ms_sum / (double)v->predicted_n : 0);
 	cJSON_AddNumberToObject(doc, "scale_final", app_pace_scales[v->pace.level]);
 	cJSON_AddNumberToObject(doc, "scale_steps_down", v->pace.steps_down);
 	cJSON_AddNumberToObject(doc, "scale_steps_up", v->pace.steps_up);

@@ -43,6 +43,9 @@ static int setup(struct viewer *v)
 		return fail("", &err);
 	if (rs_pose_solver_create(NULL, &layout, &v->solver, &err) != RS_OK)
 		return fail("", &err);
+	struct rs_pose_filter_desc fd = {.disable_filter = 1};
+	if (!o->no_predict && rs_pose_filter_create(&fd, &v->filter, &err) != RS_OK)
+		return fail("", &err);
 	/* camera view without --fov: the scene camera's own, so the first frame is exactly
 	 * the scene's view */
 	struct rs_view_calibration cal = o->cal;
@@ -88,10 +91,30 @@ static void teardown(struct viewer *v)
 	rs_jpeg_destroy(&v->jpeg);
 	rs_view_destroy(&v->view);
 	rs_pose_solver_destroy(&v->solver);
+	rs_pose_filter_destroy(&v->filter);
 	rs_scene_destroy(&v->scene);
 	free(v->rgba);
 	free(v->check);
 	free(v->latency_ms);
+}
+
+/* Move a fresh pose to the time its frame will be shown: the measured motion-to-photon
+ * latency ahead, within the filter's 30 ms cap (held or lost poses are left alone). */
+static void predict(struct viewer *v, struct rs_pose *pose, enum rs_pose_status status)
+{
+	if (!v->filter || (status != RS_POSE_OK && status != RS_POSE_RELABELED))
+		return;
+	struct rs_pose now;
+	if (rs_pose_filter_update(v->filter, pose, &now, NULL) != RS_OK)
+		return;
+	struct rs_pose ahead;
+	double horizon_s = v->latency_avg_ms * 1e-3;
+	if (horizon_s > 0 &&
+	    rs_pose_filter_predict(v->filter, now.time_s + horizon_s, &ahead, NULL) == RS_OK) {
+		v->predicted_ms_sum += (ahead.time_s - now.time_s) * 1e3;
+		++v->predicted_n;
+		*pose = ahead;
+	}
 }
 
 /* Drain the tracker; 1 when a new camera was made, 0 when none, -1 on a fatal error,
@@ -123,6 +146,7 @@ static int track(struct viewer *v, int *recentred)
 	}
 	if (!got)
 		return 0;
+	predict(v, &pose, q.status);
 	rs_view_update(v->view, &pose, q.status, &v->camera, &v->view_state);
 	if (!*recentred && v->view_state == RS_VIEW_FRESH) {
 		/* start where the scene's camera is: the handheld's first pose is "home" */

@@ -20,6 +20,7 @@ struct viewer_options {
 	uint32_t width, height, passes, threads, every, frames, pose_id_base;
 	int quality, headless, verify_local, start_remote;
 	int readback;      /* --present readback: GPU frames read back and uploaded (benchmarks) */
+	int no_predict;    /* --predict off: cameras from the newest pose as sampled */
 	double target_fps; /* --target-fps: dynamic resolution in the window (0: off) */
 	int fixed_level;   /* --render-scale: that level of app_pace_scales, else -1 */
 	double duration_s, linger_s;
@@ -51,6 +52,11 @@ struct viewer {
 	struct rs_scene *scene;
 	struct rs_track_source *tracker;
 	struct rs_pose_solver *solver;
+	/* pose prediction to display time: the filter's constant-velocity prediction (pass
+	 * through, no smoothing) over the measured latency, capped at 30 ms */
+	struct rs_pose_filter *filter;
+	double latency_avg_ms, predicted_ms_sum;
+	uint64_t predicted_n;
 	struct rs_view *view;
 	struct rs_renderer *local; /* local rendering and --verify-local */
 	struct rs_jpeg *jpeg;
