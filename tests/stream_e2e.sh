@@ -35,10 +35,11 @@ rc=$?
 [ $rc -eq 0 ] && ok "viewer exits 0" || bad "viewer exit $rc: $(cat v1.err)"
 frames=$(jget v1.json frames)
 check "frames arrived ($frames)" "$frames >= 10"
-# JPEG quality 85, 4:2:0, on a 64x64 box render: measured 36-38 dB; edges dominate at this
-# size, so the bound is 33 dB (a wrong pose, size or colour order gives < 20 dB)
+# JPEG quality 85, 4:2:0, on a 64x64 box render in the default camera view (the whole box:
+# more edges than the old head-coupled close-up, which measured 36-38 dB): measured
+# 30.2-30.8 dB, so the bound is 27 dB (a wrong pose, size or colour order gives < 20 dB)
 psnr=$(jget v1.json psnr_min_db)
-check "every frame matches a local render at its pose: min PSNR $psnr dB >= 33" "$psnr >= 33"
+check "every frame matches a local render at its pose: min PSNR $psnr dB >= 27" "$psnr >= 27"
 check "every frame was checked" "$(jget v1.json psnr_checked) == $frames"
 check "frame ids in order" "$(jget v1.json frame_order_errors) == 0"
 check "pose ids round-trip (only ids this viewer sent, never older)" "$(jget v1.json unknown_pose_ids) == 0"

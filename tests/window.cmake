@@ -3,10 +3,23 @@
 # tools/deps.sh installs both, so CI runs it.
 if(TARGET rs_window AND TARGET raystream-viewer AND TARGET raystream-server)
   add_executable(xwd_compare xwd_compare.c)
-  target_link_libraries(xwd_compare PRIVATE rs_image)
+  target_link_libraries(xwd_compare PRIVATE rs_image m)
   add_test(NAME viewer_window_xvfb COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/window_xvfb.sh
            $<TARGET_FILE:raystream-viewer> ${CMAKE_CURRENT_BINARY_DIR}/window_xvfb
            $<TARGET_FILE:raystream-server> $<TARGET_FILE:xwd_compare>)
   set_tests_properties(viewer_window_xvfb PROPERTIES TIMEOUT 120 SKIP_RETURN_CODE 77
+    ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+endif()
+
+# Every way the viewer shows a frame (local egl straight into the window, egl read back,
+# osmesa, cpu, remote) against the CPU reference of the same camera (issue 17).
+if(TARGET rs_window AND TARGET raystream-viewer AND TARGET raystream-server AND
+   TARGET raystream-render)
+  add_test(NAME viewer_window_local_xvfb
+           COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/window_local_xvfb.sh
+           $<TARGET_FILE:raystream-viewer> ${CMAKE_CURRENT_BINARY_DIR}/window_local_xvfb
+           $<TARGET_FILE:raystream-server> $<TARGET_FILE:xwd_compare>
+           $<TARGET_FILE:raystream-render>)
+  set_tests_properties(viewer_window_local_xvfb PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77
     ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
 endif()

@@ -6,21 +6,7 @@ source "$(dirname "$0")/cli_harness.sh"
 viewer=$bin
 server=$3
 compare=$4
-if ! command -v Xvfb >/dev/null || ! command -v xwd >/dev/null; then
-  echo "skipped: Xvfb or xwd not installed (tools/deps.sh installs them)"
-  exit 77
-fi
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; wait 2>/dev/null; }
-trap cleanup EXIT
-# a free display number: no lock file and no socket
-d=90
-while [ -e /tmp/.X$d-lock ] || [ -e /tmp/.X11-unix/X$d ]; do d=$((d + 1)); done
-Xvfb :$d -screen 0 320x240x24 -nolisten tcp > xvfb.log 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do [ -e /tmp/.X11-unix/X$d ] && break; sleep 0.1; done
-[ -e /tmp/.X11-unix/X$d ] && ok "Xvfb on :$d" || { bad "Xvfb did not start: $(cat xvfb.log)"; finish; exit 1; }
-export DISPLAY=:$d
+source "$(dirname "$0")/xvfb_harness.sh" 90
 
 "$server" --port 0 --port-file port.json --size 64x64 --threads 1 --quality 90 2> server.log &
 pids+=($!)

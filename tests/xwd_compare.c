@@ -3,9 +3,12 @@
  * (TrueColor, 24 or 32 bits per pixel: what Xvfb gives). Prints the largest channel
  * difference and the share of differing pixels; exit 0 when every channel is within 1,
  * 1 when they differ, 2 when a file cannot be read.
+ * xwd_compare XWD PNG X Y MIN_DB: the same, and exit 0 when the PSNR (8-bit RGB) is at
+ * least MIN_DB instead (a render of the same camera by another backend, not the bytes).
  * xwd_compare XWD --lit X Y W H: exit 0 when some pixel of that rectangle has a channel
  * above 128 (text was drawn there), else 1.
  */
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,8 +34,10 @@ static int shift_of(uint32_t mask)
 int main(int argc, char **argv)
 {
 	int lit = argc == 7 && !strcmp(argv[2], "--lit");
-	if (argc != 5 && !lit) {
-		fprintf(stderr, "usage: xwd_compare XWD PNG X Y | xwd_compare XWD --lit X Y W H\n");
+	if (argc != 5 && argc != 6 && !lit) {
+		fprintf(stderr,
+		        "usage: xwd_compare XWD PNG X Y [MIN_DB] | xwd_compare XWD --lit X Y "
+		        "W H\n");
 		return 2;
 	}
 	FILE *f = fopen(argv[1], "rb");
@@ -88,6 +93,7 @@ int main(int argc, char **argv)
 	}
 	int maxd = 0;
 	uint64_t differ = 0;
+	double sq = 0.0;
 	for (uint32_t y = 0; y < ph; ++y)
 		for (uint32_t x = 0; x < pw; ++x) {
 			const uint8_t *p =
@@ -103,12 +109,18 @@ int main(int argc, char **argv)
 				int d = abs(got[c] - png[3 * ((size_t)y * pw + x) + c]);
 				if (d > maxd)
 					maxd = d;
+				sq += (double)d * d;
 				bad |= d > 1;
 			}
 			differ += (uint64_t)bad;
 		}
-	printf("xwd_compare: %ux%u at %u,%u: max channel difference %d, %llu pixels differ\n", pw,
-	       ph, x0, y0, maxd, (unsigned long long)differ);
+	double mse = sq / (3.0 * pw * ph);
+	double psnr = mse > 0.0 ? 10.0 * log10(255.0 * 255.0 / mse) : 99.0;
+	printf("xwd_compare: %ux%u at %u,%u: max channel difference %d, %llu pixels differ, "
+	       "PSNR %.1f dB\n",
+	       pw, ph, x0, y0, maxd, (unsigned long long)differ, psnr);
 	free(png);
+	if (argc == 6)
+		return psnr >= atof(argv[5]) ? 0 : 1;
 	return maxd <= 1 ? 0 : 1;
 }

@@ -5,6 +5,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <cjson/cJSON.h>
+
 #include "raystream/rs_status.h"
 
 /* "HOST:PORT" (IPv4 dotted quad or "localhost"; port 0..65535) into host/port. */
@@ -36,6 +38,9 @@ int app_usage_error(const char *program, const char *fmt, const char *arg)
     __attribute__((format(printf, 2, 0)))
 #endif
     ;
+
+/* Write `doc` to `path` (a temporary file, then a rename). */
+enum rs_status app_write_json(const char *path, const cJSON *doc, struct rs_error *err);
 
 /* Monotonic microseconds. */
 uint64_t app_now_us(void);

@@ -4,11 +4,14 @@
  * each viewer a STATS message a second. */
 #define _GNU_SOURCE
 #include <errno.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <linux/sockios.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -24,40 +27,19 @@ extern volatile sig_atomic_t server_signal;
 static void accept_all(struct server *s, int lfd, double now)
 {
 	for (;;) {
-		int fd = accept4(lfd, NULL, NULL, SOCK_NONBLOCK | SOCK_CLOEXEC);
+		struct sockaddr_in sa;
+		socklen_t sa_len = sizeof sa;
+		int fd =
+		    accept4(lfd, (struct sockaddr *)&sa, &sa_len, SOCK_NONBLOCK | SOCK_CLOEXEC);
 		if (fd < 0)
 			return;
-		struct viewer *v = NULL;
-		uint32_t active = 0;
-		pthread_mutex_lock(&s->lock); /* `busy` belongs to the render threads */
-		for (uint32_t i = 0; i < SERVER_MAX_VIEWERS; ++i) {
-			active += s->viewers[i].active != 0;
-			if (!v && !s->viewers[i].active && !s->viewers[i].busy)
-				v = &s->viewers[i];
-		}
-		pthread_mutex_unlock(&s->lock);
 		char peer[64];
 		app_peer_name(fd, peer, sizeof peer);
-		if (!v || active >= s->o.max_viewers) {
-			struct rs_stream_msg m = {.type = RS_STREAM_BYE};
-			m.u.bye.reason = RS_STREAM_BYE_OVERLOAD;
-			snprintf(m.u.bye.text, sizeof m.u.bye.text, "too many viewers (%u)",
-			         active);
-			uint8_t b[64];
-			size_t n = 0;
-			if (rs_stream_encode(&m, b, sizeof b, &n, NULL) == RS_OK)
-				app_send_some(fd, b, n, NULL);
+		uint32_t addr = sa.sin_addr.s_addr;
+		struct viewer *v = server_greeting_slot(s, addr, now);
+		if (!v) { /* only while render threads still hold every free slot */
 			close(fd);
-			server_log(s, "refused %s: too many viewers (%u)", peer, active);
-			continue;
-		}
-		if (!v->pending.data)
-			v->pending.data = malloc(s->frame_cap);
-		if (!v->inflight.data)
-			v->inflight.data = malloc(s->frame_cap);
-		if (!v->pending.data || !v->inflight.data) {
-			close(fd);
-			server_log(s, "refused %s: out of memory", peer);
+			server_log(s, "refused %s: no free connection slot", peer);
 			continue;
 		}
 		app_socket_setup(fd, SERVER_SNDBUF);
@@ -66,6 +48,7 @@ static void accept_all(struct server *s, int lfd, double now)
 		pend.full = infl.full = 0;
 		*v = (struct viewer){.active = 1,
 		                     .fd = fd,
+		                     .addr = addr,
 		                     .id = ++s->next_viewer_id,
 		                     .connected_s = now,
 		                     .last_stats_s = now,
@@ -81,6 +64,25 @@ static void accept_all(struct server *s, int lfd, double now)
 	}
 }
 
+/* Whether the next frame may go to the socket now. Frames must not wait in kernel buffers,
+ * where they can no longer be dropped for newer ones: a new frame starts only once the
+ * previous one has left this host (no unsent bytes), and, for a viewer that acknowledges
+ * frames, once it has acknowledged every frame sent (one frame on the way at a time). */
+static int frame_may_start(struct viewer *v, double *wait_s)
+{
+	/* the viewer's STATS wakes us; meanwhile the render threads keep the pending frame
+	 * fresh (pick() replaces one older than --stale-ms when a newer pose is there) */
+	if (v->acks && (uint32_t)v->frames_sent != v->reported.frames)
+		return 0;
+	int unsent = 0;
+	if (ioctl(v->fd, SIOCOUTQNSD, &unsent) == 0 && unsent > 0) {
+		if (*wait_s > 0.01)
+			*wait_s = 0.01; /* POLLOUT would fire at once: look again shortly */
+		return 0;
+	}
+	return 1;
+}
+
 /* Send what the link and socket take now. Returns 1 when it wants POLLOUT, 0 when it
  * is waiting for time (*wait_s) or has nothing, -1 when the viewer was dropped. */
 static int flush(struct server *s, struct viewer *v, double now, double *wait_s)
@@ -90,7 +92,7 @@ static int flush(struct server *s, struct viewer *v, double now, double *wait_s)
 		if (!v->sending_ctl && !mid_frame) {
 			if (v->ctl_len > v->ctl_off) {
 				v->sending_ctl = 1;
-			} else if (!v->inflight.full) {
+			} else if (!v->inflight.full && frame_may_start(v, wait_s)) {
 				pthread_mutex_lock(&s->lock);
 				if (v->pending.full && v->pending.ready_s <= now) {
 					struct outframe t = v->inflight;
@@ -187,8 +189,8 @@ static void housekeeping(struct server *s, struct viewer *v, double now)
 
 int server_run(struct server *s, int lfd)
 {
-	struct pollfd pfd[SERVER_MAX_VIEWERS + 2];
-	int map[SERVER_MAX_VIEWERS + 2];
+	struct pollfd pfd[SERVER_SLOTS + 2];
+	int map[SERVER_SLOTS + 2];
 	while (!server_signal) {
 		double now = server_now_s();
 		if (s->o.duration_s > 0 && now - s->started_s >= s->o.duration_s)
@@ -197,7 +199,7 @@ int server_run(struct server *s, int lfd)
 		nfds_t n = 0;
 		pfd[n++] = (struct pollfd){.fd = lfd, .events = POLLIN};
 		pfd[n++] = (struct pollfd){.fd = s->wake[0], .events = POLLIN};
-		for (int i = 0; i < SERVER_MAX_VIEWERS; ++i) {
+		for (int i = 0; i < SERVER_SLOTS; ++i) {
 			struct viewer *v = &s->viewers[i];
 			if (!v->active)
 				continue;
@@ -229,7 +231,7 @@ int server_run(struct server *s, int lfd)
 				housekeeping(s, v, now);
 		}
 	}
-	for (int i = 0; i < SERVER_MAX_VIEWERS; ++i)
+	for (int i = 0; i < SERVER_SLOTS; ++i)
 		if (s->viewers[i].active)
 			server_viewer_close(s, &s->viewers[i], RS_STREAM_BYE_SHUTDOWN,
 			                    "server shutting down");

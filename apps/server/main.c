@@ -14,10 +14,12 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "raystream/rs_cli.h"
+#include "raystream/rs_scenegen.h"
+
 #include "app_net.h"
 #include "raystream/rs_renderers.h"
 #include "server.h"
-#include "tool_common.h"
 
 volatile sig_atomic_t server_signal;
 
@@ -43,19 +45,19 @@ void server_log(const struct server *s, const char *fmt, ...)
 
 static void usage(FILE *to)
 {
-	fputs(
-	    "usage: raystream-server [--scene box|cowN|FILE] [--size WxH] [--backend "
-	    "cpu|egl|osmesa]\n"
-	    "         [--passes N] [--lights N] [--shadows rays|map] [--threads N]\n"
-	    "         [--render-threads N] [--quality 1..100] [--encoding jpeg|jpeg444|raw]\n"
-	    "         [--bind ADDR] [--port N] [--port-file FILE.json] [--token TEXT]\n"
-	    "         [--max-viewers N] [--link-mbps R] [--link-latency-ms L]\n"
-	    "         [--read-timeout-ms T] [--stale-ms T] [--duration S] [--stats FILE.json]\n"
-	    "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
-	    "Defaults: scene box, 256x256, cpu, 2 passes, 1 light, quality 85 (4:2:0), bind\n"
-	    "127.0.0.1, port 7878, 16 viewers, no link limit, read timeout 2000 ms, stale 200 ms.\n"
-	    "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n",
-	    to);
+	fputs("usage: raystream-server [--scene box|cowN|FILE] [--size WxH] [--backend "
+	      "auto|cpu|egl|osmesa]\n"
+	      "         [--passes N] [--lights N] [--shadows rays|map] [--threads N]\n"
+	      "         [--render-threads N] [--quality 1..100] [--encoding jpeg|jpeg444|raw]\n"
+	      "         [--bind ADDR] [--port N] [--port-file FILE.json] [--token TEXT]\n"
+	      "         [--max-viewers N] [--link-mbps R] [--link-latency-ms L]\n"
+	      "         [--read-timeout-ms T] [--stale-ms T] [--duration S] [--stats FILE.json]\n"
+	      "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
+	      "Defaults: scene box, 256x256, backend auto (GPU, else cpu with a note), 2 passes,\n"
+	      "1 light, quality 85 (4:2:0), bind 127.0.0.1, port 7878, 16 viewers, no link limit,\n"
+	      "read timeout 2000 ms, stale 200 ms.\n"
+	      "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n",
+	      to);
 }
 
 static int fail_usage(const char *fmt, const char *arg)
@@ -90,7 +92,7 @@ static int known_option(const char *a)
 static int parse_args(int argc, char **argv, struct server_options *o)
 {
 	*o = (struct server_options){.scene = "box",
-	                             .backend = "cpu",
+	                             .backend = "auto",
 	                             .bind = "127.0.0.1",
 	                             .port = 7878,
 	                             .width = 256,
@@ -129,30 +131,30 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 		else if (!strcmp(a, "--stats"))
 			o->stats = v;
 		else if (!strcmp(a, "--size")) {
-			if (!rs_tool_parse_size(v, &o->width, &o->height) ||
+			if (!rs_cli_parse_size(v, RS_STREAM_MAX_SIDE, &o->width, &o->height) ||
 			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
 				return fail_usage("--size wants WxH within 1..4096, not '%s'", v);
 		} else if (!strcmp(a, "--port")) {
-			if (!rs_tool_parse_u32(v, 0, 65535, &u))
+			if (!rs_cli_parse_u32(v, 0, 65535, &u))
 				return fail_usage("--port wants 0..65535, not '%s'", v);
 			o->port = (uint16_t)u;
 		} else if (!strcmp(a, "--passes")) {
-			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))
+			if (!rs_cli_parse_u32(v, 1, 64, &o->passes))
 				return fail_usage("--passes wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--lights")) {
-			if (!rs_tool_parse_u32(v, 1, 64, &o->lights))
+			if (!rs_cli_parse_u32(v, 1, 64, &o->lights))
 				return fail_usage("--lights wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--threads")) {
-			if (!rs_tool_parse_u32(v, 1, 256, &o->threads))
+			if (!rs_cli_parse_u32(v, 1, 256, &o->threads))
 				return fail_usage("--threads wants 1..256, not '%s'", v);
 		} else if (!strcmp(a, "--render-threads")) {
-			if (!rs_tool_parse_u32(v, 1, SERVER_MAX_THREADS, &o->render_threads))
+			if (!rs_cli_parse_u32(v, 1, SERVER_MAX_THREADS, &o->render_threads))
 				return fail_usage("--render-threads wants 1..16, not '%s'", v);
 		} else if (!strcmp(a, "--max-viewers")) {
-			if (!rs_tool_parse_u32(v, 1, SERVER_MAX_VIEWERS, &o->max_viewers))
+			if (!rs_cli_parse_u32(v, 1, SERVER_MAX_VIEWERS, &o->max_viewers))
 				return fail_usage("--max-viewers wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--quality")) {
-			if (!rs_tool_parse_u32(v, 1, 100, &u))
+			if (!rs_cli_parse_u32(v, 1, 100, &u))
 				return fail_usage("--quality wants 1..100, not '%s'", v);
 			o->quality = (int)u;
 		} else if (!strcmp(a, "--encoding")) {
@@ -209,7 +211,7 @@ static void write_stats(const struct server *s, double secs)
 {
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddStringToObject(doc, "scene", s->o.scene);
-	cJSON_AddStringToObject(doc, "backend", s->o.backend);
+	cJSON_AddStringToObject(doc, "backend", s->backend);
 	cJSON_AddNumberToObject(doc, "width", s->o.width);
 	cJSON_AddNumberToObject(doc, "height", s->o.height);
 	cJSON_AddNumberToObject(doc, "seconds", secs);
@@ -221,7 +223,7 @@ static void write_stats(const struct server *s, double secs)
 	                                           : 0);
 	cJSON_AddNumberToObject(doc, "disconnects", (double)s->disconnects);
 	struct rs_error err = {0};
-	if (rs_tool_write_json(s->o.stats, doc, &err) != RS_OK)
+	if (app_write_json(s->o.stats, doc, &err) != RS_OK)
 		fprintf(stderr, "raystream-server: %s\n", err.message);
 	cJSON_Delete(doc);
 }
@@ -238,7 +240,7 @@ static int run(struct server *s)
 			fprintf(stderr, "raystream-server: --token must be printable ASCII\n");
 			return 2;
 		}
-	if (rs_tool_load_scene(s->o.scene, &scene, &err) != RS_OK) {
+	if (rs_scenegen_load(s->o.scene, &scene, &err) != RS_OK) {
 		fprintf(stderr, "raystream-server: %s\n", err.message);
 		return 1;
 	}
@@ -273,7 +275,7 @@ static int run(struct server *s)
 	if (s->o.port_file) {
 		cJSON *doc = cJSON_CreateObject();
 		cJSON_AddNumberToObject(doc, "port", port);
-		enum rs_status st = rs_tool_write_json(s->o.port_file, doc, &err);
+		enum rs_status st = app_write_json(s->o.port_file, doc, &err);
 		cJSON_Delete(doc);
 		if (st != RS_OK) {
 			fprintf(stderr, "raystream-server: %s\n", err.message);
@@ -281,7 +283,7 @@ static int run(struct server *s)
 		}
 	}
 	server_log(s, "listening on %s:%u: scene %s, %ux%u, backend %s, %u pass(es), %s q%d%s",
-	           s->o.bind, port, s->o.scene, s->o.width, s->o.height, s->o.backend, s->o.passes,
+	           s->o.bind, port, s->o.scene, s->o.width, s->o.height, s->backend, s->o.passes,
 	           s->o.raw ? "raw" : "jpeg", s->o.quality,
 	           s->o.link_mbps > 0 ? ", link emulated" : "");
 	code = server_run(s, lfd);
@@ -297,7 +299,7 @@ done:
 		server_render_stop(s, threads, s->o.render_threads);
 	if (lfd >= 0)
 		close(lfd);
-	for (int i = 0; i < SERVER_MAX_VIEWERS; ++i) {
+	for (int i = 0; i < SERVER_SLOTS; ++i) {
 		free(s->viewers[i].pending.data);
 		free(s->viewers[i].inflight.data);
 	}

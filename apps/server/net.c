@@ -75,6 +75,8 @@ static void on_hello(struct server *s, struct viewer *v, const struct rs_stream_
 		server_viewer_close(s, v, RS_STREAM_BYE_SCENE, why);
 		return;
 	}
+	if (server_viewer_promote(s, v) != 0)
+		return;
 	pthread_mutex_lock(&s->lock); /* render threads read both */
 	v->quality = h->quality ? h->quality : s->o.quality;
 	v->hello_done = 1;
@@ -88,6 +90,34 @@ static void on_hello(struct server *s, struct viewer *v, const struct rs_stream_
 	                                                              : RS_STREAM_ENC_JPEG};
 	server_viewer_queue(v, &m);
 	server_log(s, "viewer %u (%s) joined at quality %d", v->id, v->peer, v->quality);
+}
+
+void server_pose_camera(const struct server *s, const struct rs_stream_pose *p,
+                        struct rs_camera *cam)
+{
+	*cam = (struct rs_camera){
+	    .fov_y_deg = p->fov_y_deg, .width = s->o.width, .height = s->o.height};
+	memcpy(cam->eye, p->eye, sizeof cam->eye);
+	memcpy(cam->target, p->target, sizeof cam->target);
+	memcpy(cam->up, p->up, sizeof cam->up);
+	memcpy(cam->shift, p->shift, sizeof cam->shift);
+}
+
+/* A camera the renderer cannot use (eye on its target, up along the view) gets an answer
+ * at once: a BYE naming the problem, not a silently missing frame. */
+static int check_pose(struct server *s, struct viewer *v, const struct rs_stream_pose *p)
+{
+	struct rs_camera cam;
+	server_pose_camera(s, p, &cam);
+	struct rs_error err = {0};
+	if (rs_camera_check(&cam, &err) != RS_OK) {
+		char why[RS_ERROR_MESSAGE_MAX + 32];
+		snprintf(why, sizeof why, "POSE %u: %s", p->pose_id, err.message);
+		server_viewer_close(s, v, RS_STREAM_BYE_CAMERA, why);
+		return -1;
+	}
+	v->acks = (p->flags & RS_STREAM_POSE_ACKS) != 0;
+	return 0;
 }
 
 /* Handle one parsed message; returns 0 to keep the connection. */
@@ -110,6 +140,8 @@ static int on_message(struct server *s, struct viewer *v, const struct rs_stream
 		on_hello(s, v, &m->u.hello);
 		return v->active ? 0 : -1;
 	case RS_STREAM_POSE:
+		if (check_pose(s, v, &m->u.pose) != 0)
+			return -1;
 		pthread_mutex_lock(&s->lock);
 		if (v->pose_new)
 			++v->poses_replaced; /* latest wins */

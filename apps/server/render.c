@@ -26,8 +26,8 @@ static struct worker workers[SERVER_MAX_THREADS];
 static struct viewer *pick(struct server *s, struct worker *w)
 {
 	double now = server_now_s();
-	for (uint32_t k = 0; k < SERVER_MAX_VIEWERS; ++k) {
-		uint32_t i = (w->cursor + k) % SERVER_MAX_VIEWERS;
+	for (uint32_t k = 0; k < SERVER_SLOTS; ++k) {
+		uint32_t i = (w->cursor + k) % SERVER_SLOTS;
 		struct viewer *v = &s->viewers[i];
 		if (!v->active || !v->hello_done || v->closing || !v->pose_new || v->busy)
 			continue;
@@ -49,12 +49,8 @@ static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int q
                       uint32_t *render_us, struct rs_error *err)
 {
 	struct server *s = w->s;
-	struct rs_camera cam = {
-	    .fov_y_deg = pose->fov_y_deg, .width = s->o.width, .height = s->o.height};
-	memcpy(cam.eye, pose->eye, sizeof cam.eye);
-	memcpy(cam.target, pose->target, sizeof cam.target);
-	memcpy(cam.up, pose->up, sizeof cam.up);
-	memcpy(cam.shift, pose->shift, sizeof cam.shift);
+	struct rs_camera cam;
+	server_pose_camera(s, pose, &cam);
 	struct rs_frame frame = {.rgba8 = w->rgba};
 	double t0 = server_now_s();
 	if (rs_renderer_render(w->renderer, &cam, &frame, err) != RS_OK)
@@ -163,12 +159,17 @@ int server_render_start(struct server *s, pthread_t *threads, uint32_t n)
 			fprintf(stderr, "raystream-server: out of memory for render buffers\n");
 			return -1;
 		}
-		if (rs_renderer_open(s->o.backend, &desc, &w->renderer, &err) != RS_OK ||
+		struct rs_error note = {0};
+		if (rs_renderer_open_noted(s->o.backend, &desc, &w->renderer, &note, &err) !=
+		        RS_OK ||
 		    rs_renderer_set_scene(w->renderer, s->scene, &err) != RS_OK ||
 		    rs_jpeg_create(&w->jpeg, &err) != RS_OK) {
 			fprintf(stderr, "raystream-server: %s\n", err.message);
 			return -1;
 		}
+		if (note.message[0] && i == 0) /* auto fell back to cpu: say so once */
+			fprintf(stderr, "raystream-server: %s\n", note.message);
+		s->backend = rs_renderer_backend(w->renderer);
 	}
 	for (uint32_t i = 0; i < n; ++i)
 		if (pthread_create(&threads[i], NULL, render_main, &workers[i]) != 0) {

@@ -13,6 +13,11 @@
 
 #define SERVER_MAX_VIEWERS 64
 #define SERVER_MAX_THREADS 16
+/* Connections that have not said HELLO live in their own small pool, at most a few per
+ * address, so idle ones cannot take the slots of viewers (greet.c). */
+#define SERVER_MAX_GREETING 16
+#define SERVER_GREETING_PER_ADDRESS 4
+#define SERVER_SLOTS (SERVER_MAX_VIEWERS + SERVER_MAX_GREETING)
 
 struct server_options {
 	const char *scene, *backend, *bind, *token, *port_file, *stats;
@@ -38,6 +43,8 @@ struct outframe {
 
 struct viewer {
 	int active, fd, hello_done, closing;
+	int acks;      /* the viewer acknowledges frames (RS_STREAM_POSE_ACKS): pace by them */
+	uint32_t addr; /* the peer's IPv4 address, for the greeting pool */
 	uint32_t id;
 	char peer[64];
 	int quality;
@@ -63,12 +70,13 @@ struct viewer {
 struct server {
 	struct server_options o;
 	const struct rs_scene *scene;
-	size_t frame_cap; /* bytes of one FRAME message at most */
+	size_t frame_cap;    /* bytes of one FRAME message at most */
+	const char *backend; /* the backend opened ("auto" resolved) */
 	pthread_mutex_t lock;
 	pthread_cond_t work;
 	int stop;
 	int wake[2]; /* render threads -> poll loop */
-	struct viewer viewers[SERVER_MAX_VIEWERS];
+	struct viewer viewers[SERVER_SLOTS];
 	uint32_t next_viewer_id;
 	uint64_t frames_rendered, disconnects;
 	double render_ms_sum;
@@ -84,6 +92,16 @@ void server_render_stop(struct server *s, pthread_t *threads, uint32_t n);
 void server_viewer_read(struct server *s, struct viewer *v, double now);
 int server_viewer_queue(struct viewer *v, const struct rs_stream_msg *m);
 void server_viewer_close(struct server *s, struct viewer *v, uint32_t reason, const char *why);
+/* The camera a POSE asks for, at the server's image size. */
+void server_pose_camera(const struct server *s, const struct rs_stream_pose *p,
+                        struct rs_camera *cam);
+
+/* Admission (greet.c): a slot in the greeting pool for a new connection, evicting the
+ * oldest greeting one of the same address (or of the busiest address) when the pool is
+ * full; NULL when none is free. On HELLO, server_viewer_promote() counts the viewer
+ * against --max-viewers and gives it frame buffers (0 on success, else a BYE was sent). */
+struct viewer *server_greeting_slot(struct server *s, uint32_t addr, double now);
+int server_viewer_promote(struct server *s, struct viewer *v);
 
 /* The poll loop (loop.c): returns when stopped or the duration ran out; 0 on success. */
 int server_run(struct server *s, int listen_fd);

@@ -13,22 +13,34 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "raystream/rs_cli.h"
+
 #include "app_net.h"
-#include "tool_common.h"
 #include "viewer.h"
 
 static void usage(FILE *to)
 {
 	fputs(
 	    "usage: raystream-viewer [--tracker URI] [--server HOST:PORT] [--scene box|cowN|FILE]\n"
-	    "         [--size WxH] [--view window|camera] [--eye X,Y,Z] [--screen WxH_METRES]\n"
-	    "         [--fov DEG] [--scale UNITS_PER_M] [--layout FILE.json] [--local]\n"
-	    "         [--backend cpu|egl|osmesa] [--passes N] [--threads N] [--quality N]\n"
-	    "         [--token TEXT] [--headless] [--out DIR] [--every N] [--frames N]\n"
-	    "         [--duration S] [--stats FILE.json] [--verify-local] [--pose-id-base N]\n"
-	    "Defaults: tracker sim:realtime=1, scene box, 256x256, head-coupled window view with\n"
-	    "the eye 0.35 m in front of a 58 mm square screen; remote when --server is given.\n"
-	    "The first good pose is recentred onto the scene's camera; key r recentres again.\n",
+	    "         [--size WxH] [--view camera|window] [--eye X,Y,Z] [--eye-frame "
+	    "screen|tracker]\n"
+	    "         [--screen WxH_METRES] [--fov DEG] [--scale UNITS_PER_M] [--layout "
+	    "FILE.json]\n"
+	    "         [--local] [--backend auto|cpu|egl|osmesa] [--present direct|readback]\n"
+	    "         [--passes N] [--threads N] [--quality N] [--token TEXT] [--headless]\n"
+	    "         [--out DIR] [--every N] [--frames N] [--duration S] [--stats FILE.json]\n"
+	    "         [--verify-local] [--pose-id-base N] [--last FILE.png] [--linger S]\n"
+	    "         [--target-fps N] [--render-scale 1|0.71|0.5|0.35|0.25] [--predict on|off]\n"
+	    "Defaults: tracker sim:realtime=1, scene box, 256x256, camera view (the scene's own\n"
+	    "camera at the first pose, then moving with the handheld; --view window: "
+	    "head-coupled,\n"
+	    "the eye 0.35 m in front of a 58 mm square screen); backend auto (the GPU: in a "
+	    "window\n"
+	    "frames are drawn straight into it; cpu with one line when no GL context opens);\n"
+	    "remote when --server is given. Key r recentres onto the scene's camera.\n"
+	    "--target-fps 30 (0: off): local frames in the window render at a smaller scale,\n"
+	    "upscaled, while they miss the budget (files and --headless stay full size).\n"
+	    "--predict on: each pose is moved ahead by the measured latency (at most 30 ms).\n",
 	    to);
 }
 
@@ -61,7 +73,10 @@ static int known_option(const char *a)
 	static const char *const names =
 	    " --backend --duration --every --eye --eye-frame --fov --frames --last --layout "
 	    "--linger --out "
-	    "--passes --pose-id-base --quality --scale --scene --screen --server --size --stats "
+	    "--passes --pose-id-base --predict --present --quality --render-scale --target-fps "
+	    "--scale "
+	    "--scene --screen --server --size "
+	    "--stats "
 	    "--threads --token --tracker --view ";
 	size_t n = strlen(a);
 	for (const char *p = strstr(names, a); p; p = strstr(p + 1, a))
@@ -74,11 +89,16 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 {
 	*o = (struct viewer_options){.tracker = "sim:realtime=1",
 	                             .scene = "box",
-	                             .backend = "cpu",
+	                             .backend = "auto",
 	                             .width = 256,
 	                             .height = 256,
 	                             .passes = 2,
-	                             .every = 1};
+	                             .every = 1,
+	                             .target_fps = 30.0,
+	                             .fixed_level = -1,
+	                             /* the paper's mode: the start frame is the scene's own
+	                              * camera (a head-coupled window's frustum is narrower) */
+	                             .cal = {.mode = RS_VIEW_CAMERA}};
 	int local = 0;
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i];
@@ -126,9 +146,34 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 		else if (!strcmp(a, "--last"))
 			o->last = v;
 		else if (!strcmp(a, "--size")) {
-			if (!rs_tool_parse_size(v, &o->width, &o->height) ||
+			if (!rs_cli_parse_size(v, RS_STREAM_MAX_SIDE, &o->width, &o->height) ||
 			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
 				return fail_usage("--size wants WxH within 1..4096, not '%s'", v);
+		} else if (!strcmp(a, "--target-fps")) {
+			if (!parse_numbers(v, ',', 1, d) || !(d[0] >= 0 && d[0] <= 1000))
+				return fail_usage("--target-fps wants 0..1000 (0: off), not '%s'",
+				                  v);
+			o->target_fps = d[0];
+		} else if (!strcmp(a, "--render-scale")) {
+			o->fixed_level = -1;
+			for (int k = 0; k < APP_PACE_LEVELS && parse_numbers(v, ',', 1, d); ++k)
+				if (d[0] == app_pace_scales[k])
+					o->fixed_level = k;
+			if (o->fixed_level < 0)
+				return fail_usage(
+				    "--render-scale wants 1, 0.71, 0.5, 0.35 or 0.25, "
+				    "not '%s'",
+				    v);
+		} else if (!strcmp(a, "--predict")) {
+			if (strcmp(v, "on") != 0 && strcmp(v, "off") != 0)
+				return fail_usage("--predict wants on or off, not '%s'", v);
+			o->no_predict = !strcmp(v, "off");
+		} else if (!strcmp(a, "--present")) {
+			if (!strcmp(v, "direct") || !strcmp(v, "readback"))
+				o->readback = !strcmp(v, "readback");
+			else
+				return fail_usage("--present wants direct or readback, not '%s'",
+				                  v);
 		} else if (!strcmp(a, "--view")) {
 			if (!strcmp(v, "window"))
 				o->cal.mode = RS_VIEW_HEAD_COUPLED;
@@ -171,22 +216,22 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 				return fail_usage("--linger wants seconds 0..3600, not '%s'", v);
 			o->linger_s = d[0];
 		} else if (!strcmp(a, "--passes")) {
-			if (!rs_tool_parse_u32(v, 1, 64, &o->passes))
+			if (!rs_cli_parse_u32(v, 1, 64, &o->passes))
 				return fail_usage("--passes wants 1..64, not '%s'", v);
 		} else if (!strcmp(a, "--threads")) {
-			if (!rs_tool_parse_u32(v, 1, 256, &o->threads))
+			if (!rs_cli_parse_u32(v, 1, 256, &o->threads))
 				return fail_usage("--threads wants 1..256, not '%s'", v);
 		} else if (!strcmp(a, "--every")) {
-			if (!rs_tool_parse_u32(v, 1, 1000000, &o->every))
+			if (!rs_cli_parse_u32(v, 1, 1000000, &o->every))
 				return fail_usage("--every wants 1..1000000, not '%s'", v);
 		} else if (!strcmp(a, "--frames")) {
-			if (!rs_tool_parse_u32(v, 1, 100000000, &o->frames))
+			if (!rs_cli_parse_u32(v, 1, 100000000, &o->frames))
 				return fail_usage("--frames wants 1..1e8, not '%s'", v);
 		} else if (!strcmp(a, "--pose-id-base")) {
-			if (!rs_tool_parse_u32(v, 0, 4000000000u, &o->pose_id_base))
+			if (!rs_cli_parse_u32(v, 0, 4000000000u, &o->pose_id_base))
 				return fail_usage("--pose-id-base wants 0..4e9, not '%s'", v);
 		} else if (!strcmp(a, "--quality")) {
-			if (!rs_tool_parse_u32(v, 1, 100, &u))
+			if (!rs_cli_parse_u32(v, 1, 100, &u))
 				return fail_usage("--quality wants 1..100, not '%s'", v);
 			o->quality = (int)u;
 		} else

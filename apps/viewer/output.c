@@ -6,7 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tool_common.h"
+#include "app_net.h"
+#include "raystream/rs_image.h"
 #include "viewer.h"
 
 static void rgba_to_float(const uint8_t *rgba, uint32_t n, float *out)
@@ -77,6 +78,8 @@ void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t
 	double now = viewer_now_s();
 	if (v->latency_n < VIEWER_MAX_SAMPLES)
 		v->latency_ms[v->latency_n++] = (now - (double)pose_time_us * 1e-6) * 1e3;
+	double lat_ms = (now - (double)pose_time_us * 1e-6) * 1e3; /* what prediction covers */
+	v->latency_avg_ms = v->latency_avg_ms > 0 ? 0.9 * v->latency_avg_ms + 0.1 * lat_ms : lat_ms;
 	if (v->have_frame) {
 		if (frame_id <= v->last_frame_id)
 			++v->order_errors;
@@ -93,7 +96,7 @@ void viewer_show(struct viewer *v, uint32_t frame_id, uint32_t pose_id, uint64_t
 		verify(v, pose_id);
 	if (v->o.out_dir && (v->frames - 1) % v->o.every == 0)
 		write_frame(v);
-	if (v->window)
+	if (v->window && !(v->shown && !v->remote)) /* a direct or scaled frame is shown */
 		viewer_window_present(v);
 }
 
@@ -132,9 +135,10 @@ void viewer_status_line(struct viewer *v, double now, int force)
 	char line[256];
 	snprintf(
 	    line, sizeof line,
-	    "%s | %.1f fps | latency %.1f ms median | link %.2f Mbit/s | frame %u pose %u | %s",
+	    "%s | %.1f fps | latency %.1f ms median | link %.2f Mbit/s | frame %u pose %u | %s | "
+	    "scale %.2f",
 	    v->remote ? "remote" : "local", fps, lat, mbps, v->last_frame_id, v->last_pose_id_shown,
-	    rs_view_state_name(v->view_state));
+	    rs_view_state_name(v->view_state), v->remote ? 1.0 : app_pace_scales[v->pace.level]);
 	printf("raystream-viewer: %s\n", line);
 	fflush(stdout);
 	if (v->window)
@@ -165,13 +169,18 @@ int viewer_write_stats(struct viewer *v)
 	cJSON_AddNumberToObject(doc, "latency_p99_ms", percentile(v, 0.99));
 	cJSON_AddNumberToObject(doc, "frames_written", (double)v->frames_written);
 	cJSON_AddNumberToObject(doc, "server_frames_dropped", v->link.server_stats.dropped);
+	cJSON_AddNumberToObject(doc, "predicted_ms_mean",
+	                        v->predicted_n ? v->predicted_ms_sum / (double)v->predicted_n : 0);
+	cJSON_AddNumberToObject(doc, "scale_final", app_pace_scales[v->pace.level]);
+	cJSON_AddNumberToObject(doc, "scale_steps_down", v->pace.steps_down);
+	cJSON_AddNumberToObject(doc, "scale_steps_up", v->pace.steps_up);
 	if (v->psnr_n) {
 		cJSON_AddNumberToObject(doc, "psnr_checked", (double)v->psnr_n);
 		cJSON_AddNumberToObject(doc, "psnr_min_db", v->psnr_min);
 		cJSON_AddNumberToObject(doc, "psnr_mean_db", v->psnr_sum / (double)v->psnr_n);
 	}
 	struct rs_error err = {0};
-	enum rs_status st = rs_tool_write_json(v->o.stats, doc, &err);
+	enum rs_status st = app_write_json(v->o.stats, doc, &err);
 	cJSON_Delete(doc);
 	if (st != RS_OK) {
 		fprintf(stderr, "raystream-viewer: %s\n", err.message);

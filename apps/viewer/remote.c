@@ -116,7 +116,7 @@ void viewer_send_pose(struct viewer *v, const struct rs_camera *cam, uint32_t fl
 	struct rs_stream_msg m = {.type = RS_STREAM_POSE};
 	struct rs_stream_pose *p = &m.u.pose;
 	p->pose_id = v->pose_id;
-	p->flags = flags;
+	p->flags = flags | RS_STREAM_POSE_ACKS;
 	p->time_us = (uint64_t)(viewer_now_s() * 1e6);
 	memcpy(p->eye, cam->eye, sizeof p->eye);
 	memcpy(p->target, cam->target, sizeof p->target);
@@ -137,6 +137,7 @@ static int handle(struct viewer *v, const struct rs_stream_msg *m)
 	switch (m->type) {
 	case RS_STREAM_FRAME: {
 		const struct rs_stream_frame *f = &m->u.frame;
+		++l->frames_in;
 		if (f->width != v->o.width || f->height != v->o.height) {
 			fprintf(stderr, "raystream-viewer: frame %u is %ux%u, not %ux%u\n",
 			        f->frame_id, f->width, f->height, v->o.width, v->o.height);
@@ -167,11 +168,38 @@ static int handle(struct viewer *v, const struct rs_stream_msg *m)
 	}
 }
 
+/* Acknowledge the frames received so far, between whole poses (the server sends the next
+ * frame only after it: a stalled viewer finds one old frame waiting, not a backlog).
+ * Returns 0, or -1 when the connection is gone. */
+static int send_ack(struct viewer_link *l, struct rs_error *err)
+{
+	int pose_half_sent = l->out_off > 0 && l->out_off < l->out_len;
+	if (l->ack_off == l->ack_len && l->frames_acked != l->frames_in && !pose_half_sent) {
+		struct rs_stream_msg m = {.type = RS_STREAM_STATS};
+		m.u.stats.frames = l->frames_in;
+		if (rs_stream_encode(&m, l->ack, sizeof l->ack, &l->ack_len, NULL) != RS_OK)
+			return 0;
+		l->ack_off = 0;
+		l->frames_acked = l->frames_in;
+	}
+	if (l->ack_off < l->ack_len) {
+		long k = app_send_some(l->fd, l->ack + l->ack_off, l->ack_len - l->ack_off, err);
+		if (k < 0)
+			return -1;
+		l->ack_off += (size_t)k;
+	}
+	return 0;
+}
+
 int viewer_pump(struct viewer *v, int timeout_ms)
 {
 	struct viewer_link *l = &v->link;
 	struct rs_error err = {0};
-	if (l->out_off < l->out_len) {
+	if (send_ack(l, &err) != 0) {
+		fprintf(stderr, "raystream-viewer: %s\n", err.message);
+		return -1;
+	}
+	if (l->out_off < l->out_len && l->ack_off == l->ack_len) {
 		long k = app_send_some(l->fd, l->out + l->out_off, l->out_len - l->out_off, &err);
 		if (k < 0) {
 			fprintf(stderr, "raystream-viewer: %s\n", err.message);
@@ -191,7 +219,7 @@ int viewer_pump(struct viewer *v, int timeout_ms)
 		}
 		if (k < 0) {
 			if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)
-				return 0;
+				break;
 			fprintf(stderr, "raystream-viewer: receive failed: %s\n", strerror(errno));
 			return -1;
 		}
@@ -212,6 +240,10 @@ int viewer_pump(struct viewer *v, int timeout_ms)
 				return -1;
 		}
 	}
+	if (send_ack(l, &err) != 0) { /* at once: the server waits for it */
+		fprintf(stderr, "raystream-viewer: %s\n", err.message);
+		return -1;
+	}
 	return 0;
 }
 
@@ -224,7 +256,7 @@ void viewer_disconnect(struct viewer *v, const char *why)
 		uint8_t b[RS_STREAM_HEADER_SIZE + 8 + RS_STREAM_MAX_TEXT];
 		size_t n = 0;
 		/* only at a message boundary, so the BYE is never spliced into a pose */
-		if ((l->out_off == 0 || l->out_off == l->out_len) &&
+		if ((l->out_off == 0 || l->out_off == l->out_len) && l->ack_off == l->ack_len &&
 		    rs_stream_encode(&m, b, sizeof b, &n, NULL) == RS_OK)
 			send_all_blocking(l->fd, b, n, viewer_now_s() + 0.5);
 		close(l->fd);

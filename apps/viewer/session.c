@@ -6,10 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "raystream/rs_scenegen.h"
+
 #include "app_net.h"
 #include "raystream/rs_renderers.h"
 #include "raystream/rs_tracker.h"
-#include "tool_common.h"
 #include "viewer.h"
 
 static volatile sig_atomic_t stop_signal;
@@ -34,7 +35,7 @@ static int setup(struct viewer *v)
 {
 	struct rs_error err = {0};
 	const struct viewer_options *o = &v->o;
-	if (rs_tool_load_scene(o->scene, &v->scene, &err) != RS_OK)
+	if (rs_scenegen_load(o->scene, &v->scene, &err) != RS_OK)
 		return fail("", &err);
 	struct rs_pose_layout layout;
 	rs_pose_layout_default(&layout);
@@ -42,8 +43,16 @@ static int setup(struct viewer *v)
 		return fail("", &err);
 	if (rs_pose_solver_create(NULL, &layout, &v->solver, &err) != RS_OK)
 		return fail("", &err);
-	if (rs_view_create(&o->cal, rs_scene_camera(v->scene), o->width, o->height, &v->view,
-	                   &err) != RS_OK)
+	struct rs_pose_filter_desc fd = {.disable_filter = 1};
+	if (!o->no_predict && rs_pose_filter_create(&fd, &v->filter, &err) != RS_OK)
+		return fail("", &err);
+	/* camera view without --fov: the scene camera's own, so the first frame is exactly
+	 * the scene's view */
+	struct rs_view_calibration cal = o->cal;
+	if (cal.mode == RS_VIEW_CAMERA && cal.fov_y_deg == 0.0)
+		cal.fov_y_deg = rs_scene_camera(v->scene)->fov_y_deg;
+	if (rs_view_create(&cal, rs_scene_camera(v->scene), o->width, o->height, &v->view, &err) !=
+	    RS_OK)
 		return fail("", &err);
 	/* a head-coupled view with the default square screen needs a square image */
 	struct rs_camera probe;
@@ -59,25 +68,16 @@ static int setup(struct viewer *v)
 		return fail("out of memory", NULL);
 	if (rs_jpeg_create(&v->jpeg, &err) != RS_OK)
 		return fail("", &err);
-	{ /* always: --local, key switching and --verify-local all render here */
-		uint32_t lights = rs_scene_light_count(v->scene) ? 1u : 0u;
-		struct rs_render_desc d = {.width = o->width,
-		                           .height = o->height,
-		                           .passes = o->passes,
-		                           .lights = lights,
-		                           .threads = o->threads};
-		if (rs_renderer_open(o->backend, &d, &v->local, &err) != RS_OK ||
-		    rs_renderer_set_scene(v->local, v->scene, &err) != RS_OK)
-			return fail("", &err);
-	}
+	if (!o->headless && viewer_window_open(v) != 0)
+		return -1;
+	if (viewer_local_open(v) != 0)
+		return -1;
 	if (rs_tracker_open(o->tracker, &v->tracker, &err) != RS_OK)
 		return fail("", &err);
 	v->link.fd = -1;
 	if (o->server && viewer_connect(v) != 0)
 		return -1;
 	v->remote = o->start_remote;
-	if (!o->headless && viewer_window_open(v) != 0)
-		return -1;
 	return 0;
 }
 
@@ -85,16 +85,36 @@ static void teardown(struct viewer *v)
 {
 	if (v->link.fd >= 0 || v->link.inbuf)
 		viewer_disconnect(v, "viewer closing");
+	viewer_local_close(v); /* before the window: it may draw on its context */
 	viewer_window_close(v);
 	rs_track_source_destroy(&v->tracker);
-	rs_renderer_destroy(&v->local);
 	rs_jpeg_destroy(&v->jpeg);
 	rs_view_destroy(&v->view);
 	rs_pose_solver_destroy(&v->solver);
+	rs_pose_filter_destroy(&v->filter);
 	rs_scene_destroy(&v->scene);
 	free(v->rgba);
 	free(v->check);
 	free(v->latency_ms);
+}
+
+/* Move a fresh pose to the time its frame will be shown: the measured motion-to-photon
+ * latency ahead, within the filter's 30 ms cap (held or lost poses are left alone). */
+static void predict(struct viewer *v, struct rs_pose *pose, enum rs_pose_status status)
+{
+	if (!v->filter || (status != RS_POSE_OK && status != RS_POSE_RELABELED))
+		return;
+	struct rs_pose now;
+	if (rs_pose_filter_update(v->filter, pose, &now, NULL) != RS_OK)
+		return;
+	struct rs_pose ahead;
+	double horizon_s = v->latency_avg_ms * 1e-3;
+	if (horizon_s > 0 &&
+	    rs_pose_filter_predict(v->filter, now.time_s + horizon_s, &ahead, NULL) == RS_OK) {
+		v->predicted_ms_sum += (ahead.time_s - now.time_s) * 1e3;
+		++v->predicted_n;
+		*pose = ahead;
+	}
 }
 
 /* Drain the tracker; 1 when a new camera was made, 0 when none, -1 on a fatal error,
@@ -126,6 +146,7 @@ static int track(struct viewer *v, int *recentred)
 	}
 	if (!got)
 		return 0;
+	predict(v, &pose, q.status);
 	rs_view_update(v->view, &pose, q.status, &v->camera, &v->view_state);
 	if (!*recentred && v->view_state == RS_VIEW_FRESH) {
 		/* start where the scene's camera is: the handheld's first pose is "home" */
@@ -145,15 +166,8 @@ static void new_camera(struct viewer *v)
 	if (v->link.fd >= 0)
 		viewer_send_pose(v, &v->camera,
 		                 v->view_state == RS_VIEW_FRESH ? 0u : RS_STREAM_POSE_STALE);
-	if (!v->remote && v->local) {
-		uint64_t t = (uint64_t)(viewer_now_s() * 1e6);
-		struct rs_frame f = {.rgba8 = v->rgba};
-		struct rs_error err = {0};
-		if (rs_renderer_render(v->local, &v->camera, &f, &err) == RS_OK)
-			viewer_show(v, (uint32_t)v->frames + 1u, v->pose_id, t);
-		else
-			fprintf(stderr, "raystream-viewer: local render failed: %s\n", err.message);
-	}
+	if (!v->remote && v->local)
+		viewer_local_frame(v);
 }
 
 static int loop(struct viewer *v)

@@ -4,6 +4,8 @@
 
 #include <stdint.h>
 
+#include "app_pace.h"
+
 #include "raystream/rs_codec.h"
 #include "raystream/rs_pose.h"
 #include "raystream/rs_render.h"
@@ -17,6 +19,10 @@ struct viewer_options {
 	const char *tracker, *server, *scene, *backend, *token, *out_dir, *stats, *layout, *last;
 	uint32_t width, height, passes, threads, every, frames, pose_id_base;
 	int quality, headless, verify_local, start_remote;
+	int readback;      /* --present readback: GPU frames read back and uploaded (benchmarks) */
+	int no_predict;    /* --predict off: cameras from the newest pose as sampled */
+	double target_fps; /* --target-fps: dynamic resolution in the window (0: off) */
+	int fixed_level;   /* --render-scale: that level of app_pace_scales, else -1 */
 	double duration_s, linger_s;
 	struct rs_view_calibration cal;
 };
@@ -32,6 +38,10 @@ struct viewer_link {
 	uint8_t *inbuf;
 	uint8_t out[RS_STREAM_HEADER_SIZE + 128]; /* the newest unsent pose (latest wins) */
 	size_t out_len, out_off;
+	/* frame acknowledgements (RS_STREAM_POSE_ACKS): a STATS after each frame received */
+	uint8_t ack[RS_STREAM_HEADER_SIZE + 32];
+	size_t ack_len, ack_off;
+	uint32_t frames_in, frames_acked;
 	uint32_t viewer_id;
 	uint64_t bytes_in;
 	struct rs_stream_stats server_stats; /* last STATS from the server */
@@ -42,15 +52,28 @@ struct viewer {
 	struct rs_scene *scene;
 	struct rs_track_source *tracker;
 	struct rs_pose_solver *solver;
+	/* pose prediction to display time: the filter's constant-velocity prediction (pass
+	 * through, no smoothing) over the measured latency, capped at 30 ms */
+	struct rs_pose_filter *filter;
+	double latency_avg_ms, predicted_ms_sum;
+	uint64_t predicted_n;
 	struct rs_view *view;
 	struct rs_renderer *local; /* local rendering and --verify-local */
 	struct rs_jpeg *jpeg;
 	struct viewer_link link;
 	struct rs_window *window; /* NULL when headless */
 	int remote;               /* showing remote frames (else local) */
-	uint8_t *rgba, *check;    /* the frame shown; a local render to compare with */
-	uint32_t pose_id;         /* last pose id sent or rendered */
-	struct rs_camera camera;  /* current camera */
+	int direct;               /* v->local draws into the window itself (no readback) */
+	int shown;                /* the local path already showed this frame (direct/scaled) */
+	/* dynamic resolution (local.c): renderers at the smaller scales, opened when first
+	 * needed (level 0 is v->local), the controller and the scaled frame's bytes */
+	struct rs_renderer *ladder[APP_PACE_LEVELS];
+	int ladder_direct[APP_PACE_LEVELS];
+	struct app_pace pace;
+	uint8_t *small;
+	uint8_t *rgba, *check;   /* the frame shown; a local render to compare with */
+	uint32_t pose_id;        /* last pose id sent or rendered */
+	struct rs_camera camera; /* current camera */
 	enum rs_view_state view_state;
 	struct rs_camera ring[VIEWER_POSE_RING];
 	uint32_t ring_id[VIEWER_POSE_RING];
@@ -84,6 +107,18 @@ int viewer_write_last(struct viewer *v, const char *path);
 /* The window (window.c, through backends/window when built). */
 enum viewer_key { VIEWER_KEY_NONE, VIEWER_KEY_QUIT, VIEWER_KEY_SWITCH, VIEWER_KEY_RECENTRE };
 int viewer_window_open(struct viewer *v);
+/* A GLES renderer on the window's own context (frames drawn straight into it); 0 on
+ * success, else -1 with the reason in err. */
+int viewer_window_renderer(struct viewer *v, const struct rs_render_desc *desc,
+                           struct rs_renderer **out, struct rs_error *err);
+/* Show an RGBA8 image of any size up to the window's, scaled to fill it. */
+void viewer_window_present_image(struct viewer *v, const uint8_t *rgba, uint32_t w, uint32_t h);
+
+/* Local rendering (local.c): open v->local (0 on success), render the current camera at the
+ * frame-rate target's scale and show it, close every renderer. */
+int viewer_local_open(struct viewer *v);
+void viewer_local_frame(struct viewer *v);
+void viewer_local_close(struct viewer *v);
 void viewer_window_present(struct viewer *v);
 void viewer_window_caption(struct viewer *v, const char *text);
 enum viewer_key viewer_window_poll(struct viewer *v);

@@ -19,6 +19,19 @@ int viewer_window_open(struct viewer *v)
 	return 0;
 }
 
+int viewer_window_renderer(struct viewer *v, const struct rs_render_desc *desc,
+                           struct rs_renderer **out, struct rs_error *err)
+{
+	return rs_window_renderer_create(v->window, desc, out, err) == RS_OK ? 0 : -1;
+}
+
+void viewer_window_present_image(struct viewer *v, const uint8_t *rgba, uint32_t w, uint32_t h)
+{
+	struct rs_error err = {0};
+	if (rs_window_present(v->window, rgba, w, h, &err) != RS_OK)
+		fprintf(stderr, "raystream-viewer: %s\n", err.message);
+}
+
 void viewer_window_present(struct viewer *v)
 {
 	struct rs_error err = {0};
@@ -52,6 +65,16 @@ void viewer_window_close(struct viewer *v)
 
 #else
 
+int viewer_window_renderer(struct viewer *v, const struct rs_render_desc *desc,
+                           struct rs_renderer **out, struct rs_error *err)
+{
+	(void)v;
+	(void)desc;
+	(void)out;
+	rs_error_set(err, RS_ERR_UNSUPPORTED, "this build has no window backend");
+	return -1;
+}
+
 int viewer_window_open(struct viewer *v)
 {
 	(void)v;
@@ -69,6 +92,14 @@ void viewer_window_caption(struct viewer *v, const char *text)
 {
 	(void)v;
 	(void)text;
+}
+
+void viewer_window_present_image(struct viewer *v, const uint8_t *rgba, uint32_t w, uint32_t h)
+{
+	(void)v;
+	(void)rgba;
+	(void)w;
+	(void)h;
 }
 
 enum viewer_key viewer_window_poll(struct viewer *v)

@@ -10,7 +10,7 @@ cd "$dir"
 # file:layer (1 = top). A new file must be placed here.
 layers="gles_renderer.c:1
 gles_shadow.c:2 gles_envmap.c:2 gles_interreflect.c:2
-gles_plan.c:3 gles_frame.c:3
+gles_plan.c:3 gles_frame.c:3 gles_display.c:3
 gles_program.c:4 gles_prelude.c:4 gles_uniforms.c:4 gles_scene.c:4 gles_storage.c:4
 gles_state.c:5 gles_alloc.c:5 gl_api.c:5"
 declare -A layer def

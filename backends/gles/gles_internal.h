@@ -4,6 +4,7 @@
  *   1 renderer   gles_renderer.c                      the ops table: set_scene, render
  *   2 capture    gles_shadow.c gles_envmap.c gles_interreflect.c   shadow and cube maps
  *   3 plan       gles_plan.c (decide) gles_frame.c (run, display, read back)
+ *                gles_display.c (a window context: the frame to its default framebuffer)
  *   4 programs   gles_program.c gles_prelude.c gles_uniforms.c gles_scene.c gles_storage.c
  *   5 leaf       gles_state.c gles_alloc.c gl_api.c
  */
@@ -215,6 +216,9 @@ struct gles {
 	struct rs_gles_plan plans[PLAN_COUNT];
 	struct rs_gles_program prog[PROG_COUNT];
 	float *scratch; /* readback: width * height * 4 floats */
+	/* the display step into a window's default framebuffer (gles_display.c), made at the
+	 * first frame when the context has a display_target */
+	struct rs_gles_display *display;
 };
 
 /* Largest number of lights a kernel is specialised for (uniform arrays). */
@@ -265,6 +269,12 @@ struct rs_gles_spec {
  * RS_ERR_LIMIT when they do not fit. */
 enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_trace_rules *rules,
                                char *out, size_t cap, struct rs_error *err);
+
+/* A program outside the table (the window's display step, gles_display.c): the fullscreen
+ * triangle and fragment `files`, no #define prelude. */
+enum rs_status rs_gles_program_compile(const struct rs_gl *gl, const char *version,
+                                       const char *const *files, size_t count, GLuint *out,
+                                       struct rs_error *err);
 
 /* gles_uniforms.c: inputs of a program, through its cached locations. */
 void rs_gles_bind(const struct rs_gl *gl, const struct rs_gles_program *p, int unit, int u,
@@ -327,6 +337,13 @@ enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenu
                                  GLsizei h, GLsizei layers, struct rs_error *err);
 
 /* ---- 2 capture ------------------------------------------------------------------------ */
+
+/* gles_display.c (layer 3): show float colour texture `tex` (width x height texels, row 0 =
+ * top) in the context's window (cops->display_target) and swap; its time is kernel "present".
+ * rs_gles_display_free releases the step (context current). */
+enum rs_status rs_gles_present(struct gles *g, GLuint tex, uint32_t width, uint32_t height,
+                               struct rs_render_stats *stats, struct rs_error *err);
+void rs_gles_display_free(struct gles *g);
 
 /* gles_shadow.c: the cube shadow maps of every light (set_scene: lights and geometry are
  * fixed). */

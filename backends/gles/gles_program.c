@@ -286,3 +286,10 @@ void rs_gles_programs_delete(struct gles *g)
 			g->gl.DeleteProgram(g->prog[i].id);
 	memset(g->prog, 0, sizeof g->prog);
 }
+
+enum rs_status rs_gles_program_compile(const struct rs_gl *gl, const char *version,
+                                       const char *const *files, size_t count,
+                                       GLuint *out, struct rs_error *err)
+{
+	return program(gl, version, NULL, 0, files, count, "", out, err);
+}

@@ -238,6 +238,10 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 		st = rs_gles_readback(g, plan, frame, stats, err);
 		stats->readback_ms = rs_gles_now_ms() - t2;
 	}
+	/* A window context: the frame goes to the screen straight from the plan's colour. */
+	if (st == RS_OK && g->cops->display_target)
+		st = rs_gles_present(g, rs_gles_target(g, plan->result_acc), g->desc.width,
+		                     g->desc.height, stats, err);
 	g->cops->release(g->ctx);
 	return st;
 }
@@ -249,6 +253,7 @@ static void gles_destroy(void *impl)
 		return;
 	if (g->gl.DeleteTextures && g->cops->make_current(g->ctx, NULL) == RS_OK) {
 		rs_gles_scene_delete(g);
+		rs_gles_display_free(g);
 		if (g->fbo)
 			g->gl.DeleteFramebuffers(1, &g->fbo);
 		if (g->vao)

@@ -53,10 +53,14 @@ enum rs_stream_bye_reason {
 	RS_STREAM_BYE_TIMEOUT = 4,  /**< no complete message in time (slow drip) */
 	RS_STREAM_BYE_SHUTDOWN = 5, /**< the server is stopping */
 	RS_STREAM_BYE_OVERLOAD = 6, /**< too many viewers */
+	RS_STREAM_BYE_CAMERA = 7,   /**< a POSE whose camera cannot be rendered (degenerate) */
 };
 
 /** Pose flags. */
 #define RS_STREAM_POSE_STALE 1u /**< the viewer's camera is not from a fresh pose */
+/** The viewer acknowledges frames: after each FRAME it sends a STATS whose `frames` counts
+ *  the frames received, and the server keeps one unacknowledged frame on the way. */
+#define RS_STREAM_POSE_ACKS 2u
 
 struct rs_stream_hello {
 	uint16_t width, height;              /**< requested image size, 1..RS_STREAM_MAX_SIDE */

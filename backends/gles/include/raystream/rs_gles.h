@@ -22,12 +22,21 @@
 #define RS_GLES_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "raystream/rs_render.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/** Where frames go in a window's default framebuffer: its size and the image's rectangle
+ *  (x, y from the top-left corner, in pixels). */
+struct rs_gles_display_target {
+	uint32_t fb_width, fb_height;
+	int32_t x, y;
+	uint32_t width, height;
+};
 
 /** What a context backend provides. `ctx` is the backend's own state. */
 struct rs_gl_context_ops {
@@ -42,6 +51,13 @@ struct rs_gl_context_ops {
 	void (*describe)(const void *ctx, char *out, size_t cap);
 	/** Destroy the context and `ctx` itself. */
 	void (*destroy)(void *ctx);
+	/** Optional, for a context on a window (backends/window): where each frame is shown.
+	 *  When set, every render also runs the display step into the default framebuffer
+	 *  (make_current binds the window surface) and calls swap; no readback is needed to
+	 *  show a frame. NULL for headless contexts. */
+	void (*display_target)(const void *ctx, struct rs_gles_display_target *out);
+	/** Optional, with display_target: show what was drawn (eglSwapBuffers). */
+	enum rs_status (*swap)(void *ctx, struct rs_error *err);
 };
 
 /**
@@ -53,6 +69,29 @@ struct rs_gl_context_ops {
 enum rs_status rs_gles_renderer_create(const struct rs_gl_context_ops *ops, void *ctx,
                                        const struct rs_render_desc *desc, struct rs_renderer **out,
                                        struct rs_error *err);
+
+/**
+ * The display step on its own, for frames that come as RGBA8 bytes (a decoded remote frame,
+ * a CPU or OSMesa render): the same kernel (present.glsl) that shows a renderer's frames
+ * on a window context. Create with the window's context current; entry points are loaded
+ * through `get_proc_address` (never linked, as for the renderer). Destroy with the same
+ * context current; accepts NULL.
+ */
+struct rs_gles_display;
+enum rs_status rs_gles_display_create(void *(*get_proc_address)(void *ctx, const char *name),
+                                      void *ctx, struct rs_gles_display **out,
+                                      struct rs_error *err);
+void rs_gles_display_destroy(struct rs_gles_display **display);
+
+/**
+ * Draw an RGBA8 image (row 0 = top) into the current context's default framebuffer: black
+ * outside `to`'s rectangle, the image scaled into it (exact bytes at scale 1). Uploads the
+ * image; the caller swaps. Changes the bound program, vertex array, framebuffer (0),
+ * texture unit 0 and the viewport.
+ */
+enum rs_status rs_gles_display_rgba8(struct rs_gles_display *display, const uint8_t *rgba,
+                                     uint32_t width, uint32_t height,
+                                     const struct rs_gles_display_target *to, struct rs_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,16 +1,19 @@
 /**
  * @file rs_window.h
- * A window that shows frames (module rs_window, backends/window): X11 + an EGL window
- * surface + a GLES 3 textured quad, pixel for pixel (nearest sampling, one texel per
- * pixel, row 0 at the top, at the window's top-left) and a one-line status strip under it.
- * Keys are turned into events. Only shows images: rendering
- * happens elsewhere (rs_render.h). One thread; not thread-safe.
+ * A window that shows frames (module rs_window, backends/window): X11 + an EGL context on
+ * the window surface, and a status strip of its own under the image (two lines). It is a
+ * GL context provider like backends/egl: rs_window_renderer_create() gives a GLES renderer
+ * (backends/gles) that draws each frame straight into the window, no readback. Frames
+ * that come as RGBA8 bytes (remote, CPU, OSMesa) are shown by the same display kernel,
+ * scaled into the image area (pixel for pixel at the window's size). Keys are turned into
+ * events. One thread; not thread-safe.
  */
 #ifndef RS_WINDOW_H
 #define RS_WINDOW_H
 
 #include <stdint.h>
 
+#include "raystream/rs_render.h"
 #include "raystream/rs_status.h"
 
 #ifdef __cplusplus
@@ -47,14 +50,27 @@ enum rs_status rs_window_create(const struct rs_window_desc *desc, struct rs_win
 void rs_window_destroy(struct rs_window **window);
 
 /**
- * Show an RGBA8 image (row 0 = top) of the window's size and swap. The image is kept for
- * redraws on expose. RS_ERR_INVALID for another size; RS_ERR_DEVICE when GL fails.
+ * Show an RGBA8 image (row 0 = top) and swap: at the window's size pixel for pixel, a
+ * smaller image scaled up to fill the image area (dynamic resolution). The image is kept
+ * for redraws on expose. RS_ERR_INVALID for an empty or larger image; RS_ERR_DEVICE when
+ * GL fails.
  */
 enum rs_status rs_window_present(struct rs_window *window, const uint8_t *rgba, uint32_t width,
                                  uint32_t height, struct rs_error *err);
 
-/** Set the title and the status line drawn in a strip under the image (the viewer's
- * fps / latency / link line). The image area itself is never drawn over. */
+/**
+ * A GLES renderer (rs_gles.h) drawing on this window's context: every rs_renderer_render()
+ * also shows the frame in the window (the display kernel writes the default framebuffer
+ * and the window swaps); rs_frame outputs are read back only when asked for. `desc` as for
+ * rs_renderer_open(). Destroy the renderer before the window.
+ */
+enum rs_status rs_window_renderer_create(struct rs_window *window,
+                                         const struct rs_render_desc *desc,
+                                         struct rs_renderer **out, struct rs_error *err);
+
+/** Set the title and the status line drawn in the strip under the image (the viewer's
+ * fps / latency / link line; split over two lines at a " | " when it is wider than the
+ * window). The image area itself is never drawn over. */
 void rs_window_set_title(struct rs_window *window, const char *title);
 
 /** Handle pending X events without blocking; the first key event found, else NONE. */
