@@ -17,7 +17,7 @@ static void a_kernel_that_does_not_compile_names_file_line_and_source(void **sta
 	struct rs_render_desc desc = {.width = 16, .height = 16};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = gl_scene("box");
 	rs__gles_override_kernel("display.glsl", "uniform sampler2D u_acc;\n"
 	                                         "out vec4 o_color;\n"
@@ -62,7 +62,7 @@ static void a_gles3_minimum_device_holds_cow1_in_narrower_rows(void **state)
 	if (!small || !big) {
 		rs_renderer_destroy(&small);
 		rs_renderer_destroy(&big);
-		skip();
+		gl_skip();
 	}
 	struct rs_scene *scene = gl_scene("cow1");
 	struct rs_error err;
@@ -83,7 +83,7 @@ static void a_scene_over_the_texture_limit_is_refused_naming_it(void **state)
 	struct rs_render_desc desc = {.width = 16, .height = 16};
 	struct rs_renderer *r = gl_open_limited("64", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	/* 64 texels: 16 items a row, 64 rows: 1024 items, and Cow1 has 5837 triangles */
 	struct rs_scene *scene = gl_scene("cow1");
 	struct rs_error err;
@@ -108,7 +108,7 @@ static void an_image_over_the_limit_is_refused(void **state)
 	struct rs_renderer *r = gl_open("egl", &desc);
 	unsetenv("RS_GLES_MAX_TEXTURE_SIZE");
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = gl_scene("box");
 	struct rs_error err;
 	assert_int_equal(rs_renderer_set_scene(r, scene, &err), RS_ERR_LIMIT);
@@ -120,7 +120,7 @@ static void an_image_over_the_limit_is_refused(void **state)
 static void an_unknown_egl_platform_is_invalid(void **state)
 {
 	if (!rs_renderer_has_backend("egl"))
-		skip();
+		gl_skip();
 	struct rs_render_desc desc = {.egl_platform = "wayland"};
 	struct rs_renderer *r = NULL;
 	struct rs_error err;
@@ -147,7 +147,7 @@ static void the_platform_is_named_in_the_renderer_string(void **state)
 	struct rs_render_desc desc = {.egl_platform = "surfaceless"};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	const struct rs_render_stats *s = rs_renderer_stats(r);
 	assert_string_equal(s->backend, "egl");
 	assert_non_null(strstr(s->renderer, "EGL surfaceless"));
@@ -165,5 +165,5 @@ int main(void)
 	    cmocka_unit_test(an_egl_platform_without_a_device_fails_cleanly),
 	    cmocka_unit_test(the_platform_is_named_in_the_renderer_string),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }
