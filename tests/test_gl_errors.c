@@ -52,29 +52,49 @@ static struct rs_renderer *gl_open_limited(const char *limit, const struct rs_re
 }
 
 /* GLES 3.0 guarantees 2048 texels a side. Cow1 (over 1024 nodes, which used to make a
- * 3072-texel row and be refused there) now fits such a device and renders exactly as on
- * the big one, whose rows are wider. */
+ * 3072-texel row and be refused there) fits such a device, in 2D textures as GLES 3.0 holds
+ * them, and renders exactly as with rows half as wide. Both limits are lowered below what
+ * the device has (every GLES 3 device has at least 2048, and 1024 is lowered on each), so
+ * the two layouts differ wherever this runs: rows read wrongly at either width show. */
 static void a_gles3_minimum_device_holds_cow1_in_narrower_rows(void **state)
 {
-	struct rs_render_desc desc = {.width = 16, .height = 16};
-	struct rs_renderer *small = gl_open_limited("2048", &desc);
-	struct rs_renderer *big = gl_open_limited(NULL, &desc);
-	if (!small || !big) {
-		rs_renderer_destroy(&small);
-		rs_renderer_destroy(&big);
+	enum { S = 32 };
+	struct rs_render_desc desc = {
+	    .width = S, .height = S, .scene_storage = RS_SCENE_STORAGE_2D};
+	struct rs_renderer *gles3 = gl_open_limited("2048", &desc);
+	struct rs_renderer *narrow = gl_open_limited("1024", &desc);
+	if (!gles3 || !narrow) {
+		rs_renderer_destroy(&gles3);
+		rs_renderer_destroy(&narrow);
 		gl_skip();
 	}
 	struct rs_scene *scene = gl_scene("cow1");
 	struct rs_error err;
-	float a[16 * 16 * 3], b[16 * 16 * 3];
-	struct rs_frame fa = {.rgb = a}, fb = {.rgb = b};
-	assert_int_equal(rs_renderer_set_scene(small, scene, &err), RS_OK);
-	assert_int_equal(rs_renderer_set_scene(big, scene, &err), RS_OK);
-	assert_int_equal(rs_renderer_render(small, NULL, &fa, &err), RS_OK);
-	assert_int_equal(rs_renderer_render(big, NULL, &fb, &err), RS_OK);
+	static float a[S * S * 3], b[S * S * 3], da[S * S], db[S * S];
+	static uint32_t ta[S * S], tb[S * S];
+	struct rs_frame fa = {.rgb = a, .depth = da, .triangle = ta};
+	struct rs_frame fb = {.rgb = b, .depth = db, .triangle = tb};
+	assert_int_equal(rs_renderer_set_scene(gles3, scene, &err), RS_OK);
+	assert_int_equal(rs_renderer_set_scene(narrow, scene, &err), RS_OK);
+	assert_int_equal(rs_renderer_stats(narrow)->scene_storage, RS_SCENE_STORAGE_2D);
+	assert_int_equal(rs_renderer_render(gles3, NULL, &fa, &err), RS_OK);
+	assert_int_equal(rs_renderer_render(narrow, NULL, &fb, &err), RS_OK);
 	assert_memory_equal(a, b, sizeof a);
-	rs_renderer_destroy(&small);
-	rs_renderer_destroy(&big);
+	assert_memory_equal(da, db, sizeof da);
+	assert_memory_equal(ta, tb, sizeof ta);
+	uint32_t hit = 0;
+	for (uint32_t i = 0; i < S * S; ++i)
+		hit += ta[i] != RS_NO_SLOT;
+	assert_true(hit > S * S / 8); /* the cow is in the picture */
+	rs_renderer_destroy(&gles3);
+	rs_renderer_destroy(&narrow);
+	/* the narrow renderer did have the lowered limit: a layout for 2048 is refused there */
+	desc.pack.max_texture_size = 2048;
+	narrow = gl_open_limited("1024", &desc);
+	assert_non_null(narrow);
+	assert_int_equal(rs_renderer_set_scene(narrow, scene, &err), RS_ERR_LIMIT);
+	assert_non_null(strstr(err.message, "GL_MAX_TEXTURE_SIZE of 1024"));
+	rs_renderer_destroy(&narrow);
 	rs_scene_destroy(&scene);
 }
 
