@@ -58,9 +58,12 @@ wait "$server" 2> /dev/null || true
 grep -q '^# stats samples=100 frames=100' "$work/serial.txt" || fail "serial stats"
 
 # 4b. --pty with nobody reading fills the line; SIGINT must still end it (within a hang
-#     timeout of 60 s: how soon is not asserted).
+#     timeout of 60 s: how soon is not asserted). The signal goes only once the tool has
+#     printed its path, so its handler is in place: a background job of this script starts
+#     with SIGINT ignored, and a loaded machine can take seconds to get that far.
 "$tool" --pty 'sim:realtime=1&rate=5000' > "$work/pty_idle.txt" &
 server=$!
+for _ in $(seq 300); do [ -s "$work/pty_idle.txt" ] && break; sleep 0.1; done
 sleep 1.5
 kill -INT "$server"
 for _ in $(seq 600); do kill -0 "$server" 2> /dev/null || break; sleep 0.1; done
