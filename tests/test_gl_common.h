@@ -147,7 +147,7 @@ static inline void gl_add_sphere(struct rs_scene *s, const double centre[3], dou
 	size_t v = 0, t = 0;
 	for (uint32_t i = 0; i <= RI; ++i)
 		for (uint32_t j = 0; j <= SL; ++j, ++v) {
-			double th = 3.14159265358979 * i / RI, ph = 6.28318530717959 * j / SL;
+			double th = RS_PI * i / RI, ph = 2.0 * RS_PI * j / SL;
 			double n[3] = {sin(th) * cos(ph), cos(th), -sin(th) * sin(ph)};
 			for (int k = 0; k < 3; ++k) {
 				pos[3 * v + k] = centre[k] + radius * n[k];

@@ -10,6 +10,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/tools/deps.sh"
 bash "$root/tools/check-format.sh"
 bash "$root/tools/check-includes.sh"
+bash "$root/tools/check-mechanisms.sh"
 build=${RS_TEST_BUILD_DIR:-$root/build-test}
 jobs=$(nproc)
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRS_WERROR=ON -DRS_SANITIZE=ON

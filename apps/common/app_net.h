@@ -37,7 +37,4 @@ int app_usage_error(const char *program, const char *fmt, const char *arg)
 #endif
     ;
 
-/* Monotonic microseconds. */
-uint64_t app_now_us(void);
-
 #endif

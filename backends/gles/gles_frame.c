@@ -26,7 +26,7 @@ enum rs_status rs_gles_draw(struct gles *g, const char *name, const GLuint *targ
 		                    "gles: the %s kernel's render targets are not complete", name);
 	gl->DrawArrays(GL_TRIANGLES, 0, 3);
 	gl->Finish();
-	rs_gles_kernel_time(stats, name, rs_gles_now_ms() - t0);
+	rs_gles_kernel_time(stats, name, rs_now_ms() - t0);
 #ifndef NDEBUG
 	return rs_gles_check(gl, name, err);
 #else
@@ -63,7 +63,7 @@ static enum rs_status visibility(struct gles *g, const struct rs_camera *camera,
                                  struct rs_render_stats *stats, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
-	double t0 = rs_gles_now_ms();
+	double t0 = rs_now_ms();
 	GLuint prog = g->prog[PROG_RASTER];
 	gl->UseProgram(prog);
 	rs_gles_scene_uniforms(g, prog);
@@ -104,7 +104,7 @@ static enum rs_status visibility(struct gles *g, const struct rs_camera *camera,
 	if (st != RS_OK)
 		return st;
 	gl->Finish();
-	rs_gles_kernel_time(stats, "raster", rs_gles_now_ms() - t0);
+	rs_gles_kernel_time(stats, "raster", rs_now_ms() - t0);
 	return rs_gles_check(gl, "raster", err);
 }
 
@@ -121,7 +121,7 @@ static enum rs_status raster(struct gles *g, const struct rs_camera *camera, GLu
 	rs_gles_scene_uniforms(g, prog);
 	rs_gles_camera_uniforms(g, prog, camera);
 	rs_gles_bind_2d(gl, prog, UNIT_HIT, "u_vis", g->hit[1]);
-	return rs_gles_draw(g, "resolve", &hit, 1, stats, rs_gles_now_ms(), err);
+	return rs_gles_draw(g, "resolve", &hit, 1, stats, rs_now_ms(), err);
 }
 
 void rs_gles_state_inputs(const struct gles *g, GLuint prog, const struct rs_gles_cursor *c)
@@ -150,7 +150,7 @@ static enum rs_status shade(struct gles *g, uint32_t pass, GLuint hit, struct rs
 	GLuint out[4] = {g->state[1 - c->st[ST_ORIG]][ST_ORIG], g->state[1 - c->st[ST_DIR]][ST_DIR],
 	                 g->state[1 - c->st[ST_ACC]][ST_ACC], g->cnt[1 - c->cnt]};
 	enum rs_status st =
-	    rs_gles_draw(g, "shade", out, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
+	    rs_gles_draw(g, "shade", out, counters ? 4 : 3, stats, rs_now_ms(), err);
 	for (int s = 0; s < ST_COUNT; ++s)
 		c->st[s] = 1 - c->st[s];
 	if (counters)
@@ -177,20 +177,20 @@ static enum rs_status passes(struct gles *g, const struct rs_camera *camera,
 		gl->UseProgram(g->prog[PROG_RAYGEN]);
 		rs_gles_camera_uniforms(g, g->prog[PROG_RAYGEN], camera);
 		rs_gles_uniform_f(gl, g->prog[PROG_RAYGEN], "u_near", g->capture_near);
-		st = rs_gles_draw(g, "raygen", t, counters ? 4 : 3, stats, rs_gles_now_ms(), err);
+		st = rs_gles_draw(g, "raygen", t, counters ? 4 : 3, stats, rs_now_ms(), err);
 	}
 	/* With the env map every path ends in the second pass: later ones would be empty. */
 	uint32_t count = envmap && g->desc.passes > 2 ? 2 : g->desc.passes;
 	for (uint32_t pass = 0; st == RS_OK && pass < count; ++pass) {
 		GLuint hit = g->hit[pass == 0 ? 0 : 1];
-		double t0 = rs_gles_now_ms();
+		double t0 = rs_now_ms();
 		bool rasterized = pass == 0 && g->desc.primary == RS_PRIMARY_RASTER;
 		if (fused) {
 			if (rasterized)
 				st = visibility(g, camera, stats, err);
 			if (st != RS_OK)
 				break;
-			t0 = rs_gles_now_ms();
+			t0 = rs_now_ms();
 			GLuint prog = g->prog[pass > 0     ? PROG_FUSED
 			                      : rasterized ? PROG_FUSED_RASTER
 			                                   : PROG_FUSED_FIRST];
@@ -330,7 +330,7 @@ enum rs_status rs_gles_warm_up(struct gles *g, const struct rs_camera *camera, s
 		GLuint prog = g->prog[PROG_DISPLAY];
 		g->gl.UseProgram(prog);
 		rs_gles_bind_2d(&g->gl, prog, UNIT_ACC, "u_acc", g->state[c.st[ST_ACC]][ST_ACC]);
-		st = rs_gles_draw(g, "display", &g->color, 1, &stats, rs_gles_now_ms(), err);
+		st = rs_gles_draw(g, "display", &g->color, 1, &stats, rs_now_ms(), err);
 	}
 	return st;
 }
@@ -341,22 +341,22 @@ enum rs_status rs_gles_frame(struct gles *g, const struct rs_camera *camera,
 {
 	const struct rs_gl *gl = &g->gl;
 	frame_state(g, (GLsizei)g->desc.width, (GLsizei)g->desc.height);
-	double t0 = rs_gles_now_ms();
+	double t0 = rs_now_ms();
 	struct rs_gles_cursor c;
 	enum rs_status st = passes(g, camera, stats, &c, err);
 	if (st == RS_OK && frame->rgba8) {
 		GLuint prog = g->prog[PROG_DISPLAY];
 		gl->UseProgram(prog);
 		rs_gles_bind_2d(gl, prog, UNIT_ACC, "u_acc", g->state[c.st[ST_ACC]][ST_ACC]);
-		st = rs_gles_draw(g, "display", &g->color, 1, stats, rs_gles_now_ms(), err);
+		st = rs_gles_draw(g, "display", &g->color, 1, stats, rs_now_ms(), err);
 	}
-	stats->render_ms = rs_gles_now_ms() - t0;
+	stats->render_ms = rs_now_ms() - t0;
 	stats->pixels = (uint64_t)g->desc.width * g->desc.height;
 	stats->primary_rays = stats->pixels;
 	if (st != RS_OK)
 		return st;
-	double t1 = rs_gles_now_ms();
+	double t1 = rs_now_ms();
 	st = readback(g, frame, &c, stats, err);
-	stats->readback_ms = rs_gles_now_ms() - t1;
+	stats->readback_ms = rs_now_ms() - t1;
 	return st;
 }

@@ -133,9 +133,6 @@ enum rs_status rs_gles_buffer_texture(struct gles *g, int i, GLenum format,
 /* Add `ms` to the kernel timing `name` of `stats` (a new entry while there is room). */
 void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms);
 
-/* Monotonic clock in milliseconds. */
-double rs_gles_now_ms(void);
-
 /* Which texture of each ping-pong pair holds the current per-pixel state: g->state[st[s]][s]
  * and g->cnt[cnt] (a kernel that writes a texture writes the other one of its pair). */
 struct rs_gles_cursor {

@@ -32,14 +32,14 @@ enum rs_status rs_gles_paper_segment(struct gles *g, uint32_t pass, GLuint hit,
 	bool counters = g->desc.counters;
 	/* Inputs are bound before the cursor moves: a pass reads one texture of each pair and
 	 * writes the other. */
-	double t0 = rs_gles_now_ms();
+	double t0 = rs_now_ms();
 	inputs(g, g->prog[PROG_ENVIRONMENT], pass, hit, c);
 	GLuint out[3] = {flip(g, c, ST_ACC)};
 	enum rs_status st = rs_gles_draw(g, "environment", out, 1, stats, t0, err);
 	if (st != RS_OK)
 		return st;
 
-	t0 = rs_gles_now_ms();
+	t0 = rs_now_ms();
 	inputs(g, g->prog[PROG_SHADING], pass, hit, c);
 	out[0] = flip(g, c, ST_ACC);
 	if (counters) {
@@ -50,7 +50,7 @@ enum rs_status rs_gles_paper_segment(struct gles *g, uint32_t pass, GLuint hit,
 	if (st != RS_OK)
 		return st;
 
-	t0 = rs_gles_now_ms();
+	t0 = rs_now_ms();
 	inputs(g, g->prog[PROG_NEXTRAY], pass, hit, c);
 	out[0] = flip(g, c, ST_ORIG);
 	out[1] = flip(g, c, ST_DIR);

@@ -322,7 +322,7 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	if (st == RS_OK && !(g->scratch = malloc(floats * sizeof(float))))
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for %ux%u",
 		                  desc->width, desc->height);
-	double t0 = rs_gles_now_ms();
+	double t0 = rs_now_ms();
 	if (st == RS_OK) {
 		frame_constants(g, scene, lights);
 		st = build_programs(g, scene, err);
@@ -346,7 +346,7 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 		g->gl.Finish();
 		stats->build_ms = g->accel.build_ms;
 		stats->pack_ms = g->accel.pack_ms;
-		stats->upload_ms = rs_gles_now_ms() - t0;
+		stats->upload_ms = rs_now_ms() - t0;
 		g->scene = scene;
 	} else {
 		delete_scene(g);
@@ -365,10 +365,10 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 		return st;
 	/* Inter-reflection maps are dynamic: captured for every frame (and counted in its time,
 	 * which is what Table 3 compares); a 1-pass frame reads none. */
-	double t0 = rs_gles_now_ms(), capture_ms = 0.0;
+	double t0 = rs_now_ms(), capture_ms = 0.0;
 	if (g->desc.reflections == RS_REFLECT_INTERREFLECT && g->desc.passes > 1) {
 		st = rs_gles_interreflect_capture(g, err);
-		capture_ms = rs_gles_now_ms() - t0;
+		capture_ms = rs_now_ms() - t0;
 	}
 	if (st == RS_OK)
 		st = rs_gles_frame(g, camera, frame, stats, err);

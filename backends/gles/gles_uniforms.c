@@ -1,16 +1,8 @@
 /* Kernel inputs: texture units, uniforms, the scene constants every tracing kernel reads
  * and the camera basis (built in double, as lib/trace/camera_rays.c builds it). */
 #include <math.h>
-#include <time.h>
 
 #include "gles_internal.h"
-
-double rs_gles_now_ms(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
 
 void rs_gles_bind(const struct rs_gl *gl, GLuint prog, int unit, const char *name, GLenum target,
                   GLuint tex)
@@ -119,8 +111,7 @@ void rs_gles_camera_uniforms(const struct gles *g, GLuint prog, const struct rs_
 	rs_gles_uniform_3fv(gl, prog, "u_up", 1, upv);
 	GLint loc = gl->GetUniformLocation(prog, "u_size");
 	gl->Uniform2f(loc, (GLfloat)g->desc.width, (GLfloat)g->desc.height);
-	rs_gles_uniform_f(gl, prog, "u_tan",
-	                  (GLfloat)tan(c->fov_y_deg * (3.14159265358979323846 / 360.0)));
+	rs_gles_uniform_f(gl, prog, "u_tan", (GLfloat)tan(c->fov_y_deg * (RS_PI / 360.0)));
 	loc = gl->GetUniformLocation(prog, "u_shift");
 	if (loc >= 0)
 		gl->Uniform2f(loc, (GLfloat)c->shift[0], (GLfloat)c->shift[1]);

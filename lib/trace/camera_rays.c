@@ -28,7 +28,7 @@ void rs_trace_camera_ray(const struct rs_camera *camera, uint32_t width, uint32_
 	/* The paper's projection angle 2*atan(b/a): b = half the image plane's height at
 	 * distance a = 1, so b = tan(fov/2); pixels are square. The lens shift moves the
 	 * window off the axis (it adds exactly 0 when unset, so centred rays are unchanged). */
-	double b = tan(c.fov_y_deg * (RS_TRACE_PI / 360.0));
+	double b = tan(c.fov_y_deg * (RS_PI / 360.0));
 	double sx =
 	    ((2.0 * px / (double)width - 1.0) * ((double)width / (double)height) + c.shift[0]) * b;
 	double sy = ((1.0 - 2.0 * py / (double)height) + c.shift[1]) * b;

@@ -9,8 +9,6 @@
 #include "raystream/rs_trace.h"
 #include "private/rs_vec.h"
 
-#define RS_TRACE_PI 3.14159265358979323846
-
 /* Constants of one frame, resolved once by rs_trace_frame_init(). */
 struct rs_trace_frame {
 	const struct rs_packed *packed;
