@@ -19,7 +19,7 @@ out=$out/$target
 mkdir -p "$out/corpus"
 "$cc" -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O1 -g \
   -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -I"$root/lib/include" -I"$root/lib/stream" \
+  -I"$root/lib/include" -I"$root/lib/core" -I"$root/lib/stream" \
   "$root/tests/fuzz/fuzz_$target.c" "${srcs[@]}" "$root/lib/core/status.c" "$root/lib/core/assert.c" \
   -lm -o "$out/fuzz_$target"
 if [ "$target" = proto ]; then

@@ -8,6 +8,10 @@ build=$3
 
 if bash "$script" --quick --build "$build" --out tables.md >stdout.txt 2>stderr.txt; then
   ok "quick run"
+elif no_gl stderr.txt; then
+  skipped "no GL context: $(tail -c 300 stderr.txt)"
+  finish
+  exit
 else
   bad "quick run: $(tail -c 400 stderr.txt)"
 fi

@@ -1,4 +1,5 @@
-/* rs_core: status names, the caller-owned error record and the always-on contract check. */
+/* rs_core: status names, the caller-owned error record, the always-on contract check, and
+ * the one copy of each shared mechanism (clock, little-endian codec, pi, vectors). */
 /* Every build the scripts make defines NDEBUG; the contract check must not care. */
 #ifndef NDEBUG
 #define NDEBUG 1
@@ -10,6 +11,7 @@
 #include <dirent.h>
 #include <stdlib.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -19,6 +21,7 @@
 
 #include "contract.h"
 #include "private/rs_atomic_file.h"
+#include "private/rs_le.h"
 #include "private/rs_vec.h"
 #include "raystream/rs_status.h"
 
@@ -170,7 +173,7 @@ static void atomic_file_is_all_or_nothing(void **state)
  * turn, and log/exp are inverse (tolerance 1e-12). */
 static void vector_helpers_rotate_and_compose(void **state)
 {
-	const double v[3] = {0, 0, M_PI / 2}, x[3] = {1, 0, 0};
+	const double v[3] = {0, 0, RS_PI / 2}, x[3] = {1, 0, 0};
 	double q[4], qq[4], r[3], back[3];
 	rs_q_exp(v, q);
 	rs_q_rotate(q, x, r);
@@ -179,11 +182,56 @@ static void vector_helpers_rotate_and_compose(void **state)
 	rs_q_rotate(qq, x, r);
 	assert_true(fabs(r[0] + 1.0) < 1e-12 && fabs(r[1]) < 1e-12);
 	rs_q_log(q, back);
-	assert_true(fabs(back[2] - M_PI / 2) < 1e-12 && fabs(back[0]) < 1e-12);
+	assert_true(fabs(back[2] - RS_PI / 2) < 1e-12 && fabs(back[0]) < 1e-12);
 	double w[3] = {3, 4, 0};
 	assert_true(rs_v3_normalize(w) == 5.0 && w[0] == 0.6);
 	double zero[3] = {0, 0, 0};
 	assert_true(rs_v3_normalize(zero) == 0.0);
+}
+
+/* The clock never goes back, and a sleep of 20 ms reads as at least that much (a lower
+ * bound: how much longer a loaded machine took is not asserted). */
+static void clock_is_monotonic_milliseconds(void **state)
+{
+	(void)state;
+	double t = rs_now_ms(), last = t;
+	for (int i = 0; i < 100000; ++i) {
+		double now = rs_now_ms();
+		assert_true(now >= last);
+		last = now;
+	}
+	struct timespec nap = {0, 20 * 1000 * 1000};
+	while (nanosleep(&nap, &nap) != 0) {
+	}
+	assert_true(rs_now_ms() - t >= 19.9);
+}
+
+/* Little-endian whatever the host: the bytes in order, and every width round-trips. */
+static void le_codec_writes_least_significant_byte_first(void **state)
+{
+	(void)state;
+	uint8_t b[8];
+	rs_le_put16(b, 0x0201);
+	assert_true(b[0] == 1 && b[1] == 2);
+	rs_le_put32(b, 0x04030201u);
+	assert_true(b[0] == 1 && b[1] == 2 && b[2] == 3 && b[3] == 4);
+	rs_le_put64(b, 0x0807060504030201ull);
+	for (int i = 0; i < 8; ++i)
+		assert_int_equal(b[i], i + 1);
+	assert_true(rs_le_get16(b) == 0x0201);
+	assert_true(rs_le_get32(b) == 0x04030201u);
+	assert_true(rs_le_get64(b) == 0x0807060504030201ull);
+	const uint64_t v = 0xF1E2D3C4B5A69788ull; /* high bits set in every byte */
+	rs_le_put64(b, v);
+	assert_true(rs_le_get64(b) == v && rs_le_get32(b) == (uint32_t)v &&
+	            rs_le_get16(b) == (uint16_t)v && rs_le_get32(b + 4) == (uint32_t)(v >> 32));
+}
+
+static void pi_is_pi(void **state)
+{
+	(void)state;
+	assert_true(RS_PI == acos(-1.0));
+	assert_true(fabs(sin(RS_PI)) < 1e-15 && cos(RS_PI) == -1.0);
 }
 
 int main(void)
@@ -199,6 +247,9 @@ int main(void)
 	    cmocka_unit_test(assert_calls_installed_handler),
 	    cmocka_unit_test(atomic_file_is_all_or_nothing),
 	    cmocka_unit_test(vector_helpers_rotate_and_compose),
+	    cmocka_unit_test(clock_is_monotonic_milliseconds),
+	    cmocka_unit_test(le_codec_writes_least_significant_byte_first),
+	    cmocka_unit_test(pi_is_pi),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -22,7 +22,7 @@ static void compare_scene(const char *backend, const char *name, enum rs_triangl
 	    .width = SIZE, .height = SIZE, .passes = 2, .lights = 4, .triangle_test = test};
 	struct rs_renderer *r = gl_open(backend, &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = gl_scene(name);
 	static float got[SIZE * SIZE * 3], want[SIZE * SIZE * 3];
 	static float dgot[SIZE * SIZE], dwant[SIZE * SIZE];
@@ -85,5 +85,5 @@ int main(void)
 	    cmocka_unit_test(osmesa_box),  cmocka_unit_test(osmesa_cow1),
 	    cmocka_unit_test(osmesa_cow5),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -26,7 +26,7 @@ static void counters_match(const char *name)
 	    .width = SIZE, .height = SIZE, .passes = 2, .lights = 4, .counters = true};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = gl_scene(name);
 	static float rgb[SIZE * SIZE * 3];
 	gl_render(r, scene, rgb, NULL);
@@ -71,7 +71,7 @@ static void fused_and_separate_chains_render_alike(void **state)
 	desc.chain = RS_CHAIN_SEPARATE;
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	gl_render(r, scene, a, da);
 	const struct rs_render_stats *s = rs_renderer_stats(r);
 	assert_true(s->kernel_count >= 3);
@@ -131,7 +131,7 @@ static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shad
 	struct rs_render_stats sa, sb;
 	desc.chain = RS_CHAIN_PAPER;
 	if (!chain_frame(&desc, scene, a, da, &sa))
-		skip();
+		gl_skip();
 	static const char *const names[] = {"raygen", "intersect", "environment", "shading",
 	                                    "next ray"};
 	for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
@@ -202,7 +202,7 @@ static void paper_chain_counts_as_the_separate_chain(const char *name)
 	struct rs_render_stats sa = {0}, sb = {0}, sf = {0};
 	desc.chain = RS_CHAIN_PAPER;
 	if (!chain_frame(&desc, scene, a, da, &sa))
-		skip();
+		gl_skip();
 	desc.chain = RS_CHAIN_SEPARATE;
 	assert_true(chain_frame(&desc, scene, b, db, &sb));
 	assert_true(sa.counters_valid && sb.counters_valid);
@@ -245,7 +245,7 @@ static void paper_chain_renders_environment_maps_as_the_separate_chain(void **st
 	struct rs_render_stats sa, sb;
 	desc.chain = RS_CHAIN_PAPER;
 	if (!chain_frame(&desc, scene, a, da, &sa))
-		skip();
+		gl_skip();
 	assert_int_equal(kernel(&sa, "environment")->calls, 2);
 	desc.chain = RS_CHAIN_SEPARATE;
 	assert_true(chain_frame(&desc, scene, b, db, &sb));
@@ -271,13 +271,13 @@ static void paper_chain_on_osmesa_renders_as_fused_on_egl(void **state)
 	struct rs_render_stats sa, sb;
 	if (!gl_frame("osmesa", &desc, scene, a, NULL, &sa)) {
 		rs_scene_destroy(&scene);
-		skip();
+		gl_skip();
 	}
 	assert_int_equal(kernel(&sa, "next ray")->calls, 2);
 	desc.chain = RS_CHAIN_FUSED;
 	if (!chain_frame(&desc, scene, b, NULL, &sb)) {
 		rs_scene_destroy(&scene);
-		skip();
+		gl_skip();
 	}
 	struct rs_image_diff diff;
 	rs_image_compare(a, b, SIZE, SIZE, 3, 1.0, 1e-5, &diff);
@@ -290,7 +290,7 @@ static void rgba8_is_the_quantized_colour(void **state)
 	struct rs_render_desc desc = {.width = SIZE, .height = SIZE};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = gl_scene("box");
 	static float rgb[SIZE * SIZE * 3];
 	static uint8_t got[SIZE * SIZE * 4], want[SIZE * SIZE * 3];
@@ -312,7 +312,7 @@ static void a_per_frame_camera_renders_as_the_cpu_does(void **state)
 	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .lights = 2};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = gl_scene("cow1");
 	struct rs_camera cam = *rs_scene_camera(scene);
 	cam.eye[0] += 0.3 * (cam.target[2] - cam.eye[2]);
@@ -358,5 +358,5 @@ int main(void)
 	    cmocka_unit_test(rgba8_is_the_quantized_colour),
 	    cmocka_unit_test(a_per_frame_camera_renders_as_the_cpu_does),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -58,7 +58,7 @@ static void render(const struct rs_scene *scene, enum rs_reflection_mode mode, u
 	struct rs_render_desc desc = {
 	    .width = SIZE, .height = SIZE, .passes = passes, .reflections = mode};
 	if (!gl_frame("egl", &desc, scene, rgb, NULL, NULL))
-		skip();
+		gl_skip();
 }
 
 static void sphere_reflects_the_faces_as_tracing_does(void **state)
@@ -128,7 +128,7 @@ static void refused_where_it_cannot_work(void **state)
 	assert_int_equal(rs_render_desc_resolve(&bad, &out, &err), RS_ERR_INVALID);
 	r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *s = gl_scene("box");
 	assert_int_equal(rs_renderer_set_scene(r, s, &err), RS_ERR_UNSUPPORTED);
 	assert_non_null(strstr(err.message, "square"));
@@ -144,5 +144,5 @@ int main(void)
 	    cmocka_unit_test(mirrors_lose_inter_reflection),
 	    cmocka_unit_test(refused_where_it_cannot_work),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

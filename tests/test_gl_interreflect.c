@@ -61,7 +61,7 @@ static void render(const struct rs_scene *scene, enum rs_reflection_mode mode, u
 	                              .reflections = mode,
 	                              .reflection_bounces = bounces};
 	if (!gl_frame("egl", &desc, scene, rgb, NULL, NULL))
-		skip();
+		gl_skip();
 }
 
 static struct rs_image_diff diff(const float *a, const float *b)
@@ -184,7 +184,7 @@ static void refused_where_it_cannot_work(void **state)
 	assert_int_equal(rs_renderer_create_cpu(&desc, &r, &err), RS_ERR_UNSUPPORTED);
 	r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *five = facing_spheres(3);
 	assert_int_equal(rs_renderer_set_scene(r, five, &err), RS_ERR_LIMIT);
 	assert_non_null(strstr(err.message, "has 5"));
@@ -208,5 +208,5 @@ int main(void)
 	    cmocka_unit_test(one_pass_is_tracing),
 	    cmocka_unit_test(refused_where_it_cannot_work),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -44,7 +44,7 @@ static long fail_each_allocation(const struct rs_render_desc *desc, const char *
 	struct rs_renderer *r = gl_open("egl", desc);
 	if (!r) {
 		rs__gl_fault_wrap(false);
-		skip();
+		gl_skip();
 	}
 	struct rs__gl_fault_counts base;
 	rs__gl_fault_counts(&base); /* what the renderer holds without a scene */
@@ -157,14 +157,14 @@ static void a_renderer_that_cannot_allocate_its_objects_is_not_made(void **state
 		struct rs_error err;
 		if (!rs_renderer_has_backend("egl")) {
 			rs__gl_fault_wrap(false);
-			skip();
+			gl_skip();
 		}
 		enum rs_status st = rs_renderer_open("egl", &desc, &r, &err);
 		struct rs__gl_fault_counts c;
 		rs__gl_fault_counts(&c);
 		if (!c.fired) { /* no context here: the table was never loaded */
 			rs__gl_fault_wrap(false);
-			skip();
+			gl_skip();
 		}
 		assert_int_equal(st, RS_ERR_NO_MEMORY);
 		assert_null(r);
@@ -185,5 +185,5 @@ int main(void)
 	    cmocka_unit_test(every_allocation_of_inter_reflection_maps_fails_cleanly),
 	    cmocka_unit_test(a_renderer_that_cannot_allocate_its_objects_is_not_made),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

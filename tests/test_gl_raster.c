@@ -18,7 +18,7 @@ static void ids(enum rs_primary_mode primary, const struct rs_scene *scene, uint
 	    .width = SIZE, .height = SIZE, .passes = 2, .lights = 4, .primary = primary};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	assert_int_equal(rs_renderer_set_scene(r, scene, NULL), RS_OK);
 	struct rs_frame frame = {.rgb = rgb, .triangle = out};
 	assert_int_equal(rs_renderer_render(r, NULL, &frame, NULL), RS_OK);
@@ -89,7 +89,7 @@ static void raster_counters_count_no_primary_traversal(void **state)
 	static float rgb[32 * 32 * 3];
 	struct rs_renderer *r = gl_open("egl", &desc), *cpu = NULL;
 	if (!r)
-		skip();
+		gl_skip();
 	gl_render(r, scene, rgb, NULL);
 	uint64_t traced_boxes = rs_renderer_stats(r)->box_tests;
 	rs_renderer_destroy(&r);
@@ -117,5 +117,5 @@ int main(void)
 	    cmocka_unit_test(raster_and_traced_primaries_agree_on_cow5),
 	    cmocka_unit_test(raster_counters_count_no_primary_traversal),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

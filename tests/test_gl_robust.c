@@ -84,7 +84,7 @@ static void room_case(double scale, const double off[3])
 		struct rs_scene *scene = room(scale, off, mirror ? 0.9f : 0.0f);
 		struct rs_render_desc desc = {.passes = mirror ? 4 : 1};
 		if (!gl_frame("egl", &desc, scene, got, NULL, NULL))
-			skip();
+			gl_skip();
 		gl_reference(&desc, scene, want, NULL);
 		size_t dark = 0, escaped = 0;
 		for (size_t i = 0; i < SIZE * SIZE; ++i) {
@@ -158,7 +158,7 @@ static void coincident_faces_render_alike_over_all_builders(void **state)
 	for (int b = 0; b < 4; ++b) {
 		struct rs_render_desc desc = {.passes = 1, .bvh = {.builder = builders[b]}};
 		if (!gl_frame("egl", &desc, scene, b ? got : first, NULL, NULL))
-			skip();
+			gl_skip();
 		if (b)
 			assert_memory_equal(got, first, sizeof got);
 	}
@@ -189,7 +189,7 @@ static void grazing_rays_match_the_cpu(void **state)
 	fx_light(scene, -2.0, 3.0, 0.0, 1, 1, 1);
 	struct rs_render_desc desc = {.passes = 2};
 	if (!gl_frame("egl", &desc, scene, got, NULL, NULL))
-		skip();
+		gl_skip();
 	gl_reference(&desc, scene, want, NULL);
 	struct rs_image_diff diff;
 	rs_image_compare(got, want, SIZE, SIZE, 3, 1.0, 8.0 / 255.0, &diff);
@@ -207,5 +207,5 @@ int main(void)
 	    cmocka_unit_test(coincident_faces_render_alike_over_all_builders),
 	    cmocka_unit_test(grazing_rays_match_the_cpu),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -24,7 +24,7 @@ static void map_error(const char *name, uint32_t map, uint32_t filter, double ps
 	                              .counters = true};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = gl_scene(name);
 	static float got[SIZE * SIZE * 3], want[SIZE * SIZE * 3];
 	gl_render(r, scene, got, NULL);
@@ -148,7 +148,7 @@ static void seam_filter(uint32_t filter)
 	                              .shadow_filter = filter};
 	struct rs_renderer *r = gl_open("egl", &desc);
 	if (!r)
-		skip();
+		gl_skip();
 	struct rs_scene *scene = seam_scene(true), *open_scene = seam_scene(false);
 	static float map[SIZE * SIZE * 3], exact[SIZE * SIZE * 3], open[SIZE * SIZE * 3];
 	static uint32_t tri[SIZE * SIZE];
@@ -195,5 +195,5 @@ int main(void)
 	    cmocka_unit_test(shadow_map_filter_3_is_seamless),
 	    cmocka_unit_test(shadow_map_filter_5_is_seamless),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -66,9 +66,12 @@ static void same_either_way(const char *backend, const char *scene_name,
 {
 	static struct image buffers, rows;
 	struct rs_scene *scene = gl_scene(scene_name);
-	if (render(backend, *desc, RS_SCENE_STORAGE_BUFFER, scene, &buffers) != RENDERED) {
+	enum outcome got = render(backend, *desc, RS_SCENE_STORAGE_BUFFER, scene, &buffers);
+	if (got != RENDERED) {
 		rs_scene_destroy(&scene);
-		skip();
+		if (got == NO_CONTEXT)
+			gl_skip();
+		skip(); /* GLES 3.0 (tests/gl_versions.cmake): no buffer textures to compare */
 	}
 	assert_int_equal(render(backend, *desc, RS_SCENE_STORAGE_2D, scene, &rows), RENDERED);
 	assert_int_equal(buffers.storage, RS_SCENE_STORAGE_BUFFER);
@@ -119,7 +122,7 @@ static void auto_falls_back_to_2d_and_buffer_is_refused_over_the_buffer_limit(vo
 	static struct image img;
 	if (render("egl", desc, RS_SCENE_STORAGE_AUTO, scene, &img) != RENDERED) {
 		rs_scene_destroy(&scene);
-		skip();
+		gl_skip();
 	}
 	enum rs_scene_storage unlimited = img.storage;
 	assert_true(unlimited == RS_SCENE_STORAGE_BUFFER || unlimited == RS_SCENE_STORAGE_2D);
@@ -170,5 +173,5 @@ int main(void)
 	    cmocka_unit_test(auto_falls_back_to_2d_and_buffer_is_refused_over_the_buffer_limit),
 	    cmocka_unit_test(an_unknown_storage_is_refused),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

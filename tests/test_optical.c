@@ -307,8 +307,9 @@ static void check_law(double baseline, double sigma_px)
 	double rot_law = sqrt(sp_rot / good), pos_law = sqrt(sp_pos / good);
 	printf("# baseline %.2f m, %.2f px: %d/%d solved, rot RMS %.4f deg (law %.4f), pos RMS "
 	       "%.4f mm (law %.4f), marker sigma %.4f mm (law %.4f)\n",
-	       baseline, sigma_px, good, trials, rot * 180 / M_PI, rot_law * 180 / M_PI, pos * 1e3,
-	       pos_law * 1e3, sqrt(s_sig / trials) * 1e3, sqrt(s_sig_law / trials) * 1e3);
+	       baseline, sigma_px, good, trials, rot * 180 / RS_PI, rot_law * 180 / RS_PI,
+	       pos * 1e3, pos_law * 1e3, sqrt(s_sig / trials) * 1e3,
+	       sqrt(s_sig_law / trials) * 1e3);
 	printf(
 	    "# stated vs law at the true markers: worst %.2f %% (rotation), %.2f %% (position)\n",
 	    100 * worst_r, 100 * worst_p);
@@ -404,7 +405,7 @@ static void test_hard_merged_markers(void **state)
 	/* Turn the 0-1 side (10 cm along x) almost onto camera 0's ray through marker 0. */
 	struct rs_pose T = {.position = {0.0, 0.0, 0.9}};
 	for (int k = 0; k < 5; ++k) {
-		double a = -(M_PI / 2 - 0.003 * k); /* about y */
+		double a = -(RS_PI / 2 - 0.003 * k); /* about y */
 		T.orientation[0] = 0;
 		T.orientation[1] = sin(a / 2);
 		T.orientation[2] = 0;
@@ -426,7 +427,7 @@ static void test_hard_collinear_view_and_tiny_baseline(void **state)
 	struct rng r = {.s = 41};
 	for (int k = 0; k < 10; ++k) {
 		/* rotate about x by ~90 deg: the plane contains camera 0's viewing direction */
-		double a = M_PI / 2 + 0.01 * (k - 5);
+		double a = RS_PI / 2 + 0.01 * (k - 5);
 		struct rs_pose T = {.position = {-0.04, 0.0, 1.0},
 		                    .orientation = {sin(a / 2), 0, 0, cos(a / 2)}};
 		struct solved s = render_and_solve(t, 0.4, &T, NULL, 0);

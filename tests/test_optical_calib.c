@@ -89,10 +89,10 @@ static void test_calibration_recovers_rig(void **state)
 	double nb = sqrt(bt[0] * bt[0] + bt[1] * bt[1] + bt[2] * bt[2]);
 	double dir = acos(fmin(1.0, (a[0] * bt[0] + a[1] * bt[1] + a[2] * bt[2]) / (na * nb)));
 	printf("# R off %.4f deg, |t| %.4f m (true %.4f), direction off %.4f deg\n",
-	       ang * 180 / M_PI, na, nb, dir * 180 / M_PI);
-	assert_true(ang * 180 / M_PI < 0.3);
+	       ang * 180 / RS_PI, na, nb, dir * 180 / RS_PI);
+	assert_true(ang * 180 / RS_PI < 0.3);
 	assert_true(fabs(na / nb - 1) < 0.01);
-	assert_true(dir * 180 / M_PI < 0.5);
+	assert_true(dir * 180 / RS_PI < 0.5);
 	assert_true(got.rms_px > 0 && got.rms_px < 0.3);
 }
 

@@ -24,7 +24,7 @@ static inline void facing_pose(struct rng *r, struct rs_pose *T)
 	double n = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
 	double ang = 0.6 * (uniform01(r) - 0.5) * 2.0;
 	/* about z any angle, about the in-plane axes up to ~35 degrees */
-	double qz[4] = {0, 0, sin(M_PI * uniform01(r)), 0};
+	double qz[4] = {0, 0, sin(RS_PI * uniform01(r)), 0};
 	qz[3] = sqrt(1 - qz[2] * qz[2]);
 	double qa[4] = {sin(ang / 2) * axis[0] / n, sin(ang / 2) * axis[1] / n, 0, cos(ang / 2)};
 	double na = sqrt(qa[0] * qa[0] + qa[1] * qa[1] + qa[3] * qa[3]);

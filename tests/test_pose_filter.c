@@ -15,8 +15,6 @@
 #include "raystream/rs_pose.h"
 #include "test_pose_fixture.h"
 
-#define PI 3.14159265358979323846
-
 /* Rotation by `angle` about z as a pose with position p. */
 static struct rs_pose pose_z(double t, double px, double angle)
 {
@@ -84,7 +82,7 @@ static void test_reduces_jitter_of_still_signal(void **state)
 	(void)state;
 	struct rs_pose_filter *f = make(NULL);
 	struct rng r = {11};
-	const double sp = 0.0005, sa = 0.5 * PI / 180.0;
+	const double sp = 0.0005, sa = 0.5 * RS_PI / 180.0;
 	double in_p = 0, out_p = 0, in_a = 0, out_a = 0;
 	int n = 0;
 	struct rs_pose truth = pose_z(0.0, 0.3, 0.7);
@@ -136,11 +134,11 @@ static void test_lag_bounded_on_ramp(void **state)
 		assert_int_equal(rs_pose_filter_update(f, &in, &out, NULL), RS_OK);
 	}
 	double lag = in.position[0] - out.position[0];
-	double expect = v / (2.0 * PI * (1.15 + 0.5 * v));
+	double expect = v / (2.0 * RS_PI * (1.15 + 0.5 * v));
 	assert_true(fabs(lag - expect) < 0.005 * expect);
-	assert_true(lag < v / (2.0 * PI * 1.15));
+	assert_true(lag < v / (2.0 * RS_PI * 1.15));
 	double alag = rs_pose_angle_between(&in, &out);
-	double aexpect = w / (2.0 * PI * (1.5 + 0.5 * w));
+	double aexpect = w / (2.0 * RS_PI * (1.5 + 0.5 * w));
 	assert_true(fabs(alag - aexpect) < 0.005 * aexpect);
 	rs_pose_filter_destroy(&f);
 }

@@ -26,7 +26,7 @@ static inline double uniform01(struct rng *r)
 static inline double gauss(struct rng *r)
 {
 	double u = uniform01(r), v = uniform01(r);
-	return sqrt(-2.0 * log(u)) * cos(2.0 * 3.14159265358979323846 * v);
+	return sqrt(-2.0 * log(u)) * cos(2.0 * RS_PI * v);
 }
 
 static inline void random_pose(struct rng *r, double extent, struct rs_pose *T)

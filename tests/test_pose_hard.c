@@ -189,7 +189,7 @@ static void test_swapped_ids_relabeled(void **state)
 		}
 		enum rs_pose_status st = run(f, &shuffled, &out);
 		assert_int_equal(st, trial % 6 == 0 ? RS_POSE_OK : RS_POSE_RELABELED);
-		assert_true(rs_pose_angle_between(&out, &f->truth) < 5.0 * 3.14159 / 180.0);
+		assert_true(rs_pose_angle_between(&out, &f->truth) < 5.0 * RS_PI / 180.0);
 		assert_true(pos_error(&out, &f->truth) < 0.01);
 	}
 	teardown(f);
@@ -239,7 +239,7 @@ static void test_far_from_origin(void **state)
 		double a = rs_pose_angle_between(&out, &f->truth);
 		sum += a * a;
 	}
-	double rms_deg = sqrt(sum / n) * 180.0 / 3.14159265358979323846;
+	double rms_deg = sqrt(sum / n) * 180.0 / RS_PI;
 	assert_true(rms_deg > 0.9 * 0.680 && rms_deg < 1.1 * 0.680);
 	teardown(f);
 }

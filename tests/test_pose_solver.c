@@ -14,7 +14,7 @@
 #include "raystream/rs_pose.h"
 #include "test_pose_fixture.h"
 
-#define DEG (180.0 / 3.14159265358979323846)
+#define DEG (180.0 / RS_PI)
 
 /* ---- rs_pose_fit ---- */
 

@@ -224,8 +224,8 @@ static void camera_frame_touches_bounding_sphere(void **state)
 	rs_camera_frame(&box, 30.0, &cam);
 	double r = 0.5 * sqrt(16.0 + 16.0 + 16.0);
 	double d = sqrt(pow(cam.eye[0] - 1, 2) + pow(cam.eye[1] - 0, 2) + pow(cam.eye[2] + 1, 2));
-	assert_true(fabs(d - r / sin(22.5 * M_PI / 180.0)) < 1e-12);
-	assert_true(fabs(atan2(cam.eye[1], cam.eye[2] + 1) - M_PI / 6) < 1e-12);
+	assert_true(fabs(d - r / sin(22.5 * RS_PI / 180.0)) < 1e-12);
+	assert_true(fabs(atan2(cam.eye[1], cam.eye[2] + 1) - RS_PI / 6) < 1e-12);
 }
 
 static void environment_defaults_follow_bounds(void **state)

@@ -18,7 +18,6 @@
 
 #define COW_PATH RS_DATA_DIR "/cow.obj"
 #define COW_TRIS 5804u
-#define PI 3.14159265358979323846
 
 static struct rs_scene *build(enum rs_scenegen_kind kind, uint32_t cows)
 {
@@ -136,7 +135,7 @@ static void herd_copies_sit_on_their_grid_points(void **state)
 	q = rs_scene_positions(cow);
 	nv = rs_scene_vertex_count(cow);
 	for (int i = 0; i < 5; i++) {
-		double a = -i * 37.0 * PI / 180.0, cs = cos(a), sn = sin(a);
+		double a = -i * 37.0 * RS_PI / 180.0, cs = cos(a), sn = sin(a);
 
 		for (size_t v = 0; v < nv; v++) {
 			const float *w = &p[3 * (i * nv + v)];
@@ -225,7 +224,7 @@ static void stage_parts_follow_the_spec(void **state)
 	assert_near(pr.hi[2], h.hi[2] + 2.0 + 1.2, 1e-5);
 	assert_near(pr.lo[2], h.hi[2] + 2.0 - 0.6, 1e-5);
 	assert_near(0.5 * (pr.lo[0] + pr.hi[0]), hcx, 1e-5);
-	assert_near(pr.hi[0] - pr.lo[0], 2.0 * 1.2 * sin(PI / 3.0), 1e-5);
+	assert_near(pr.hi[0] - pr.lo[0], 2.0 * 1.2 * sin(RS_PI / 3.0), 1e-5);
 	/* sail: lowest edge 1 above the herd, over its left quarter, at its centre z */
 	assert_near(sa.lo[1], h.hi[1] + 1.0, 1e-5);
 	assert_near(0.5 * (sa.lo[0] + sa.hi[0]), h.lo[0] + 0.125 * (h.hi[0] - h.lo[0]), 1e-5);
@@ -300,8 +299,8 @@ static void camera_follows_the_rule(void **state)
 	d = sqrt(d);
 	dy = c->eye[1] - c->target[1];
 	/* 1e-9 relative: pure double arithmetic on the same bounds */
-	assert_near(d, r / sin(22.5 * PI / 180.0), 1e-9 * d);
-	assert_near(asin(dy / d) * 180.0 / PI, 30.0, 1e-9);
+	assert_near(d, r / sin(22.5 * RS_PI / 180.0), 1e-9 * d);
+	assert_near(asin(dy / d) * 180.0 / RS_PI, 30.0, 1e-9);
 	assert_true(c->eye[2] > c->target[2]);
 	assert_near(c->eye[0], c->target[0], 1e-9);
 	assert_true(c->up[1] > 0.0 && c->up[0] == 0.0 && c->up[2] == 0.0);

@@ -147,9 +147,10 @@ static void full_line_write_times_out(void **state)
 	                 RS_TIMEOUT);
 	double dt = rs_track_now_s() - t0;
 	assert_true(written > 0 && written < BIG);
-	/* At least the timeout (5 ms clock granularity below), and nowhere near for ever:
-	 * 2 s is 40 timeouts of slack for a loaded machine. */
-	assert_true(dt >= 0.045 && dt < 2.0);
+	/* It returned, so it did not block for ever (ctest's timeout is the hang guard), and
+	 * not before its timeout (5 ms clock granularity below): a lower bound load cannot
+	 * break. How soon it returns is not asserted. */
+	assert_true(dt >= 0.045);
 }
 
 static void open_errors(void **state)

@@ -9,7 +9,6 @@
 
 #include "raystream/rs_trace.h"
 
-#define PI 3.14159265358979323846
 /* Unit directions from a handful of double operations: 1e-12 covers their rounding. */
 #define TOL 1e-12
 
@@ -42,7 +41,7 @@ static void top_and_bottom_edges_span_the_vertical_fov(void **state)
 	struct rs_ray top, bottom;
 	rs_trace_camera_ray(&cam, 0, 0, 32.0, 0.0, &top);
 	rs_trace_camera_ray(&cam, 0, 0, 32.0, 32.0, &bottom);
-	assert_true(fabs(angle_between(top.dir, bottom.dir) - 60.0 * PI / 180.0) < 1e-9);
+	assert_true(fabs(angle_between(top.dir, bottom.dir) - 60.0 * RS_PI / 180.0) < 1e-9);
 	assert_true(top.dir[1] > 0.0); /* row 0 is the top of the image */
 	assert_true(bottom.dir[1] < 0.0);
 }
@@ -53,7 +52,7 @@ static void pixels_are_square_and_x_grows_to_the_right(void **state)
 	struct rs_ray left, right;
 	rs_trace_camera_ray(&cam, 0, 0, 0.0, 16.0, &left);
 	rs_trace_camera_ray(&cam, 0, 0, 64.0, 16.0, &right);
-	double half = tan(30.0 * PI / 180.0) * 2.0;
+	double half = tan(30.0 * RS_PI / 180.0) * 2.0;
 	assert_true(fabs(right.dir[0] / -right.dir[2] - half) < 1e-12);
 	assert_true(fabs(left.dir[0] / -left.dir[2] + half) < 1e-12);
 }
@@ -63,7 +62,7 @@ static void pixel_centres_are_at_half_offsets(void **state)
 	/* pixel (x, y) is traced through (x + 0.5, y + 0.5): rs_trace_render's contract */
 	struct rs_ray ray;
 	rs_trace_camera_ray(&cam, 0, 0, 0.5, 0.5, &ray);
-	double b = tan(30.0 * PI / 180.0);
+	double b = tan(30.0 * RS_PI / 180.0);
 	double sx = (2.0 * 0.5 / 64.0 - 1.0) * b * 2.0;
 	double sy = (1.0 - 2.0 * 0.5 / 32.0) * b;
 	double len = sqrt(1.0 + sx * sx + sy * sy);
@@ -82,7 +81,7 @@ static void lens_shift_moves_the_window_off_axis(void **state)
 	shifted.shift[1] = -0.25;
 	struct rs_ray ray, plain, zero;
 	rs_trace_camera_ray(&shifted, 0, 0, 32.0, 16.0, &ray);
-	double b = tan(30.0 * PI / 180.0);
+	double b = tan(30.0 * RS_PI / 180.0);
 	assert_true(fabs(ray.dir[0] / -ray.dir[2] - 0.5 * b) < TOL);
 	assert_true(fabs(ray.dir[1] / -ray.dir[2] + 0.25 * b) < TOL);
 	for (int a = 0; a < 3; ++a)
@@ -99,7 +98,7 @@ static void explicit_size_overrides_the_camera_size(void **state)
 	/* a 32x32 image of the same camera: aspect 1, so the right edge is at tan(30 deg) */
 	struct rs_ray right;
 	rs_trace_camera_ray(&cam, 32, 32, 32.0, 16.0, &right);
-	assert_true(fabs(right.dir[0] / -right.dir[2] - tan(30.0 * PI / 180.0)) < 1e-12);
+	assert_true(fabs(right.dir[0] / -right.dir[2] - tan(30.0 * RS_PI / 180.0)) < 1e-12);
 }
 
 static void zero_fov_means_45_degrees(void **state)
@@ -109,7 +108,7 @@ static void zero_fov_means_45_degrees(void **state)
 	struct rs_ray top, bottom;
 	rs_trace_camera_ray(&c, 0, 0, 32.0, 0.0, &top);
 	rs_trace_camera_ray(&c, 0, 0, 32.0, 32.0, &bottom);
-	assert_true(fabs(angle_between(top.dir, bottom.dir) - 45.0 * PI / 180.0) < 1e-9);
+	assert_true(fabs(angle_between(top.dir, bottom.dir) - 45.0 * RS_PI / 180.0) < 1e-9);
 }
 
 int main(void)

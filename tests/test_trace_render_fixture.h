@@ -12,8 +12,6 @@
 #include "raystream/rs_scene.h"
 #include "raystream/rs_trace.h"
 
-#define FX_PI 3.14159265358979323846
-
 struct fx {
 	struct rs_scene *scene;
 	struct rs_packed packed;

@@ -90,7 +90,7 @@ static void slab_displaces_a_ray_by_the_snell_offset(void **state)
 {
 	struct fx fx;
 	slab_scene(&fx, (struct rs_material){.transmittance = 1.0f, .ior = 1.5f});
-	double th = 30.0 * FX_PI / 180.0, tt = asin(sin(th) / 1.5);
+	double th = 30.0 * RS_PI / 180.0, tt = asin(sin(th) / 1.5);
 	const double eye[3] = {0, 0, 5}, towards[3] = {sin(th), 0, 5 - cos(th)};
 	struct rs_trace_segment seg[3];
 	struct rs_trace_path path = fx_path(&fx, eye, towards, 3, seg);
@@ -117,7 +117,7 @@ static void total_internal_reflection_reflects_with_the_transmittance(void **sta
 	struct fx fx;
 	slab_scene(&fx, (struct rs_material){.transmittance = 0.9f, .ior = 1.5f});
 	/* from inside the glass up at 60 degrees, beyond the critical 41.8 */
-	double th = 60.0 * FX_PI / 180.0;
+	double th = 60.0 * RS_PI / 180.0;
 	const double inside[3] = {0, 0, -0.5}, towards[3] = {sin(th), 0, -0.5 + cos(th)};
 	struct rs_trace_segment seg[2];
 	fx_path(&fx, inside, towards, 2, seg);
@@ -180,7 +180,7 @@ static void fresnel_glass_turns_into_a_mirror_at_grazing_incidence(void **state)
 	                                     .transmittance = 1.0f,
 	                                     .ior = 1.5f,
 	                                     .flags = RS_MATERIAL_FRESNEL});
-	double th = 85.0 * FX_PI / 180.0;
+	double th = 85.0 * RS_PI / 180.0;
 	const double eye[3] = {-20, 0, 5}, towards[3] = {-20 + sin(th), 0, 5 - cos(th)};
 	struct rs_trace_segment seg[2];
 	fx_path(&fx, eye, towards, 2, seg);

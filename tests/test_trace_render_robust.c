@@ -64,9 +64,9 @@ static void add_sphere(struct rs_scene *scene, uint32_t material)
 	static uint32_t idx[ST * SL * 6];
 	size_t nv = 0, nt = 0;
 	for (int i = 0; i <= ST; ++i) {
-		double th = FX_PI * i / ST;
+		double th = RS_PI * i / ST;
 		for (int j = 0; j <= SL; ++j) {
-			double ph = 2.0 * FX_PI * j / SL;
+			double ph = 2.0 * RS_PI * j / SL;
 			pos[nv * 3 + 0] = (float)(sin(th) * cos(ph));
 			pos[nv * 3 + 1] = (float)cos(th);
 			pos[nv * 3 + 2] = (float)(sin(th) * sin(ph));

@@ -15,7 +15,7 @@
 static void unit_dir(double angle_deg, double out[3])
 {
 	/* in the xz plane, angle from -z (the downward normal direction) towards +x */
-	double a = angle_deg * 3.14159265358979323846 / 180.0;
+	double a = angle_deg * RS_PI / 180.0;
 	out[0] = sin(a);
 	out[1] = 0.0;
 	out[2] = -cos(a);
@@ -87,7 +87,7 @@ static void fresnel_grows_to_one_at_grazing_incidence(void **state)
 
 static void fresnel_is_one_under_total_internal_reflection(void **state)
 {
-	double cos_i = cos(50.0 * 3.14159265358979323846 / 180.0);
+	double cos_i = cos(50.0 * RS_PI / 180.0);
 	assert_true(rs_trace_fresnel_schlick(cos_i, 1.5, 1.0) == 1.0);
 }
 

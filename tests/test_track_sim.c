@@ -106,7 +106,7 @@ static void turn_rotates_a_quarter(void **state)
 	static struct rs_marker_sample s[300];
 	static struct rs_pose t[300];
 	run(&d, 300, s, t);
-	double angle = 2 * acos(fmin(1.0, t[290].orientation[3])) * 180 / M_PI;
+	double angle = 2 * acos(fmin(1.0, t[290].orientation[3])) * 180 / RS_PI;
 	assert_true(fabs(angle - 90) < 0.5);
 }
 
@@ -122,7 +122,7 @@ static void shake_wobbles_then_settles(void **state)
 	run(&d, 400, s, t);
 	double peak = 0, excursion = 0;
 	for (int i = 0; i < 200; i++) {
-		double a = 2 * acos(fmin(1.0, t[i].orientation[3])) * 180 / M_PI;
+		double a = 2 * acos(fmin(1.0, t[i].orientation[3])) * 180 / RS_PI;
 		peak = fmax(peak, a);
 		excursion = fmax(excursion, fabs(t[i].position[1] - t[0].position[1]));
 	}

@@ -15,12 +15,10 @@
 #include "raystream/rs_view.h"
 #include "contract.h"
 
-#define PI 3.14159265358979323846
-
 static struct rs_pose pose_axis_angle(double ax, double ay, double az, double deg, double px,
                                       double py, double pz)
 {
-	double n = sqrt(ax * ax + ay * ay + az * az), h = deg * PI / 360.0;
+	double n = sqrt(ax * ax + ay * ay + az * az), h = deg * RS_PI / 360.0;
 	struct rs_pose p = {.position = {px, py, pz}};
 	p.orientation[0] = ax / n * sin(h);
 	p.orientation[1] = ay / n * sin(h);
@@ -58,7 +56,8 @@ static void test_defaults_identity_pose(void **state)
 	assert_v3(cam.eye, 0, 0, RS_VIEW_DEFAULT_EYE_M, 1e-12);
 	assert_v3(cam.target, 0, 0, RS_VIEW_DEFAULT_EYE_M - 1.0, 1e-12);
 	assert_v3(cam.up, 0, 1, 0, 1e-12);
-	double want = 2.0 * atan(0.5 * RS_VIEW_DEFAULT_SCREEN_M / RS_VIEW_DEFAULT_EYE_M) * 180 / PI;
+	double want =
+	    2.0 * atan(0.5 * RS_VIEW_DEFAULT_SCREEN_M / RS_VIEW_DEFAULT_EYE_M) * 180 / RS_PI;
 	assert_true(fabs(cam.fov_y_deg - want) < 1e-9);
 	assert_true(fabs(cam.shift[0]) < 1e-12 && fabs(cam.shift[1]) < 1e-12);
 	assert_true(fabs(g.eye_distance_m - RS_VIEW_DEFAULT_EYE_M) < 1e-12);

@@ -3,6 +3,6 @@
 if(TARGET raystream-track)
   add_test(NAME track_cli COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/track_cli.sh
            $<TARGET_FILE:raystream-track> ${CMAKE_CURRENT_BINARY_DIR}/track_cli)
-  set_tests_properties(track_cli PROPERTIES TIMEOUT 120
+  set_tests_properties(track_cli PROPERTIES TIMEOUT 600
     ENVIRONMENT "ASAN_OPTIONS=detect_leaks=1")
 endif()

@@ -37,11 +37,11 @@ ls "$work"/pipe.rec.tmp-* > /dev/null 2>&1 && fail "closed pipe left a temporary
 grep -q '^# stats samples=[1-9]' <("$tool" --stats 0 "replay:$work/pipe.rec") \
   || fail "closed pipe: recording unreadable"
 
-# 3. --duration stops a realtime source on time.
-start=$(date +%s%N)
-"$tool" -q -d 0.3 --stats 0 'sim:realtime=1&rate=100' > "$work/dur.txt"
-ms=$(( ($(date +%s%N) - start) / 1000000 ))
-[ "$ms" -lt 3000 ] || fail "--duration 0.3 took ${ms} ms"
+# 3. --duration ends a realtime source, which never ends by itself: the run must exit 0 on
+#    its own, well inside a hang timeout (how soon is for benchmarks, not for this test).
+rc=0
+timeout 60 "$tool" -q -d 0.3 --stats 0 'sim:realtime=1&rate=100' > "$work/dur.txt" || rc=$?
+[ "$rc" -eq 0 ] || fail "--duration 0.3: exit $rc (124: still running after 60 s)"
 grep -q '^# stats samples=[1-9]' "$work/dur.txt" || fail "no samples in duration run"
 
 # 4. --pty plays a simulated device into a pseudo-terminal; a second process reads it
@@ -57,15 +57,19 @@ wait "$server" 2> /dev/null || true
 [ "$(grep -c 'RS_POSE_OK' "$work/serial.txt")" -ge 99 ] || fail "serial poses"
 grep -q '^# stats samples=100 frames=100' "$work/serial.txt" || fail "serial stats"
 
-# 4b. --pty with nobody reading fills the line; SIGINT must still end it promptly.
+# 4b. --pty with nobody reading fills the line; SIGINT must still end it (within a hang
+#     timeout of 60 s: how soon is not asserted). The signal goes only once the tool has
+#     printed its path, so its handler is in place: a background job of this script starts
+#     with SIGINT ignored, and a loaded machine can take seconds to get that far.
 "$tool" --pty 'sim:realtime=1&rate=5000' > "$work/pty_idle.txt" &
 server=$!
+for _ in $(seq 300); do [ -s "$work/pty_idle.txt" ] && break; sleep 0.1; done
 sleep 1.5
 kill -INT "$server"
-for _ in $(seq 30); do kill -0 "$server" 2> /dev/null || break; sleep 0.1; done
+for _ in $(seq 600); do kill -0 "$server" 2> /dev/null || break; sleep 0.1; done
 if kill -0 "$server" 2> /dev/null; then
   kill -KILL "$server"
-  fail "--pty with no reader ignored SIGINT"
+  fail "--pty with no reader ignored SIGINT (still running 60 s later)"
 fi
 wait "$server" || fail "--pty interrupted exited non-zero"
 
@@ -85,25 +89,28 @@ client=$!
 for _ in $(seq 300); do grep -q 'samples=[1-9]' "$work/rc.txt" && break; sleep 0.1; done
 rm -f "$work/tty"
 wait "$server" || fail "--pty server failed"
-for _ in $(seq 150); do kill -0 "$client" 2> /dev/null || break; sleep 0.1; done
+for _ in $(seq 600); do kill -0 "$client" 2> /dev/null || break; sleep 0.1; done
 if kill -0 "$client" 2> /dev/null; then
   kill -KILL "$client"
-  fail "--reconnect ignored --duration while the device was away"
+  fail "--reconnect ignored --duration while the device was away (running 60 s later)"
 fi
 wait "$client" || fail "--reconnect run exited non-zero"
 grep -q 'reconnecting' "$work/rc.err" || fail "no reconnect message"
 tail -n 1 "$work/rc.txt" | grep -q 'disconnects=1 ' || fail "disconnect not counted"
 
 # 4d. A disconnect without --reconnect ends the run with one error line, exit 1, and
-#     still the final counters.
-"$tool" --pty -d 2 'sim:realtime=1&rate=200&seed=5' > "$work/pty_dc.txt" &
+#     still the final counters. The device goes away (SIGINT) only once the reader has
+#     samples, however long a loaded machine took to start it.
+"$tool" --pty -d 60 'sim:realtime=1&rate=200&seed=5' > "$work/pty_dc.txt" &
 server=$!
 for _ in $(seq 300); do [ -s "$work/pty_dc.txt" ] && break; sleep 0.1; done
-set +e
-"$tool" -q --stats 0 "serial:$(head -n 1 "$work/pty_dc.txt")" > "$work/dc.txt" 2> "$work/dc.err"
-rc=$?
-set -e
+"$tool" -q --stats 0.2 "serial:$(head -n 1 "$work/pty_dc.txt")" > "$work/dc.txt" 2> "$work/dc.err" &
+client=$!
+for _ in $(seq 300); do grep -q 'samples=[1-9]' "$work/dc.txt" && break; sleep 0.1; done
+kill -INT "$server"
 wait "$server" || fail "--pty server failed"
+rc=0
+wait "$client" || rc=$?
 [ "$rc" -eq 1 ] || fail "disconnect exited $rc, want 1"
 [ "$(wc -l < "$work/dc.err")" -eq 1 ] || fail "disconnect: not one error line"
 tail -n 1 "$work/dc.txt" | grep -q '^# stats samples=[1-9].* disconnects=1 ' \

@@ -42,7 +42,4 @@ int app_usage_error(const char *program, const char *fmt, const char *arg)
 /* Write `doc` to `path` (a temporary file, then a rename). */
 enum rs_status app_write_json(const char *path, const cJSON *doc, struct rs_error *err);
 
-/* Monotonic microseconds. */
-uint64_t app_now_us(void);
-
 #endif

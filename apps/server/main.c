@@ -30,7 +30,7 @@ static void on_signal(int sig)
 
 double server_now_s(void)
 {
-	return (double)app_now_us() * 1e-6;
+	return rs_now_ms() * 1e-3;
 }
 
 void server_log(const struct server *s, const char *fmt, ...)

@@ -22,7 +22,7 @@ static void on_signal(int sig)
 
 double viewer_now_s(void)
 {
-	return (double)app_now_us() * 1e-6;
+	return rs_now_ms() * 1e-3;
 }
 
 static int fail(const char *what, const struct rs_error *err)

@@ -135,7 +135,7 @@ enum rs_status rs_gles_display_rgba8(struct rs_gles_display *d, const uint8_t *r
 enum rs_status rs_gles_present(struct gles *g, GLuint tex, uint32_t width, uint32_t height,
                                struct rs_render_stats *stats, struct rs_error *err)
 {
-	double t0 = rs_gles_now_ms();
+	double t0 = rs_now_ms();
 	if (!g->display) {
 		g->display = calloc(1, sizeof *g->display);
 		if (!g->display)
@@ -151,7 +151,7 @@ enum rs_status rs_gles_present(struct gles *g, GLuint tex, uint32_t width, uint3
 	enum rs_status st = draw(g->display, tex, width, height, &t, err);
 	if (st == RS_OK && g->cops->swap)
 		st = g->cops->swap(g->ctx, err);
-	rs_gles_kernel_time(stats, "present", rs_gles_now_ms() - t0);
+	rs_gles_kernel_time(stats, "present", rs_now_ms() - t0);
 	return st;
 }
 

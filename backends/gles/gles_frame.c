@@ -56,7 +56,7 @@ static enum rs_status visibility(const struct gles *g, const struct rs_gles_prog
 	if (st != RS_OK)
 		return st;
 	gl->Finish();
-	rs_gles_kernel_time(stats, "raster", rs_gles_now_ms() - t0);
+	rs_gles_kernel_time(stats, "raster", rs_now_ms() - t0);
 	return rs_gles_check(gl, "raster", err);
 }
 
@@ -96,7 +96,7 @@ enum rs_status rs_gles_plan_run(struct gles *g, const struct rs_gles_plan *plan,
 	for (uint32_t i = 0; st == RS_OK && i < plan->count; ++i) {
 		const struct rs_gles_step *s = &plan->steps[i];
 		const struct rs_gles_program *p = &g->prog[s->prog];
-		double t0 = rs_gles_now_ms();
+		double t0 = rs_now_ms();
 		g->gl.UseProgram(p->id);
 		bind_inputs(g, plan, s, p, camera, near);
 		if (s->raster) {
@@ -115,7 +115,7 @@ enum rs_status rs_gles_display(struct gles *g, const struct rs_gles_plan *plan,
                                struct rs_render_stats *stats, struct rs_error *err)
 {
 	const struct rs_gles_program *p = &g->prog[PROG_DISPLAY];
-	double t0 = rs_gles_now_ms();
+	double t0 = rs_now_ms();
 	g->gl.UseProgram(p->id);
 	rs_gles_bind(&g->gl, p, UNIT_ACC, U_ACC, GL_TEXTURE_2D,
 	             rs_gles_target(g, plan->result_acc));

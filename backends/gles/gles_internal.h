@@ -323,8 +323,6 @@ enum rs_status rs_gles_draw(const struct gles *g, const char *name, const GLuint
                             struct rs_render_stats *stats, double t0, struct rs_error *err);
 /* Add `ms` to the kernel timing `name` of `stats` (a new entry while there is room). */
 void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms);
-/* Monotonic clock in milliseconds. */
-double rs_gles_now_ms(void);
 
 /* gles_alloc.c. Check glGetError after `what`; RS_ERR_NO_MEMORY for GL_OUT_OF_MEMORY, else
  * RS_ERR_DEVICE. */

@@ -184,14 +184,14 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	if (st == RS_OK)
 		make_plans(g);
 	/* upload_ms: the kernels' compile and the textures' upload, nothing else */
-	double t0 = rs_gles_now_ms();
+	double t0 = rs_now_ms();
 	if (st == RS_OK)
 		st = build_programs(g, err);
 	if (st == RS_OK)
 		st = rs_gles_scene_upload(g, err);
 	if (st == RS_OK) {
 		g->gl.Finish();
-		stats->upload_ms = rs_gles_now_ms() - t0;
+		stats->upload_ms = rs_now_ms() - t0;
 		st = prepare(g, err);
 	}
 	if (st == RS_OK) {
@@ -215,28 +215,28 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 		return st;
 	/* Inter-reflection maps are dynamic: captured for every frame (and counted in its time,
 	 * which is what Table 3 compares); a 1-pass frame reads none. */
-	double t0 = rs_gles_now_ms(), capture_ms = 0.0;
+	double t0 = rs_now_ms(), capture_ms = 0.0;
 	if (g->desc.reflections == RS_REFLECT_INTERREFLECT && g->desc.passes > 1) {
 		st = rs_gles_interreflect_capture(g, err);
-		capture_ms = rs_gles_now_ms() - t0;
+		capture_ms = rs_now_ms() - t0;
 	}
 	const struct rs_gles_plan *plan = &g->plans[PLAN_FRAME];
-	double t1 = rs_gles_now_ms();
+	double t1 = rs_now_ms();
 	if (st == RS_OK)
 		st = rs_gles_plan_run(g, plan, camera, 0.0f, (GLsizei)g->desc.width,
 		                      (GLsizei)g->desc.height, stats, err);
 	/* The display pass is a step of its own: RGBA8 is made only when asked for. */
 	if (st == RS_OK && frame->rgba8)
 		st = rs_gles_display(g, plan, stats, err);
-	stats->render_ms = rs_gles_now_ms() - t1 + capture_ms;
+	stats->render_ms = rs_now_ms() - t1 + capture_ms;
 	stats->pixels = (uint64_t)g->desc.width * g->desc.height;
 	stats->primary_rays = stats->pixels;
 	if (capture_ms > 0.0)
 		rs_gles_kernel_time(stats, "envmap capture", capture_ms);
 	if (st == RS_OK) {
-		double t2 = rs_gles_now_ms();
+		double t2 = rs_now_ms();
 		st = rs_gles_readback(g, plan, frame, stats, err);
-		stats->readback_ms = rs_gles_now_ms() - t2;
+		stats->readback_ms = rs_now_ms() - t2;
 	}
 	/* A window context: the frame goes to the screen straight from the plan's colour. */
 	if (st == RS_OK && g->cops->display_target)

@@ -1,16 +1,8 @@
 /* Leaf helpers for every draw: the renderer's GL state for a viewport, a fullscreen pass into
- * colour targets with its timing, and the clock the timings read. */
+ * colour targets with its timing. */
 #include <string.h>
-#include <time.h>
 
 #include "gles_internal.h"
-
-double rs_gles_now_ms(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
 
 void rs_gles_frame_state(const struct gles *g, GLsizei w, GLsizei h)
 {
@@ -42,7 +34,7 @@ enum rs_status rs_gles_draw(const struct gles *g, const char *name, const GLuint
 		                    "gles: the %s kernel's render targets are not complete", name);
 	gl->DrawArrays(GL_TRIANGLES, 0, 3);
 	gl->Finish();
-	rs_gles_kernel_time(stats, name, rs_gles_now_ms() - t0);
+	rs_gles_kernel_time(stats, name, rs_now_ms() - t0);
 #ifndef NDEBUG
 	return rs_gles_check(gl, name, err);
 #else

@@ -10,7 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <termios.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "raystream/rs_serial.h"
@@ -76,8 +75,7 @@ enum rs_status rs_serial_pty_write_timeout(struct rs_serial_pty *p, const uint8_
 		*out_written = 0;
 	if (p->master < 0)
 		return rs_error_set(err, RS_ERR_DISCONNECTED, "pty: master side closed");
-	struct timespec t0;
-	clock_gettime(CLOCK_MONOTONIC, &t0);
+	double t0 = rs_now_ms();
 	enum rs_status st = RS_OK;
 	while (done < len) {
 		ssize_t n = write(p->master, data + done, len - done);
@@ -94,10 +92,7 @@ enum rs_status rs_serial_pty_write_timeout(struct rs_serial_pty *p, const uint8_
 		/* The line is full: wait for room, at most until the deadline. */
 		int wait = -1;
 		if (timeout_ms >= 0) {
-			struct timespec now;
-			clock_gettime(CLOCK_MONOTONIC, &now);
-			double spent = (double)(now.tv_sec - t0.tv_sec) * 1e3 +
-			               (double)(now.tv_nsec - t0.tv_nsec) * 1e-6;
+			double spent = rs_now_ms() - t0;
 			if (spent >= timeout_ms) {
 				st = rs_error_set(err, RS_TIMEOUT, "pty: line full for %d ms",
 				                  timeout_ms);

@@ -14,8 +14,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#define RS_POSE_PI 3.14159265358979323846
-
 struct rs_pose_filter {
 	struct rs_pose_filter_desc desc;
 	int have;
@@ -125,7 +123,7 @@ static void state_out(const struct rs_pose_filter *f, struct rs_pose *out)
 /* Smoothing factor of a first-order low-pass with cutoff fc sampled after dt. */
 static double alpha(double fc, double dt)
 {
-	double tau = 1.0 / (2.0 * RS_POSE_PI * fc);
+	double tau = 1.0 / (2.0 * RS_PI * fc);
 	return 1.0 / (1.0 + tau / dt);
 }
 
@@ -181,7 +179,7 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 	/* Derivative low-pass dx_hat += alpha (dx / dt - dx_hat), alpha = dt / (dt + tau),
 	 * evaluated as tau / (dt + tau) * dx_hat + dx / (dt + tau): the same value, but dx / dt
 	 * would overflow (and then turn into NaN) for a denormal dt. */
-	double tau_d = 1.0 / (2.0 * RS_POSE_PI * d->position_d_cutoff_hz);
+	double tau_d = 1.0 / (2.0 * RS_PI * d->position_d_cutoff_hz);
 	double inv = 1.0 / (dt + tau_d), keep = tau_d * inv, speed2 = 0.0;
 	for (int k = 0; k < 3; ++k) {
 		f->dx_hat[k] = keep * f->dx_hat[k] + (x[k] - f->x_raw[k]) * inv;
@@ -201,7 +199,7 @@ enum rs_status rs_pose_filter_update(struct rs_pose_filter *f, const struct rs_p
 	rs_q_conj(f->q_raw, rc);
 	rs_q_mul(q, rc, rel);
 	rs_q_log(rel, w);
-	tau_d = 1.0 / (2.0 * RS_POSE_PI * d->orientation_d_cutoff_hz);
+	tau_d = 1.0 / (2.0 * RS_PI * d->orientation_d_cutoff_hz);
 	inv = 1.0 / (dt + tau_d);
 	keep = tau_d * inv;
 	speed2 = 0.0;

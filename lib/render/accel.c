@@ -23,21 +23,21 @@ enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct 
 		rs_render_accel_free(out);
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "render: out of memory for the BVH");
 	}
-	double t0 = rs_render_now_ms();
+	double t0 = rs_now_ms();
 	enum rs_status status = rs_bvh_build(
 	    bvh, rs_scene_positions(scene), rs_scene_vertex_count(scene), rs_scene_indices(scene),
 	    tris, out->nodes, cap, out->triangle_order, &out->node_count, err);
-	out->build_ms = rs_render_now_ms() - t0;
+	out->build_ms = rs_now_ms() - t0;
 	if (status == RS_OK)
 		status = rs_pack_layout(pack, out->node_count, tris, rs_scene_material_count(scene),
 		                        &out->packed, err);
 	if (status == RS_OK)
 		status = rs_pack_alloc(&out->packed, err);
-	double t1 = rs_render_now_ms();
+	double t1 = rs_now_ms();
 	if (status == RS_OK)
 		status = rs_pack_scene(scene, out->nodes, out->node_count, out->triangle_order,
 		                       &out->packed, err);
-	out->pack_ms = rs_render_now_ms() - t1;
+	out->pack_ms = rs_now_ms() - t1;
 	if (status != RS_OK)
 		rs_render_accel_free(out);
 	return status;

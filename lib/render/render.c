@@ -3,7 +3,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "render_internal.h"
 
@@ -16,13 +15,6 @@ struct rs_renderer {
 	struct rs_render_stats stats;
 	struct rs_error error;
 };
-
-double rs_render_now_ms(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
 
 void rs_render_copy_name(char *dst, size_t cap, const char *src)
 {

@@ -164,22 +164,22 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 	td.intersector = cpu->intersector;
 	float *rgb = frame->rgb ? frame->rgb : frame->rgba8 ? cpu->rgb : NULL;
 	struct rs_trace_stats ts;
-	double t0 = rs_render_now_ms();
+	double t0 = rs_now_ms();
 	enum rs_status status = render_threads(cpu, &td, rgb, frame->depth, &ts, err);
 	if (status != RS_OK)
 		return status;
-	stats->render_ms = rs_render_now_ms() - t0;
+	stats->render_ms = rs_now_ms() - t0;
 	if (frame->triangle)
 		primary_ids(cpu, camera, frame->triangle);
 	if (frame->rgba8) {
-		double t1 = rs_render_now_ms();
+		double t1 = rs_now_ms();
 		size_t n = (size_t)d->width * d->height;
 		for (size_t i = 0; i < n; ++i) {
 			for (int c = 0; c < 3; ++c)
 				frame->rgba8[4 * i + c] = rs_image_quantize_value(rgb[3 * i + c]);
 			frame->rgba8[4 * i + 3] = 255;
 		}
-		stats->readback_ms = rs_render_now_ms() - t1;
+		stats->readback_ms = rs_now_ms() - t1;
 	}
 	stats->pixels = ts.pixels;
 	stats->primary_rays = ts.pixels;

@@ -4,9 +4,6 @@
 
 #include "raystream/rs_render.h"
 
-/* Monotonic wall clock in milliseconds. */
-double rs_render_now_ms(void);
-
 /* Copy a backend name or renderer string into a fixed field, truncating. */
 void rs_render_copy_name(char *dst, size_t cap, const char *src);
 

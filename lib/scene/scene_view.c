@@ -213,7 +213,7 @@ void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg, struct
 {
 	struct rs_camera resolved;
 	rs_camera_resolve(camera, &resolved);
-	double half_fov = resolved.fov_y_deg * 0.5 * M_PI / 180.0;
+	double half_fov = resolved.fov_y_deg * 0.5 * RS_PI / 180.0;
 	double d2 = 0.0, center[3];
 	for (int a = 0; a < 3; ++a) {
 		/* An empty or non-finite box (an empty scene's bounds) frames the origin rather
@@ -228,7 +228,7 @@ void rs_camera_frame(const struct rs_bounds *focus, double elevation_deg, struct
 		d2 = 0.0;
 	double r = 0.5 * sqrt(d2);
 	double dist = r > 0.0 ? r / sin(half_fov) : 1.0;
-	double el = elevation_deg * M_PI / 180.0;
+	double el = elevation_deg * RS_PI / 180.0;
 	camera->eye[0] = center[0];
 	camera->eye[1] = center[1] + dist * sin(el);
 	camera->eye[2] = center[2] + dist * cos(el);

@@ -41,7 +41,7 @@ static enum rs_status standing_box(struct rs_scene *scene, double x, double y0, 
 
 static enum rs_status add_contents(struct rs_scene *scene, const uint32_t *id, struct rs_error *err)
 {
-	const double lean = 30.0 * SG_PI / 180.0;
+	const double lean = 30.0 * RS_PI / 180.0;
 	const double prism_base[3] = {1.8, 0.6 + SG_GLASS_GAP, -2.2}; /* see SG_GLASS_GAP */
 	const double sa[3] = {-2.6, 3.2, 0.4}, sb[3] = {-0.4, 3.2, 0.4};
 	const double apex[3] = {-1.5, 3.2 + 1.6 * cos(lean), 0.4 - 1.6 * sin(lean)};

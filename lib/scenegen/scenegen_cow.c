@@ -39,7 +39,7 @@ static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *co
 	struct rs_bounds b;
 	struct rs_mesh_desc d;
 	uint32_t cols, rows;
-	double a = (double)i * COW_TURN_DEG * SG_PI / 180.0, cs = cos(a), sn = sin(a);
+	double a = (double)i * COW_TURN_DEG * RS_PI / 180.0, cs = cos(a), sn = sin(a);
 	double c[3], gx, gz;
 	enum rs_status st;
 
@@ -116,7 +116,7 @@ static enum rs_status add_stage(struct rs_scene *scene, const struct rs_bounds *
 	                                            .reflectance = 0.9f};
 	static const struct rs_material prism_m = {.transmittance = 0.9f, .ior = 1.5f};
 	static const struct rs_material sail_m = {.diffuse = {0.2f, 0.4f, 0.8f}};
-	const double lean = 30.0 * SG_PI / 180.0;
+	const double lean = 30.0 * RS_PI / 180.0;
 	const double sail_x = h->lo[0] + 0.125 * (h->hi[0] - h->lo[0]), sail_y = h->hi[1] + 1.0;
 	const double cx = 0.5 * (h->lo[0] + h->hi[0]), cz = 0.5 * (h->lo[2] + h->hi[2]);
 	/* Floor: top at y = 0, 0.5 thick, 4 larger than the herd on every side. */

@@ -11,9 +11,6 @@
 
 #include "raystream/rs_scene.h"
 
-/* Degrees to radians without relying on M_PI (not in strict C11). */
-#define SG_PI 3.14159265358979323846
-
 /* Add a material, returning its id in *out_id; errors carry the scene's message. */
 enum rs_status sg_material(struct rs_scene *scene, const struct rs_material *m, uint32_t *out_id,
                            struct rs_error *err);

@@ -84,9 +84,9 @@ static enum rs_status add_sphere(struct rs_scene *scene, const double c[3], doub
 	struct grid g;
 	enum rs_status st = grid_alloc(&g, s, rings, err);
 	for (uint32_t i = 0; st == RS_OK && i <= rings; i++) {
-		double th = SG_PI * i / rings;
+		double th = RS_PI * i / rings;
 		for (uint32_t j = 0; j <= s; j++) {
-			double ph = 2.0 * SG_PI * j / s;
+			double ph = 2.0 * RS_PI * j / s;
 			double n[3] = {sin(th) * cos(ph), cos(th), -sin(th) * sin(ph)};
 			double p[3] = {c[0] + r * n[0], c[1] + r * n[1], c[2] + r * n[2]};
 			grid_vertex(&g, p, n);
@@ -114,9 +114,9 @@ static enum rs_status add_torus(struct rs_scene *scene, const double c[3], doubl
 	struct grid g;
 	enum rs_status st = grid_alloc(&g, u, v, err);
 	for (uint32_t i = 0; st == RS_OK && i <= u; i++) {
-		double a = 2.0 * SG_PI * i / u;
+		double a = 2.0 * RS_PI * i / u;
 		for (uint32_t j = 0; j <= v; j++) {
-			double b = 2.0 * SG_PI * j / v;
+			double b = 2.0 * RS_PI * j / v;
 			double n[3] = {cos(b) * cos(a), cos(b) * sin(a), sin(b)};
 			double p[3] = {c[0] + (R + r * cos(b)) * cos(a),
 			               c[1] + (R + r * cos(b)) * sin(a), c[2] + r * sin(b)};
@@ -170,7 +170,7 @@ enum rs_status sg_build_mirrors(struct rs_scene *scene, struct rs_error *err)
 		st = sg_add_box(scene, floor_lo, floor_hi, 0.0, id[M_FLOOR], err);
 	/* Pillars on a circle of radius 6, red, green, blue in turn. */
 	for (uint32_t p = 0; p < PILLARS && st == RS_OK; p++) {
-		double a = 2.0 * SG_PI * (p + 0.5) / PILLARS;
+		double a = 2.0 * RS_PI * (p + 0.5) / PILLARS;
 		double lo[3] = {6.0 * cos(a) - 0.35, 0.0, 6.0 * sin(a) - 0.35};
 		double hi[3] = {lo[0] + 0.7, 2.5 + 0.5 * (p % 3), lo[2] + 0.7};
 		st = sg_add_box(scene, lo, hi, 360.0 * p / PILLARS, id[M_RED + p % 3], err);

@@ -85,7 +85,7 @@ enum rs_status sg_add_box(struct rs_scene *scene, const double lo[3], const doub
                           double yaw_deg, uint32_t material, struct rs_error *err)
 {
 	struct sg_mesh m;
-	double c[3], cs = cos(yaw_deg * SG_PI / 180.0), sn = sin(yaw_deg * SG_PI / 180.0);
+	double c[3], cs = cos(yaw_deg * RS_PI / 180.0), sn = sin(yaw_deg * RS_PI / 180.0);
 
 	memset(&m, 0, sizeof(m));
 	for (int k = 0; k < 3; k++)
@@ -127,7 +127,7 @@ enum rs_status sg_add_prism(struct rs_scene *scene, const double base[3], double
 
 	memset(&m, 0, sizeof(m));
 	for (int k = 0; k < 3; k++) {
-		double a = k * 2.0 * SG_PI / 3.0; /* k = 0 points towards +z */
+		double a = k * 2.0 * RS_PI / 3.0; /* k = 0 points towards +z */
 
 		for (int level = 0; level < 2; level++) {
 			ring[level][k][0] = base[0] + circumradius * sin(a);

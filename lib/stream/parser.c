@@ -72,7 +72,7 @@ enum rs_status rs_stream_parser_feed(struct rs_stream_parser *p, const uint8_t *
 			rescan(p);
 			continue;
 		}
-		uint32_t version = p->buf[2], type = p->buf[3], length = st_get32(p->buf + 4);
+		uint32_t version = p->buf[2], type = p->buf[3], length = rs_le_get32(p->buf + 4);
 		if (version != RS_STREAM_VERSION)
 			return header_fault(p, &p->faults.bad_version, RS_ERR_UNSUPPORTED, err,
 			                    "unsupported protocol version", version);

@@ -158,11 +158,11 @@ static void put_f64(uint8_t *p, double v)
 {
 	uint64_t u;
 	memcpy(&u, &v, sizeof u);
-	st_put64(p, u);
+	rs_le_put64(p, u);
 }
 static double get_f64(const uint8_t *p)
 {
-	uint64_t u = st_get64(p);
+	uint64_t u = rs_le_get64(p);
 	double v;
 	memcpy(&v, &u, sizeof v);
 	return v;
@@ -171,11 +171,11 @@ static void put_f32(uint8_t *p, float v)
 {
 	uint32_t u;
 	memcpy(&u, &v, sizeof u);
-	st_put32(p, u);
+	rs_le_put32(p, u);
 }
 static float get_f32(const uint8_t *p)
 {
-	uint32_t u = st_get32(p);
+	uint32_t u = rs_le_get32(p);
 	float v;
 	memcpy(&v, &u, sizeof v);
 	return v;
@@ -210,15 +210,15 @@ enum rs_status rs_stream_encode(const struct rs_stream_msg *msg, uint8_t *out, s
 	out[1] = 'S';
 	out[2] = RS_STREAM_VERSION;
 	out[3] = (uint8_t)msg->type;
-	st_put32(out + 4, n);
+	rs_le_put32(out + 4, n);
 	uint8_t *b = out + RS_STREAM_HEADER_SIZE;
 	memset(b, 0, n);
 	const struct rs_stream_msg *u = msg;
 	switch (msg->type) {
 	case RS_STREAM_HELLO: {
 		size_t tl = strlen(u->u.hello.token), sl = strlen(u->u.hello.scene);
-		st_put16(b, u->u.hello.width);
-		st_put16(b + 2, u->u.hello.height);
+		rs_le_put16(b, u->u.hello.width);
+		rs_le_put16(b + 2, u->u.hello.height);
 		b[4] = u->u.hello.quality;
 		b[5] = (uint8_t)tl;
 		b[6] = (uint8_t)sl;
@@ -227,9 +227,9 @@ enum rs_status rs_stream_encode(const struct rs_stream_msg *msg, uint8_t *out, s
 		break;
 	}
 	case RS_STREAM_WELCOME:
-		st_put32(b, u->u.welcome.viewer_id);
-		st_put16(b + 4, u->u.welcome.width);
-		st_put16(b + 6, u->u.welcome.height);
+		rs_le_put32(b, u->u.welcome.viewer_id);
+		rs_le_put16(b + 4, u->u.welcome.width);
+		rs_le_put16(b + 6, u->u.welcome.height);
 		b[8] = u->u.welcome.quality;
 		b[9] = u->u.welcome.encoding;
 		break;
@@ -237,28 +237,28 @@ enum rs_status rs_stream_encode(const struct rs_stream_msg *msg, uint8_t *out, s
 		struct rs_stream_pose p = u->u.pose;
 		double *f[12];
 		pose_fields(&p, f);
-		st_put32(b, p.pose_id);
-		st_put32(b + 4, p.flags);
-		st_put64(b + 8, p.time_us);
+		rs_le_put32(b, p.pose_id);
+		rs_le_put32(b + 4, p.flags);
+		rs_le_put64(b + 8, p.time_us);
 		for (int k = 0; k < 12; ++k)
 			put_f64(b + 16 + 8 * k, *f[k]);
 		break;
 	}
 	case RS_STREAM_FRAME:
-		st_put32(b, u->u.frame.frame_id);
-		st_put32(b + 4, u->u.frame.pose_id);
-		st_put64(b + 8, u->u.frame.pose_time_us);
-		st_put16(b + 16, u->u.frame.width);
-		st_put16(b + 18, u->u.frame.height);
+		rs_le_put32(b, u->u.frame.frame_id);
+		rs_le_put32(b + 4, u->u.frame.pose_id);
+		rs_le_put64(b + 8, u->u.frame.pose_time_us);
+		rs_le_put16(b + 16, u->u.frame.width);
+		rs_le_put16(b + 18, u->u.frame.height);
 		b[20] = u->u.frame.encoding;
-		st_put32(b + 24, u->u.frame.render_us);
-		st_put32(b + 28, u->u.frame.encode_us);
+		rs_le_put32(b + 24, u->u.frame.render_us);
+		rs_le_put32(b + 28, u->u.frame.encode_us);
 		memcpy(b + RS_STREAM_FRAME_FIXED, u->u.frame.data, u->u.frame.size);
 		break;
 	case RS_STREAM_STATS:
-		st_put32(b, u->u.stats.frames);
-		st_put32(b + 4, u->u.stats.dropped);
-		st_put64(b + 8, u->u.stats.bytes);
+		rs_le_put32(b, u->u.stats.frames);
+		rs_le_put32(b + 4, u->u.stats.dropped);
+		rs_le_put64(b + 8, u->u.stats.bytes);
 		put_f32(b + 16, u->u.stats.fps);
 		put_f32(b + 20, u->u.stats.latency_median_ms);
 		put_f32(b + 24, u->u.stats.latency_p99_ms);
@@ -266,7 +266,7 @@ enum rs_status rs_stream_encode(const struct rs_stream_msg *msg, uint8_t *out, s
 		break;
 	case RS_STREAM_BYE: {
 		size_t tl = strlen(u->u.bye.text);
-		st_put32(b, u->u.bye.reason);
+		rs_le_put32(b, u->u.bye.reason);
 		b[4] = (uint8_t)tl;
 		memcpy(b + BYE_FIXED, u->u.bye.text, tl);
 		break;
@@ -294,8 +294,8 @@ enum rs_status rs_stream_decode_body(uint32_t type, const uint8_t *b, uint32_t l
 			return bad_length(type, length, err);
 		if (b[5] > RS_STREAM_MAX_TOKEN || b[6] > RS_STREAM_MAX_SCENE)
 			return rs_error_set(err, RS_ERR_BAD_DATA, "HELLO: token or scene too long");
-		m.u.hello.width = st_get16(b);
-		m.u.hello.height = st_get16(b + 2);
+		m.u.hello.width = rs_le_get16(b);
+		m.u.hello.height = rs_le_get16(b + 2);
 		m.u.hello.quality = b[4];
 		memcpy(m.u.hello.token, b + HELLO_FIXED, b[5]);
 		memcpy(m.u.hello.scene, b + HELLO_FIXED + b[5], b[6]);
@@ -308,9 +308,9 @@ enum rs_status rs_stream_decode_body(uint32_t type, const uint8_t *b, uint32_t l
 	case RS_STREAM_WELCOME:
 		if (length != WELCOME_SIZE)
 			return bad_length(type, length, err);
-		m.u.welcome.viewer_id = st_get32(b);
-		m.u.welcome.width = st_get16(b + 4);
-		m.u.welcome.height = st_get16(b + 6);
+		m.u.welcome.viewer_id = rs_le_get32(b);
+		m.u.welcome.width = rs_le_get16(b + 4);
+		m.u.welcome.height = rs_le_get16(b + 6);
 		m.u.welcome.quality = b[8];
 		m.u.welcome.encoding = b[9];
 		break;
@@ -319,9 +319,9 @@ enum rs_status rs_stream_decode_body(uint32_t type, const uint8_t *b, uint32_t l
 			return bad_length(type, length, err);
 		double *f[12];
 		pose_fields(&m.u.pose, f);
-		m.u.pose.pose_id = st_get32(b);
-		m.u.pose.flags = st_get32(b + 4);
-		m.u.pose.time_us = st_get64(b + 8);
+		m.u.pose.pose_id = rs_le_get32(b);
+		m.u.pose.flags = rs_le_get32(b + 4);
+		m.u.pose.time_us = rs_le_get64(b + 8);
 		for (int k = 0; k < 12; ++k)
 			*f[k] = get_f64(b + 16 + 8 * k);
 		break;
@@ -329,23 +329,23 @@ enum rs_status rs_stream_decode_body(uint32_t type, const uint8_t *b, uint32_t l
 	case RS_STREAM_FRAME:
 		if (length <= RS_STREAM_FRAME_FIXED)
 			return bad_length(type, length, err);
-		m.u.frame.frame_id = st_get32(b);
-		m.u.frame.pose_id = st_get32(b + 4);
-		m.u.frame.pose_time_us = st_get64(b + 8);
-		m.u.frame.width = st_get16(b + 16);
-		m.u.frame.height = st_get16(b + 18);
+		m.u.frame.frame_id = rs_le_get32(b);
+		m.u.frame.pose_id = rs_le_get32(b + 4);
+		m.u.frame.pose_time_us = rs_le_get64(b + 8);
+		m.u.frame.width = rs_le_get16(b + 16);
+		m.u.frame.height = rs_le_get16(b + 18);
 		m.u.frame.encoding = b[20];
-		m.u.frame.render_us = st_get32(b + 24);
-		m.u.frame.encode_us = st_get32(b + 28);
+		m.u.frame.render_us = rs_le_get32(b + 24);
+		m.u.frame.encode_us = rs_le_get32(b + 28);
 		m.u.frame.data = b + RS_STREAM_FRAME_FIXED;
 		m.u.frame.size = length - RS_STREAM_FRAME_FIXED;
 		break;
 	case RS_STREAM_STATS:
 		if (length != STATS_SIZE)
 			return bad_length(type, length, err);
-		m.u.stats.frames = st_get32(b);
-		m.u.stats.dropped = st_get32(b + 4);
-		m.u.stats.bytes = st_get64(b + 8);
+		m.u.stats.frames = rs_le_get32(b);
+		m.u.stats.dropped = rs_le_get32(b + 4);
+		m.u.stats.bytes = rs_le_get64(b + 8);
 		m.u.stats.fps = get_f32(b + 16);
 		m.u.stats.latency_median_ms = get_f32(b + 20);
 		m.u.stats.latency_p99_ms = get_f32(b + 24);
@@ -356,7 +356,7 @@ enum rs_status rs_stream_decode_body(uint32_t type, const uint8_t *b, uint32_t l
 			return bad_length(type, length, err);
 		if (b[4] > RS_STREAM_MAX_TEXT)
 			return rs_error_set(err, RS_ERR_BAD_DATA, "BYE: text too long");
-		m.u.bye.reason = st_get32(b);
+		m.u.bye.reason = rs_le_get32(b);
 		memcpy(m.u.bye.text, b + BYE_FIXED, b[4]);
 		if (strlen(m.u.bye.text) != b[4])
 			return rs_error_set(err, RS_ERR_BAD_DATA, "BYE: NUL inside text");

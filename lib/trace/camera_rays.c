@@ -35,7 +35,7 @@ void rs_trace_view_init(const struct rs_camera *camera, const double origin[3], 
 	}
 	/* The paper's projection angle 2*atan(b/a): b = half the image plane's height at
 	 * distance a = 1, so b = tan(fov/2); pixels are square. */
-	out->tan_half_fov = tan(c.fov_y_deg * (RS_TRACE_PI / 360.0));
+	out->tan_half_fov = tan(c.fov_y_deg * (RS_PI / 360.0));
 	out->shift[0] = c.shift[0];
 	out->shift[1] = c.shift[1];
 	out->width = width;

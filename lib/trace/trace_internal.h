@@ -10,7 +10,6 @@
 #include "raystream/rs_trace.h"
 #include "private/rs_vec.h"
 
-#define RS_TRACE_PI 3.14159265358979323846
 
 /* The frame's ray queries: the packed BVH, or the caller's intersector. */
 static inline bool rs_trace_frame_closest(const struct rs_trace_frame *frame,

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "private/rs_le.h"
 #include "raystream/rs_proto.h"
 
 /* Offsets inside a version-1 frame (docs/protocol.md). */
@@ -68,28 +69,6 @@ uint32_t rs_proto_crc32(const uint8_t *data, size_t len)
 	return c ^ 0xFFFFFFFFu;
 }
 
-static void put_u32(uint8_t *p, uint32_t v)
-{
-	for (int i = 0; i < 4; i++)
-		p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static uint32_t get_u32(const uint8_t *p)
-{
-	return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-static void put_u64(uint8_t *p, uint64_t v)
-{
-	put_u32(p, (uint32_t)v);
-	put_u32(p + 4, (uint32_t)(v >> 32));
-}
-
-static uint64_t get_u64(const uint8_t *p)
-{
-	return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32;
-}
-
 enum rs_status rs_proto_encode(const struct rs_marker_sample *sample, uint8_t *out_frame,
                                struct rs_error *err)
 {
@@ -100,8 +79,8 @@ enum rs_status rs_proto_encode(const struct rs_marker_sample *sample, uint8_t *o
 	f[1] = RS_PROTO_SYNC1;
 	f[OFF_VERSION] = RS_PROTO_VERSION;
 	f[OFF_LENGTH] = RS_PROTO_FRAME_SIZE;
-	put_u32(f + OFF_SEQUENCE, sample->sequence);
-	put_u64(f + OFF_TIME, sample->device_time_us);
+	rs_le_put32(f + OFF_SEQUENCE, sample->sequence);
+	rs_le_put64(f + OFF_TIME, sample->device_time_us);
 	uint32_t count =
 	    sample->marker_count < RS_TRACK_MARKERS ? sample->marker_count : RS_TRACK_MARKERS;
 	for (uint32_t m = 0; m < RS_TRACK_MARKERS; m++) {
@@ -125,10 +104,10 @@ enum rs_status rs_proto_encode(const struct rs_marker_sample *sample, uint8_t *o
 			if (!isfinite(v) || !(um >= -2147483648.0 && um <= 2147483647.0))
 				return rs_error_set(err, RS_ERR_BAD_DATA,
 				                    "marker %u: coordinate %g not encodable", m, v);
-			put_u32(p + 2 + 4 * a, (uint32_t)(int32_t)um);
+			rs_le_put32(p + 2 + 4 * a, (uint32_t)(int32_t)um);
 		}
 	}
-	put_u32(f + OFF_CRC, rs_proto_crc32(f, OFF_CRC));
+	rs_le_put32(f + OFF_CRC, rs_proto_crc32(f, OFF_CRC));
 	memcpy(out_frame, f, sizeof f);
 	return RS_OK;
 }
@@ -170,15 +149,16 @@ static void reject(struct rs_proto_parser *p)
 static void decode(const uint8_t *f, struct rs_marker_sample *s)
 {
 	memset(s, 0, sizeof *s);
-	s->sequence = get_u32(f + OFF_SEQUENCE);
-	s->device_time_us = get_u64(f + OFF_TIME);
+	s->sequence = rs_le_get32(f + OFF_SEQUENCE);
+	s->device_time_us = rs_le_get64(f + OFF_TIME);
 	s->marker_count = RS_TRACK_MARKERS;
 	for (int m = 0; m < RS_TRACK_MARKERS; m++) {
 		const uint8_t *p = f + OFF_MARKERS + m * MARKER_BYTES;
 		s->markers[m].id = p[0];
 		s->markers[m].flags = p[1];
 		for (int a = 0; a < 3; a++)
-			s->markers[m].position[a] = (double)(int32_t)get_u32(p + 2 + 4 * a) * 1e-6;
+			s->markers[m].position[a] =
+			    (double)(int32_t)rs_le_get32(p + 2 + 4 * a) * 1e-6;
 	}
 }
 
@@ -261,12 +241,12 @@ static int process(struct rs_proto_parser *p, struct rs_marker_sample *out)
 		}
 		if (p->len < RS_PROTO_FRAME_SIZE)
 			return 0;
-		if (rs_proto_crc32(p->buf, OFF_CRC) != get_u32(p->buf + OFF_CRC)) {
+		if (rs_proto_crc32(p->buf, OFF_CRC) != rs_le_get32(p->buf + OFF_CRC)) {
 			p->stats.crc_errors++;
 			reject(p);
 			continue;
 		}
-		uint32_t seq = get_u32(p->buf + OFF_SEQUENCE);
+		uint32_t seq = rs_le_get32(p->buf + OFF_SEQUENCE);
 		int ok = accept_sequence(p, seq);
 		if (ok)
 			decode(p->buf, out);

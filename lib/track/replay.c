@@ -14,6 +14,7 @@
 
 #include "raystream/rs_track.h"
 #include "private/rs_atomic_file.h"
+#include "private/rs_le.h"
 
 #define MAGIC "RSTRKREC"
 #define HEADER_SIZE 16
@@ -43,20 +44,6 @@ struct rs_track_recorder {
 	struct rs_atomic_file af;
 };
 
-static void put_le(uint8_t *p, uint64_t v, int n)
-{
-	for (int i = 0; i < n; i++)
-		p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static uint64_t get_le(const uint8_t *p, int n)
-{
-	uint64_t v = 0;
-	for (int i = n - 1; i >= 0; i--)
-		v = v << 8 | p[i];
-	return v;
-}
-
 enum rs_status rs_track_recorder_create(const char *path, struct rs_track_recorder **out,
                                         struct rs_error *err)
 {
@@ -84,8 +71,8 @@ enum rs_status rs_track_recorder_create(const char *path, struct rs_track_record
 	}
 	uint8_t h[HEADER_SIZE];
 	memcpy(h, MAGIC, 8);
-	put_le(h + 8, 1, 4);                    /* file format version */
-	put_le(h + 12, RS_PROTO_FRAME_SIZE, 4); /* record payload size */
+	rs_le_put32(h + 8, 1);                    /* file format version */
+	rs_le_put32(h + 12, RS_PROTO_FRAME_SIZE); /* record payload size */
 	if (fwrite(h, 1, sizeof h, r->af.f) != sizeof h) {
 		st = rs_error_set(err, RS_ERR_IO, "record: cannot write %s", path);
 		rs_atomic_commit(&r->af, false, NULL);
@@ -106,7 +93,7 @@ enum rs_status rs_track_recorder_write(struct rs_track_recorder *r,
 		return st;
 	uint64_t bits;
 	memcpy(&bits, &sample->host_time_s, sizeof bits);
-	put_le(rec, bits, 8);
+	rs_le_put64(rec, bits);
 	if (fwrite(rec, 1, sizeof rec, r->af.f) != sizeof rec)
 		return rs_error_set(err, RS_ERR_IO, "record: cannot write %s", r->af.path);
 	return RS_OK;
@@ -147,7 +134,7 @@ static enum rs_status replay_rewind(struct replay *r, struct rs_error *err)
 	rewind(r->f);
 	size_t n = fread(h, 1, sizeof h, r->f);
 	r->raw = !(n == sizeof h && memcmp(h, MAGIC, 8) == 0);
-	if (!r->raw && (get_le(h + 8, 4) != 1 || get_le(h + 12, 4) != RS_PROTO_FRAME_SIZE))
+	if (!r->raw && (rs_le_get32(h + 8) != 1 || rs_le_get32(h + 12) != RS_PROTO_FRAME_SIZE))
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "replay: %s: unsupported recording version", r->path);
 	if (r->raw)
@@ -190,7 +177,7 @@ static enum rs_status replay_next(struct replay *r, struct rs_marker_sample *out
 			uint8_t rec[RECORD_SIZE];
 			size_t got_n = fread(rec, 1, sizeof rec, r->f);
 			if (got_n == sizeof rec) {
-				uint64_t bits = get_le(rec, 8);
+				uint64_t bits = rs_le_get64(rec);
 				memcpy(&r->chunk_time, &bits, sizeof bits);
 				memcpy(r->chunk, rec + 8, RS_PROTO_FRAME_SIZE);
 				r->len = RS_PROTO_FRAME_SIZE;

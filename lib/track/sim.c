@@ -11,7 +11,6 @@
 #include "private/rs_vec.h"
 #include "sim_internal.h"
 
-#define PI 3.14159265358979323846
 #define SUBSTEPS 4
 
 struct rs_sim {
@@ -66,7 +65,7 @@ static double rng_uniform(uint64_t *s) /* (0, 1] */
 static double rng_gauss(uint64_t *s)
 {
 	double u1 = rng_uniform(s), u2 = rng_uniform(s);
-	return sqrt(-2.0 * log(u1)) * cos(2.0 * PI * u2);
+	return sqrt(-2.0 * log(u1)) * cos(2.0 * RS_PI * u2);
 }
 
 static int bad_prob(double p)

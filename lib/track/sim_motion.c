@@ -10,8 +10,6 @@
 #include "private/rs_vec.h"
 #include "sim_internal.h"
 
-#define PI 3.14159265358979323846
-
 static const struct {
 	const char *name;
 	enum sim_segment_kind kind;
@@ -88,7 +86,7 @@ void sim_segment_motion(const struct sim_segment *seg, double t, const double q[
 {
 	memset(out, 0, sizeof *out);
 	double D = seg->duration_s;
-	double s = sin(PI * t / D);
+	double s = sin(RS_PI * t / D);
 	double env = s * s; /* integrates to D/2 over the segment */
 	switch (seg->kind) {
 	case SIM_STILL:
@@ -106,19 +104,20 @@ void sim_segment_motion(const struct sim_segment *seg, double t, const double q[
 		}
 		out->v_world[0] = 0.6 * env * f[0] / n;
 		out->v_world[1] = 0.6 * env * f[1] / n;
-		out->v_world[2] = 0.03 * 2 * PI * 1.8 * cos(2 * PI * 1.8 * t) * env;
+		out->v_world[2] = 0.03 * 2 * RS_PI * 1.8 * cos(2 * RS_PI * 1.8 * t) * env;
 		break;
 	}
 	case SIM_TURN:
 		/* A quarter turn about the vertical, plus a gentle 10 degree tilt and back. */
-		out->w_world[2] = (PI / 2) * env * 2.0 / D;
-		out->w_body[0] = (10.0 * PI / 180.0) * 2 * PI / D * cos(2 * PI * t / D) * 0.5;
+		out->w_world[2] = (RS_PI / 2) * env * 2.0 / D;
+		out->w_body[0] =
+		    (10.0 * RS_PI / 180.0) * 2 * RS_PI / D * cos(2 * RS_PI * t / D) * 0.5;
 		break;
 	case SIM_SHAKE:
 		/* Hand shake: 4-5 Hz rotation about two body axes, 1 cm lateral wobble. */
-		out->w_body[0] = 1.5 * sin(2 * PI * 4.0 * t) * env;
-		out->w_body[1] = 1.0 * sin(2 * PI * 5.0 * t + 1.0) * env;
-		out->v_world[1] = 0.01 * 2 * PI * 3.0 * cos(2 * PI * 3.0 * t) * env;
+		out->w_body[0] = 1.5 * sin(2 * RS_PI * 4.0 * t) * env;
+		out->w_body[1] = 1.0 * sin(2 * RS_PI * 5.0 * t + 1.0) * env;
+		out->v_world[1] = 0.01 * 2 * RS_PI * 3.0 * cos(2 * RS_PI * 3.0 * t) * env;
 		break;
 	}
 }

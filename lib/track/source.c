@@ -5,7 +5,6 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "raystream/rs_track.h"
 
@@ -19,9 +18,7 @@ struct rs_track_source {
 
 double rs_track_now_s(void)
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+	return rs_now_ms() * 1e-3;
 }
 
 enum rs_status rs_track_source_create(const struct rs_track_source_ops *ops, void *impl,

@@ -5,8 +5,6 @@
 #include "private/rs_vec.h"
 #include "raystream/rs_view.h"
 
-#define VIEW_PI 3.14159265358979323846
-
 static int quat_zero(const double q[4])
 {
 	return q[0] == 0.0 && q[1] == 0.0 && q[2] == 0.0 && q[3] == 0.0;
@@ -158,7 +156,7 @@ enum rs_status rs_view_camera_from_pose(const struct rs_view_calibration *cal,
 			    "view: image aspect %.4g differs from the screen's %.4g", aspect_img,
 			    aspect_scr);
 		double half_h = 0.5 * cal->screen_height_m;
-		double fov = 2.0 * atan(half_h / d) * (180.0 / VIEW_PI);
+		double fov = 2.0 * atan(half_h / d) * (180.0 / RS_PI);
 		if (fov > cal->max_fov_deg)
 			return rs_error_set(err, RS_ERR_DEGENERATE,
 			                    "view: the frustum needs %.1f deg (> %.1f): screen too "

@@ -162,10 +162,10 @@ static int bench_triangle_tests(const struct bench_options *o, const char *name)
 		    rs_renderer_set_scene(renderer, scene, &err) != RS_OK)
 			code = 1;
 		for (uint32_t r = 0; r < o->repeats && code == 0; ++r) {
-			double t0 = rs_tool_now_ms();
+			double t0 = rs_now_ms();
 			if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
 				code = 1;
-			times[r] = rs_tool_now_ms() - t0;
+			times[r] = rs_now_ms() - t0;
 		}
 		rs_renderer_destroy(&renderer);
 		ms[t] = code == 0 ? rs_tool_median(times, o->repeats) : 0.0;

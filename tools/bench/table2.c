@@ -187,9 +187,9 @@ static int run_setting(const struct bench_options *o, const struct rs_scene *sce
 	}
 	struct rs_frame frame = {.rgba8 = r->rgba8};
 	for (uint32_t rep = 0; rep < o->repeats && s == RS_OK; ++rep) {
-		double t0 = rs_tool_now_ms();
+		double t0 = rs_now_ms();
 		s = rs_renderer_render(rn, NULL, &frame, &err);
-		r->ms[rep] = rs_tool_now_ms() - t0;
+		r->ms[rep] = rs_now_ms() - t0;
 		if (s == RS_OK)
 			keep_kernels(r, rs_renderer_stats(rn), rep);
 	}

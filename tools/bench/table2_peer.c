@@ -42,9 +42,9 @@ static int peer_passes(const struct bench_options *o, struct t2_scene *sc, uint3
 	if (s == RS_OK)
 		rs_image_compare(rgb, ref, o->size, o->size, 3, 1.0, 8.0 / 255.0, &p->diff);
 	for (uint32_t i = 0; i < o->repeats && s == RS_OK; ++i) {
-		double t0 = rs_tool_now_ms();
+		double t0 = rs_now_ms();
 		s = rs_renderer_render(r, NULL, &fr, &err);
-		frame[i] = rs_tool_now_ms() - t0;
+		frame[i] = rs_now_ms() - t0;
 	}
 	if (s == RS_OK) {
 		bench_peer_record(peer, true);

@@ -38,11 +38,11 @@ static enum rs_status our_build(struct mesh_build *m, uint32_t threads, double *
                                 struct rs_error *err)
 {
 	struct rs_bvh_desc desc = {.builder = RS_BVH_SAH, .threads = threads};
-	double t0 = rs_tool_now_ms(), c0 = process_cpu_ms();
+	double t0 = rs_now_ms(), c0 = process_cpu_ms();
 	enum rs_status s = rs_bvh_build(&desc, rs_scene_positions(m->scene),
 	                                rs_scene_vertex_count(m->scene), rs_scene_indices(m->scene),
 	                                m->tris, m->nodes, m->cap, m->order, &m->count, err);
-	*ms = rs_tool_now_ms() - t0;
+	*ms = rs_now_ms() - t0;
 	*cpu_ms = process_cpu_ms() - c0;
 	return s;
 }

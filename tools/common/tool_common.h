@@ -17,9 +17,6 @@
 #include "raystream/rs_status.h"
 #include "raystream/rs_trace.h"
 
-/* Monotonic wall clock in milliseconds. */
-double rs_tool_now_ms(void);
-
 /* Process CPU time (user + system, all threads) in milliseconds. */
 double rs_tool_cpu_ms(void);
 

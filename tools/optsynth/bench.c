@@ -14,13 +14,6 @@
 #define PAIRS 32
 #define REPS 8
 
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* CPU seconds of the process (all threads): on a shared machine the wall clock also counts the time
  * other processes held the core. */
 static double cpu_s(void)
@@ -41,14 +34,14 @@ static double uniform01(void)
 static double gauss(void)
 {
 	double u = uniform01(), v = uniform01();
-	return sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
+	return sqrt(-2.0 * log(u)) * cos(2.0 * RS_PI * v);
 }
 
 /* The display about 1 m in front of camera 0, turned up to ~35 degrees from facing it. */
 static void facing_pose(struct rs_pose *T)
 {
-	double tilt = 0.6 * uniform01(), dir = 6.283185307179586 * uniform01();
-	double spin = 6.283185307179586 * uniform01();
+	double tilt = 0.6 * uniform01(), dir = 2.0 * RS_PI * uniform01();
+	double spin = 2.0 * RS_PI * uniform01();
 	double qa[4] = {sin(tilt / 2) * cos(dir), sin(tilt / 2) * sin(dir), 0, cos(tilt / 2)};
 	double qz[4] = {0, 0, sin(spin / 2), cos(spin / 2)};
 	struct rs_pose A = {.orientation = {qa[0], qa[1], qa[2], qa[3]}};
@@ -95,7 +88,7 @@ static int throughput(int w, int h, int runs)
 	double rates[64], cpu_rates[64];
 	long solved = 0, total = 0;
 	for (int r = 0; r < runs; ++r) {
-		double t0 = now_s(), c0 = cpu_s(), time_s = r * 10.0;
+		double t0 = 1e-3 * rs_now_ms(), c0 = cpu_s(), time_s = r * 10.0;
 		for (int k = 0; k < REPS * PAIRS; ++k) {
 			int i = k % PAIRS;
 			struct rs_optical_image a = {img + 2 * i * bytes, w, h, (size_t)w};
@@ -111,7 +104,7 @@ static int throughput(int w, int h, int runs)
 			solved += q.status <= RS_POSE_RELABELED;
 			total++;
 		}
-		rates[r] = REPS * PAIRS / (now_s() - t0);
+		rates[r] = REPS * PAIRS / (1e-3 * rs_now_ms() - t0);
 		cpu_rates[r] = REPS * PAIRS / (cpu_s() - c0);
 	}
 	qsort(rates, (size_t)runs, sizeof rates[0], cmp);

@@ -8,11 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "raystream/rs_pose.h"
 
-#define PI 3.14159265358979323846
 #define POOL 1024
 
 struct rng {
@@ -31,7 +29,7 @@ static double uniform01(struct rng *r)
 static double gauss(struct rng *r)
 {
 	double u = uniform01(r), v = uniform01(r);
-	return sqrt(-2.0 * log(u)) * cos(2.0 * PI * v);
+	return sqrt(-2.0 * log(u)) * cos(2.0 * RS_PI * v);
 }
 
 static void random_pose(struct rng *r, struct rs_pose *T)
@@ -62,13 +60,6 @@ static void make_sample(const struct rs_pose_layout *L, const struct rs_pose *T,
 		for (int k = 0; k < 3; ++k)
 			out->markers[i].position[k] += sigma * gauss(r);
 	}
-}
-
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -135,7 +126,7 @@ static int bench_solver(long iters, int runs, double *out_median)
 	}
 	double rates[64], sink = 0.0;
 	for (int run = 0; run < runs; ++run) {
-		double t0 = now_s();
+		double t0 = 1e-3 * rs_now_ms();
 		for (long i = 0; i < iters; ++i) {
 			struct rs_pose out;
 			struct rs_pose_quality q;
@@ -144,7 +135,7 @@ static int bench_solver(long iters, int runs, double *out_median)
 			rs_pose_solver_update(s, smp, &out, &q);
 			sink += out.position[0];
 		}
-		rates[run] = (double)iters / (now_s() - t0);
+		rates[run] = (double)iters / (1e-3 * rs_now_ms() - t0);
 	}
 	rs_pose_solver_destroy(&s);
 	*out_median = median(rates, runs);
@@ -170,14 +161,14 @@ static int bench_filter(long iters, int runs, double *out_median)
 	double rates[64], sink = 0.0;
 	for (int run = 0; run < runs; ++run) {
 		rs_pose_filter_reset(f);
-		double t0 = now_s();
+		double t0 = 1e-3 * rs_now_ms();
 		for (long i = 0; i < iters; ++i) {
 			struct rs_pose in = pool[i % POOL], out;
 			in.time_s = 0.001 * (double)i;
 			rs_pose_filter_update(f, &in, &out, NULL);
 			sink += out.position[0];
 		}
-		rates[run] = (double)iters / (now_s() - t0);
+		rates[run] = (double)iters / (1e-3 * rs_now_ms() - t0);
 	}
 	rs_pose_filter_destroy(&f);
 	*out_median = median(rates, runs);
@@ -233,7 +224,7 @@ static void error_table(long trials)
 		rs_pose_solver_destroy(&s);
 		double n = (double)(trials - bad > 0 ? trials - bad : 1);
 		printf("| %.1f | %.4g | %.4g | %.4g | %.4g | %ld |\n", sigmas_mm[j],
-		       sqrt(sr / n) * 180.0 / PI, k * sigma * 180.0 / PI,
+		       sqrt(sr / n) * 180.0 / RS_PI, k * sigma * 180.0 / RS_PI,
 		       sqrt(sp / (3.0 * n)) * 1e3, sigma / sqrt(3.0) * 1e3, bad);
 	}
 }

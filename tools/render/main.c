@@ -181,10 +181,10 @@ static int run(const struct options *o)
 		goto done;
 	}
 	struct rs_frame frame = {.rgb = rgb, .rgba8 = rgba8, .depth = o->depth ? depth : NULL};
-	double t0 = rs_tool_now_ms();
+	double t0 = rs_now_ms();
 	if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
 		goto done;
-	double ms = rs_tool_now_ms() - t0;
+	double ms = rs_now_ms() - t0;
 	if (o->out && write_image(o, &frame, w, h, &err) != RS_OK)
 		goto done;
 	written[0] = o->out;

@@ -144,9 +144,9 @@ static enum rs_status measure(const struct rs_scene *scene, struct report_row *r
 	if (st == RS_OK)
 		st = rs_renderer_render(r, NULL, &frame, err);
 	for (uint32_t f = 0; f < frames && st == RS_OK; ++f) {
-		double c0 = rs_tool_cpu_ms(), t0 = rs_tool_now_ms();
+		double c0 = rs_tool_cpu_ms(), t0 = rs_now_ms();
 		st = rs_renderer_render(r, NULL, &frame, err);
-		ms[f] = rs_tool_now_ms() - t0;
+		ms[f] = rs_now_ms() - t0;
 		cpu[f] = rs_tool_cpu_ms() - c0;
 	}
 	if (st == RS_OK) {

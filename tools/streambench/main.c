@@ -93,7 +93,7 @@ static void *receiver(void *arg)
 				               NULL);
 			else
 				memcpy(rgba, m.u.frame.data, m.u.frame.size);
-			r->done_s[m.u.frame.frame_id] = rs_tool_now_ms() * 1e-3;
+			r->done_s[m.u.frame.frame_id] = rs_now_ms() * 1e-3;
 			++got;
 		}
 	}
@@ -120,10 +120,10 @@ static void link_run(const struct opts *o, uint8_t **msgs, const size_t *len, do
 	                                 .latency_s = o->latency_ms * 1e-3};
 	rs_stream_link_init(&link, &ld, NULL);
 	for (uint32_t i = 0; i < o->frames; ++i) {
-		start[i] = rs_tool_now_ms() * 1e-3;
+		start[i] = rs_now_ms() * 1e-3;
 		size_t off = 0;
 		while (off < len[i]) {
-			double t_now = rs_tool_now_ms() * 1e-3;
+			double t_now = rs_now_ms() * 1e-3;
 			size_t allow = rs_stream_link_allow(&link, t_now, len[i] - off);
 			if (allow == 0) {
 				usleep(
@@ -238,15 +238,15 @@ static int render_frames(const struct opts *o, uint8_t **frames, double *render_
 	struct rs_camera base = *rs_scene_camera(scene);
 	for (uint32_t i = 0; i < o->frames; ++i) {
 		struct rs_camera c = base;
-		double a = 0.35 * sin(2.0 * 3.14159265 * i / o->frames);
+		double a = 0.35 * sin(2.0 * RS_PI * i / o->frames);
 		double dx = base.eye[0] - base.target[0], dz = base.eye[2] - base.target[2];
 		c.eye[0] = base.target[0] + dx * cos(a) - dz * sin(a);
 		c.eye[2] = base.target[2] + dx * sin(a) + dz * cos(a);
 		struct rs_frame f = {.rgba8 = frames[i]};
-		double t0 = rs_tool_now_ms();
+		double t0 = rs_now_ms();
 		if (rs_renderer_render(r, &c, &f, &err) != RS_OK)
 			goto done;
-		render_ms[i] = rs_tool_now_ms() - t0;
+		render_ms[i] = rs_now_ms() - t0;
 	}
 	code = 0;
 done:
@@ -278,12 +278,12 @@ static void build(const struct opts *o, uint8_t **frames, int quality, uint8_t *
 			m.u.frame.encoding = RS_STREAM_ENC_RGBA8;
 			m.u.frame.data = frames[i];
 		} else {
-			double t0 = rs_tool_now_ms();
+			double t0 = rs_now_ms();
 			rs_jpeg_encode(j, frames[i], o->w, o->h, quality, o->sub, jpg, cap, &n,
 			               NULL);
-			double t1 = rs_tool_now_ms();
+			double t1 = rs_now_ms();
 			rs_jpeg_decode(j, jpg, n, o->w, o->h, back, NULL);
-			dec[i] = rs_tool_now_ms() - t1;
+			dec[i] = rs_now_ms() - t1;
 			enc[i] = t1 - t0;
 			ps[i] = psnr(frames[i], back, px);
 			m.u.frame.encoding = RS_STREAM_ENC_JPEG;

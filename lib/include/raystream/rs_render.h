@@ -4,7 +4,7 @@
  * renderer object behind a small table of operations. The CPU double-precision reference
  * (rs_trace.h, threaded) is one backend, built into this module; the GLES backends (EGL,
  * OSMesa) plug in through the same table from backends/ and are opened by name with
- * rs_renderer_open() (rs_renderer_open.h, module rs_renderers).
+ * rs_renderer_open() (rs_renderers.h, module rs_renderers).
  *
  * Life cycle: create -> set_scene (builds the BVH, packs and uploads once) -> render any
  * number of frames, each with an optional camera (the tracked viewer changes only the

@@ -1,6 +1,8 @@
 /**
  * @file rs_status.h
- * Status codes, error reporting and contract checks shared by every raystream module.
+ * Status codes, error reporting and contract checks shared by every raystream module,
+ * and the two things every module, tool and app must agree on: the one monotonic clock
+ * (rs_now_ms) and the one spelling of pi (RS_PI).
  *
  * One error rule for the whole library:
  * - Every fallible call returns an enum rs_status and takes an optional
@@ -107,6 +109,16 @@ void rs_assert_fail(const char *expr, const char *file, int line)
     __attribute__((noreturn))
 #endif
     ;
+
+/**
+ * Milliseconds of CLOCK_MONOTONIC (an arbitrary origin; never goes back): the one clock
+ * for durations and deadlines in the library, backends, tools and apps. rs_track_now_s()
+ * is the same clock in seconds.
+ */
+double rs_now_ms(void);
+
+/** Pi to double precision (strict C11 has no M_PI). */
+#define RS_PI 3.14159265358979323846
 
 /**
  * Contract check: always compiled in, whatever NDEBUG says (the checks are a pointer test

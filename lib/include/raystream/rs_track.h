@@ -107,7 +107,7 @@ struct rs_track_transport {
 enum rs_status rs_track_stream_create(const struct rs_track_transport *transport, void *impl,
                                       struct rs_track_source **out_source, struct rs_error *err);
 
-/** Seconds of CLOCK_MONOTONIC: the host clock of host_time_s. */
+/** rs_now_ms() in seconds: the host clock of host_time_s. */
 double rs_track_now_s(void);
 
 /**

@@ -9,7 +9,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "../peer.h"
 
@@ -403,8 +402,7 @@ enum rs_status bench_peer_replay(struct bench_peer *peer, bool stream, double *o
 	uint32_t threads = peer->threads < MAX_THREADS ? peer->threads : MAX_THREADS;
 	atomic_uint_fast64_t next;
 	atomic_init(&next, 0);
-	struct timespec t0, t1;
-	clock_gettime(CLOCK_MONOTONIC, &t0);
+	double t0 = rs_now_ms();
 	uint32_t started = 1;
 	for (uint32_t t = 0; t < threads; ++t) {
 		jobs[t] = (struct replay_job){.peer = peer, .next = &next, .end = end};
@@ -416,8 +414,7 @@ enum rs_status bench_peer_replay(struct bench_peer *peer, bool stream, double *o
 	run(&jobs[0]);
 	for (uint32_t t = 1; t < started; ++t)
 		pthread_join(ids[t], NULL);
-	clock_gettime(CLOCK_MONOTONIC, &t1);
-	*out_ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+	*out_ms = rs_now_ms() - t0;
 	*out_hits = 0;
 	for (uint32_t t = 0; t < started; ++t)
 		*out_hits += jobs[t].hits;
