@@ -30,7 +30,7 @@ static int bench(const char *name, const char *backend, struct rs_render_desc de
 	struct rs_renderer *r = NULL;
 	uint8_t *px = malloc((size_t)desc.width * desc.height * 4);
 	int code = 1;
-	if (!px || rs_tool_load_scene(name, &scene, &err) != RS_OK)
+	if (!px || rs_scenegen_load(name, &scene, &err) != RS_OK)
 		goto done;
 	if (desc.lights > rs_scene_light_count(scene)) {
 		rs_error_set(&err, RS_ERR_INVALID, "%s has %zu lights", name,

@@ -225,7 +225,7 @@ static int render_frames(const struct opts *o, uint8_t **frames, double *render_
 	struct rs_scene *scene = NULL;
 	struct rs_renderer *r = NULL;
 	int code = -1;
-	if (rs_tool_load_scene(o->scene, &scene, &err) != RS_OK)
+	if (rs_scenegen_load(o->scene, &scene, &err) != RS_OK)
 		goto done;
 	struct rs_render_desc d = {.width = o->w,
 	                           .height = o->h,
