@@ -41,6 +41,8 @@ static void usage(FILE *f)
 	    f, "usage: " TOOL " [options] URI\n"
 	       "  URI: hid:VID:PID[:SERIAL]  usb:VID:PID  serial:/dev/PATH[?baud=N]\n"
 	       "       sim:[seed=N&noise=0.5mm&rate=120&script=walk,turn&realtime=1&...]\n"
+	       "            (not real-time: one pass of the script, 6 s of motion by default,\n"
+	       "             unless duration=S, --count or --duration say otherwise)\n"
 	       "       replay:FILE[?realtime=1]\n"
 	       "       video:LEFT,RIGHT?calib=RIG[&rate=60]  (image sequences or videos)\n"
 	       "       cam:0,1?calib=RIG   (two V4L2 cameras; see docs/optical.md)\n"
@@ -207,17 +209,26 @@ static int output_failed(int *reported)
 	return 1;
 }
 
-/* sim: gets the tool's layout, so the solver and the simulated markers agree. */
-static enum rs_status open_source(const char *uri, const struct rs_pose_layout *layout,
+/* sim: gets the tool's layout, so the solver and the simulated markers agree. A sim that
+ * is not real-time produces samples as fast as they are printed, so unbounded it would
+ * fill the terminal (or a disk) within seconds: unless duration=, --count or --duration
+ * bound it, it runs one pass of its script. A real-time sim runs like a device, until
+ * stopped. */
+static enum rs_status open_source(const struct options *o, const struct rs_pose_layout *layout,
                                   struct rs_track_source **src, struct rs_error *err)
 {
-	if (strncmp(uri, "sim:", 4) != 0)
-		return rs_tracker_open(uri, src, err);
+	if (strncmp(o->uri, "sim:", 4) != 0)
+		return rs_tracker_open(o->uri, src, err);
 	static char script[512];
 	struct rs_track_sim_source_desc d;
-	enum rs_status st = rs_track_sim_parse_params(uri + 4, &d, script, sizeof script, err);
+	enum rs_status st = rs_track_sim_parse_params(o->uri + 4, &d, script, sizeof script, err);
 	if (st != RS_OK)
 		return st;
+	if (!d.realtime && d.sim.duration_s == 0 && o->count == 0 && o->duration_s == 0) {
+		st = rs_sim_script_seconds(d.sim.script, &d.sim.duration_s, err);
+		if (st != RS_OK)
+			return st;
+	}
 	d.sim.layout = (const double(*)[3])layout->markers;
 	return rs_track_sim_open(&d, src, err);
 }
@@ -241,7 +252,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 	struct rs_pose_filter *filter = NULL;
 	struct rs_track_recorder *rec = NULL;
 	int code = 1, started = 0, output_error = 0;
-	if (open_source(o->uri, layout, &src, &err) != RS_OK) {
+	if (open_source(o, layout, &src, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": cannot open '%s': %s\n", o->uri, err.message);
 		return err.status == RS_ERR_PARSE || err.status == RS_ERR_INVALID ? 2 : 1;
 	}
