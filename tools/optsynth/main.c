@@ -18,6 +18,12 @@
 #include "optsynth.h"
 
 #define TOOL "raystream-optsynth"
+/* The simulator's default script walks 0.6 m in its first two seconds, out of the
+ * cameras' shared view (about 0.5 x 0.4 m at 1 m) for a fifth of the default frames.
+ * This one walks a square of 15 cm sides (a quarter turn after each side), with a shake
+ * half way: the markers stay in both views for any number of frames. */
+#define OPTSYNTH_SCRIPT                                                                            \
+	"still:0.25,walk:0.5,turn:1,walk:0.5,turn:1,shake:0.5,walk:0.5,turn:1,walk:0.5,turn:1"
 
 static void usage(FILE *f)
 {
@@ -27,7 +33,8 @@ static void usage(FILE *f)
 	        "       " TOOL " --bench [--runs N]\n"
 	        "  -n, --frames N    frame pairs (default 120)\n"
 	        "  --rate HZ         frame rate of the motion (default 60)\n"
-	        "  --script S        simulator motion script (default " RS_SIM_DEFAULT_SCRIPT ")\n"
+	        "  --script S        simulator motion script (default, in view throughout:\n"
+	        "                    " OPTSYNTH_SCRIPT ")\n"
 	        "  --size WxH        image size (default 640x480; f = 1.25 W px)\n"
 	        "  --baseline M      camera distance (default 0.4 m), toed in to meet 1 m ahead\n"
 	        "  --noise G         pixel noise, grey levels RMS (default 2)\n"
@@ -66,12 +73,32 @@ static void camera_from_tracker(const struct rs_pose *T_tracker_body, struct rs_
 	rs_pose_compose(&T_cam0_tracker, T_tracker_body, out);
 }
 
+/* q and -q are one rotation; a canonical (w >= 0) sign flips from frame to frame near
+ * 180 degrees (markers facing a camera are about 180 degrees from it), so each written
+ * quaternion takes the hemisphere of the one before. */
+static void keep_hemisphere(double q[4], const double prev[4])
+{
+	double dot = q[0] * prev[0] + q[1] * prev[1] + q[2] * prev[2] + q[3] * prev[3];
+	if (dot < 0)
+		for (int k = 0; k < 4; ++k)
+			q[k] = -q[k];
+}
+
 static int generate(const char *dir, const struct optsynth_options *o)
 {
 	struct rs_error err;
 	char path[4096], tmp[4200];
+	/* The script is checked before anything is written: a refused run leaves nothing. */
+	struct rs_sim_desc sd = {
+	    .seed = o->seed, .rate_hz = o->rate, .script = o->script ? o->script : OPTSYNTH_SCRIPT};
+	struct rs_sim *sim = NULL;
+	if (rs_sim_create(&sd, &sim, &err) != RS_OK) {
+		fprintf(stderr, TOOL ": %s\n", err.message);
+		return 2;
+	}
 	if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
 		fprintf(stderr, TOOL ": cannot create %s: %s\n", dir, strerror(errno));
+		rs_sim_destroy(&sim);
 		return 1;
 	}
 	struct rs_optical_rig rig;
@@ -79,13 +106,8 @@ static int generate(const char *dir, const struct optsynth_options *o)
 	snprintf(path, sizeof path, "%s/rig.yaml", dir);
 	if (rs_optical_rig_save(path, &rig, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": %s\n", err.message);
+		rs_sim_destroy(&sim);
 		return 1;
-	}
-	struct rs_sim_desc sd = {.seed = o->seed, .rate_hz = o->rate, .script = o->script};
-	struct rs_sim *sim = NULL;
-	if (rs_sim_create(&sd, &sim, &err) != RS_OK) {
-		fprintf(stderr, TOOL ": %s\n", err.message);
-		return 2;
 	}
 	size_t bytes = (size_t)o->width * (size_t)o->height;
 	uint8_t *img[2] = {malloc(bytes), malloc(bytes)};
@@ -100,12 +122,16 @@ static int generate(const char *dir, const struct optsynth_options *o)
 	struct rs_pose_layout L;
 	rs_pose_layout_default(&L);
 	fprintf(truth, "# frame time_s T_cam0_markers: x y z (m) qx qy qz qw\n");
+	double prev_q[4];
 	for (int i = 0; i < o->frames; ++i) {
 		struct rs_marker_sample s;
 		struct rs_pose T_tracker_body, T;
 		if (rs_sim_next(sim, &s, &T_tracker_body, NULL) != RS_OK)
 			break;
 		camera_from_tracker(&T_tracker_body, &T);
+		if (i > 0)
+			keep_hemisphere(T.orientation, prev_q);
+		memcpy(prev_q, T.orientation, sizeof prev_q);
 		struct rs_optical_synth_desc d = o->synth;
 		d.seed = o->seed * 100003u + (uint64_t)i;
 		if (rs_optical_synth_render(&rig, &L, &T, &d, img[0], img[1], &err) != RS_OK) {

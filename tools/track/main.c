@@ -270,6 +270,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 	}
 	double start = rs_track_now_s(), next_stats = start + o->stats_every_s;
 	double last_sample = start;
+	double prev_q[4] = {0, 0, 0, 0}; /* zero: the first line keeps its sign */
 	long long n = 0;
 	/* From here on every end of the run, an error included, prints the final counters. */
 	started = 1;
@@ -340,6 +341,15 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 				rs_pose_filter_predict(filter, pose.time_s + o->predict_ms * 1e-3,
 				                       &pose, NULL);
 		}
+		/* The solver hands out canonical quaternions (w >= 0), whose sign flips from
+		 * line to line near 180 degrees (markers facing a camera): the printed run
+		 * keeps each in the hemisphere of the line before, so it reads continuous. */
+		double dot = 0;
+		for (int k = 0; k < 4; ++k)
+			dot += pose.orientation[k] * prev_q[k];
+		for (int k = 0; k < 4 && dot < 0; ++k)
+			pose.orientation[k] = -pose.orientation[k];
+		memcpy(prev_q, pose.orientation, sizeof prev_q);
 		if (!o->quiet)
 			print_pose(&s, &pose, &q);
 		if (output_failed(&output_error))
