@@ -6,11 +6,44 @@ source "$(dirname "$0")/cli_harness.sh"
 script=$bin
 build=$3
 
+# --help is usage on stdout, exit 0.
+bash "$script" --help >stdout.txt 2>stderr.txt && grep -q -- '--out FILE.md' stdout.txt &&
+  [ ! -s stderr.txt ] && ok "--help" || bad "--help: $(head -c 300 stderr.txt)"
+# An output that cannot be written is refused at the start (one line, exit 1, before any
+# table is measured), never "wrote" after the work, and nothing is left behind.
+# refused NAME TARGET: run with --out TARGET; true when refused cleanly.
+refused() {
+  local name=$1 target=$2 rc
+  bash "$script" --quick --build "$build" --out "$target" >stdout.txt 2>stderr.txt
+  rc=$?
+  if [ "$rc" -ne 1 ]; then bad "$name: exit $rc, want 1"
+  elif [ "$(wc -l <stderr.txt)" -ne 1 ] || grep -q 'Table\|wrote' stderr.txt; then
+    bad "$name: want one error line before any work: $(head -c 300 stderr.txt)"
+  elif compgen -G "$work/*.tmp-*" >/dev/null || compgen -G "$work/dir/*.tmp-*" >/dev/null; then
+    bad "$name: left a temporary file"
+  else ok "$name refused: $(cat stderr.txt)"; fi
+}
+mkdir -p dir
+refused "folder as --out" dir
+refused "missing folder" "$work/no-such-folder/t.md"
+echo x >plain && refused "file as folder" plain/t.md
+mkfifo fifo && refused "FIFO as --out" fifo
+[ -p fifo ] || bad "FIFO replaced"
+# a failure after the start (here: no tools in --build) leaves no output and no temporary
+if bash "$script" --build "$work/dir" --out dir/t.md >stdout.txt 2>stderr.txt; then
+  bad "missing tools: exit 0"
+else
+  [ ! -e dir/t.md ] && ! compgen -G "dir/t.md.tmp-*" >/dev/null && ok "failed run leaves nothing" ||
+    bad "failed run left $(ls dir)"
+fi
+
 if bash "$script" --quick --build "$build" --out tables.md >stdout.txt 2>stderr.txt; then
   ok "quick run"
 else
   bad "quick run: $(tail -c 400 stderr.txt)"
 fi
+[ "$(cat stdout.txt)" = tables.md ] && ok "output named on stdout" ||
+  bad "stdout: $(head -c 200 stdout.txt)"
 for t in "Table 1" "Table 2" "Table 3"; do
   grep -q "^## $t" tables.md && ok "$t present" || bad "$t missing"
 done

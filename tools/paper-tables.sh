@@ -6,11 +6,19 @@
 #   Table 3  the mirrors scene at 5 passes: classic and inter-reflection environment
 #            mapping (2 bounces) and the ray tracer on the backend, and the CPU
 #            reference (raystream-glbench)
-# Usage: tools/paper-tables.sh [--quick] [--build DIR] [--backend egl|osmesa|cpu]
-#                              [--out FILE.md]
-#   --quick: box (and mirrors) at 32x32, one frame: checks the plumbing (CI), not speed.
-#   --build: the build folder (default $RS_BUILD_DIR, else build/ in the source tree).
 set -euo pipefail
+usage() {
+  cat <<'EOF'
+usage: tools/paper-tables.sh [--quick] [--build DIR] [--backend egl|osmesa|cpu] [--out FILE.md]
+  The paper's Tables 1-3 beside ours, as Markdown (stdout unless --out; progress on stderr).
+  --quick          box (and mirrors) at 32x32, one frame: the plumbing (CI), not speed
+  --build DIR      the build folder (default: $RS_BUILD_DIR, else build/ in the source tree)
+  --backend NAME   the backend of Tables 2 and 3 (default: egl)
+  --out FILE.md    write the tables there, all or nothing (its folder must exist; checked
+                   before any work)
+EOF
+}
+die() { echo "paper-tables: $*" >&2; exit "${code:-1}"; }
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${RS_BUILD_DIR:-$root/build}
 backend=egl
@@ -18,13 +26,27 @@ quick=0
 out=""
 while [ $# -gt 0 ]; do
   case $1 in
+    -h|--help) usage; exit 0 ;;
     --quick) quick=1; shift ;;
-    --build) build=${2:?--build needs a folder}; shift 2 ;;
-    --backend) backend=${2:?--backend needs a name}; shift 2 ;;
-    --out) out=${2:?--out needs a file}; shift 2 ;;
-    *) echo "paper-tables: unknown option '$1'" >&2; exit 2 ;;
+    --build|--backend|--out)
+      [ $# -ge 2 ] && [ -n "$2" ] || code=2 die "$1 needs a value (try --help)"
+      case $1 in --build) build=$2 ;; --backend) backend=$2 ;; --out) out=$2 ;; esac
+      shift 2 ;;
+    *) code=2 die "unknown option '$1' (try --help)" ;;
   esac
 done
+# The output is checked before minutes of work, not after: a folder, a missing folder or
+# one we cannot write is refused now, and a device or FIFO is never replaced. The tables
+# go to a temporary file beside the target, renamed over it only when complete.
+outtmp="" tmp=""
+trap 'rm -rf "$tmp"; [ -z "$outtmp" ] || rm -f "$outtmp"' EXIT
+if [ -n "$out" ]; then
+  [ -d "$out" ] && die "--out $out is a folder; give a file name (e.g. $out/tables.md)"
+  [ -e "$out" ] && [ ! -f "$out" ] && die "--out $out exists and is not a regular file"
+  outdir=$(dirname -- "$out")
+  [ -d "$outdir" ] || die "cannot write $out: no folder $outdir"
+  outtmp=$(mktemp "$out.tmp-XXXXXX" 2>/dev/null) || die "cannot write $out: folder $outdir is not writable"
+fi
 bench=$build/tools/bench/raystream-bench
 glbench=$build/tools/glbench/raystream-glbench
 for t in "$bench" "$glbench"; do
@@ -39,7 +61,6 @@ fi
 bounces3=2
 step() { echo "paper-tables: $*" >&2; }
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
 
 # glbench_row SCENE PASSES PRIMARY [BACKEND [REFLECTIONS]]: "fps hits" of one glbench
 # run, plus the renderer line kept for the header.
@@ -136,8 +157,11 @@ fpscpu=${row% *}
 } >>"$tmp/out.md"
 
 if [ -n "$out" ]; then
-  cp "$tmp/out.md" "$out.tmp-$$" && mv "$out.tmp-$$" "$out"
+  cat "$tmp/out.md" >"$outtmp" || die "cannot write $out"
+  mv -f "$outtmp" "$out" || die "cannot write $out"
+  outtmp=""
+  echo "$out"
   step "wrote $out"
 else
-  cat "$tmp/out.md"
+  cat "$tmp/out.md" || die "cannot write the tables to standard output"
 fi
