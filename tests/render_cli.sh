@@ -26,8 +26,8 @@ expect_fail "unknown flag" 2 "unknown option '--frobnicate'" --scene box --frobn
 expect_fail "missing scene flag" 2 "scene is required"
 expect_fail "bad size" 2 "--size" --scene box --size 0x10
 expect_fail "bad passes" 2 "--passes" --scene box --passes many
-expect_fail "bad bvh" 2 "unknown BVH builder" --scene box --bvh octree
-expect_fail "bad backend" 2 "unknown backend" --scene box --backend vulkan
+expect_fail "bad bvh" 2 "--bvh: 'octree' is not sah" --scene box --bvh octree
+expect_fail "bad backend" 2 "--backend: .vulkan. is not auto.cpu.egl.osmesa" --scene box --backend vulkan
 expect_fail "missing file" 1 "nope.obj" --scene nope.obj
 expect_fail "malformed file" 1 "junk.obj" --scene junk.obj
 expect_fail "NaN vertex" 1 "NaN|nan|finite" --scene nan.obj

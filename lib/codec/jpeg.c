@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <turbojpeg.h>
 
+#include "private/rs_atomic_file.h"
 #include "raystream/rs_codec.h"
 
 struct rs_jpeg {
@@ -113,4 +114,33 @@ enum rs_status rs_jpeg_decode(struct rs_jpeg *jpeg, const uint8_t *data, size_t 
 		return rs_error_set(err, RS_ERR_PARSE, "jpeg: decode failed: %s",
 		                    tjGetErrorStr2(jpeg->dec));
 	return RS_OK;
+}
+
+enum rs_status rs_jpeg_write(const char *path, const uint8_t *rgba, uint32_t width, uint32_t height,
+                             int quality, struct rs_error *err)
+{
+	RS_ASSERT(path && rgba);
+	size_t cap = rs_jpeg_bound(width, height);
+	if (cap == 0)
+		return rs_error_set(err, RS_ERR_INVALID, "jpeg: image size %ux%u is out of range",
+		                    width, height);
+	struct rs_jpeg *jpeg = NULL;
+	uint8_t *data = malloc(cap);
+	size_t size = 0;
+	enum rs_status st =
+	    data ? rs_jpeg_create(&jpeg, err)
+	         : rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory writing %s", path);
+	if (st == RS_OK)
+		st = rs_jpeg_encode(jpeg, rgba, width, height, quality, RS_JPEG_444, data, cap,
+		                    &size, err);
+	struct rs_atomic_file af;
+	if (st == RS_OK && (st = rs_atomic_open(&af, path, err)) == RS_OK) {
+		bool ok = fwrite(data, 1, size, af.f) == size;
+		if (!ok)
+			rs_error_set(err, RS_ERR_IO, "cannot write %s", path);
+		st = rs_atomic_commit(&af, ok, err);
+	}
+	rs_jpeg_destroy(&jpeg);
+	free(data);
+	return st;
 }

@@ -1,4 +1,4 @@
-/* PNG through libpng's simplified API: 8-bit RGB in and out. */
+/* PNG through libpng's simplified API: 8-bit RGB in and out, RGBA8 out. */
 #include <math.h>
 #include <png.h>
 #include <stdlib.h>
@@ -22,6 +22,28 @@ static enum rs_status check_size(uint32_t width, uint32_t height, struct rs_erro
 	return RS_OK;
 }
 
+/* Write 8-bit pixels of `format` (PNG_FORMAT_RGB or _RGBA) through a temporary file. */
+static enum rs_status write_bytes(const char *path, const uint8_t *bytes, uint32_t width,
+                                  uint32_t height, png_uint_32 format, struct rs_error *err)
+{
+	struct rs_atomic_file af;
+	enum rs_status status = rs_atomic_open(&af, path, err);
+	if (status != RS_OK)
+		return status;
+	png_image image;
+	memset(&image, 0, sizeof image);
+	image.version = PNG_IMAGE_VERSION;
+	image.width = width;
+	image.height = height;
+	image.format = format;
+	int ok = png_image_write_to_stdio(&image, af.f, 0, bytes,
+	                                  (png_int_32)(width * PNG_IMAGE_PIXEL_SIZE(format)), NULL);
+	if (!ok)
+		rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path, image.message);
+	png_image_free(&image);
+	return rs_atomic_commit(&af, ok, err);
+}
+
 enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t width,
                                   uint32_t height, struct rs_error *err)
 {
@@ -33,25 +55,18 @@ enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t w
 	if (!bytes)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory writing %s", path);
 	rs_image_quantize(rgb, width, height, bytes);
-
-	struct rs_atomic_file af;
-	status = rs_atomic_open(&af, path, err);
-	if (status != RS_OK) {
-		free(bytes);
-		return status;
-	}
-	png_image image;
-	memset(&image, 0, sizeof image);
-	image.version = PNG_IMAGE_VERSION;
-	image.width = width;
-	image.height = height;
-	image.format = PNG_FORMAT_RGB;
-	int ok = png_image_write_to_stdio(&image, af.f, 0, bytes, (png_int_32)(width * 3), NULL);
-	if (!ok)
-		rs_error_set(err, RS_ERR_IO, "cannot write %s: %s", path, image.message);
-	png_image_free(&image);
+	status = write_bytes(path, bytes, width, height, PNG_FORMAT_RGB, err);
 	free(bytes);
-	return rs_atomic_commit(&af, ok, err);
+	return status;
+}
+
+enum rs_status rs_image_write_png_rgba8(const char *path, const uint8_t *rgba, uint32_t width,
+                                        uint32_t height, struct rs_error *err)
+{
+	RS_ASSERT(path && rgba);
+	enum rs_status status = check_size(width, height, err);
+	return status == RS_OK ? write_bytes(path, rgba, width, height, PNG_FORMAT_RGBA, err)
+	                       : status;
 }
 
 enum rs_status rs_image_read_png(const char *path, uint8_t **out_pixels, uint32_t *out_width,

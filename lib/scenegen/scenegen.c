@@ -82,8 +82,15 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 		st = sg_build_box(scene, err);
 	else if (desc->kind == RS_SCENEGEN_MIRRORS)
 		st = sg_build_mirrors(scene, err);
-	else
-		st = sg_build_cows(scene, desc->cow_path, desc->cows == 0 ? 1 : desc->cows, err);
+	else {
+		char found[4096];
+		const char *cow = desc->cow_path;
+		if (!cow &&
+		    (st = rs_scenegen_data_path("cow.obj", found, sizeof found, err)) == RS_OK)
+			cow = found;
+		if (cow)
+			st = sg_build_cows(scene, cow, desc->cows == 0 ? 1 : desc->cows, err);
+	}
 	if (st != RS_OK) {
 		rs_scene_destroy(&scene);
 		return st;

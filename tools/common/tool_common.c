@@ -41,70 +41,22 @@ double rs_tool_median(double *v, uint32_t n)
 
 int rs_tool_parse_u32(const char *text, uint32_t min, uint32_t max, uint32_t *out)
 {
-	if (!text || !*text || *text == '-' || *text == '+')
-		return 0;
-	char *end = NULL;
-	errno = 0;
-	unsigned long long v = strtoull(text, &end, 10);
-	if (errno || *end || v < min || v > max)
-		return 0;
-	*out = (uint32_t)v;
-	return 1;
+	return rs_cli_parse_u32(text, min, max, out);
 }
 
 int rs_tool_parse_size(const char *text, uint32_t *out_w, uint32_t *out_h)
 {
-	if (!text)
-		return 0;
-	const char *x = strchr(text, 'x');
-	if (!x || x == text || (size_t)(x - text) > 10)
-		return 0;
-	char w[16];
-	memcpy(w, text, (size_t)(x - text));
-	w[x - text] = '\0';
-	return rs_tool_parse_u32(w, 1, RS_IMAGE_MAX_SIDE, out_w) &&
-	       rs_tool_parse_u32(x + 1, 1, RS_IMAGE_MAX_SIDE, out_h);
-}
-
-static int is_file(const char *path)
-{
-	struct stat st;
-	return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+	return rs_cli_parse_size(text, RS_IMAGE_MAX_SIDE, out_w, out_h);
 }
 
 int rs_tool_find_cow(char *out, size_t size)
 {
-	const char *dirs[] = {getenv("RS_DATA_DIR"), RS_SOURCE_DATA_DIR, RS_INSTALL_DATA_DIR};
-	for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; ++i) {
-		if (!dirs[i] || !*dirs[i])
-			continue;
-		int n = snprintf(out, size, "%s/cow.obj", dirs[i]);
-		if (n > 0 && (size_t)n < size && is_file(out))
-			return 1;
-	}
-	return 0;
+	return rs_scenegen_data_path("cow.obj", out, size, NULL) == RS_OK;
 }
 
 enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struct rs_error *err)
 {
-	struct rs_scenegen_desc gen;
-	struct rs_error gen_err = {0};
-	if (rs_scenegen_parse(name, &gen, &gen_err) == RS_OK) {
-		char cow[4096];
-		if (gen.kind == RS_SCENEGEN_COW) {
-			if (!rs_tool_find_cow(cow, sizeof cow))
-				return rs_error_set(
-				    err, RS_ERR_NOT_FOUND,
-				    "cow.obj not found (set RS_DATA_DIR to its folder)");
-			gen.cow_path = cow;
-		}
-		return rs_scenegen_build(&gen, out, err);
-	}
-	if (!is_file(name))
-		return rs_error_set(err, RS_ERR_NOT_FOUND,
-		                    "scene '%s' is neither box, mirrors, cowN nor an existing file",
-		                    name);
-	return rs_load_scene(NULL, name, out, err);
+	return rs_scenegen_load(name, out, err);
 }
 
 enum rs_status rs_tool_write_text(const char *path, const char *text, struct rs_error *err)
@@ -139,58 +91,41 @@ enum rs_status rs_tool_write_json(const char *path, const cJSON *doc, struct rs_
 	return status;
 }
 
+/* The option parsers below are the library's (rs_render_desc_set/get), kept under their old
+ * names until every tool reads its options through rs_cli. */
 int rs_tool_parse_reflections(const char *text, enum rs_reflection_mode *mode, uint32_t *bounces)
 {
-	*bounces = 0;
-	if (strcmp(text, "trace") == 0)
-		*mode = RS_REFLECT_TRACE;
-	else if (strcmp(text, "envmap") == 0)
-		*mode = RS_REFLECT_ENVMAP;
-	else if (strcmp(text, "interreflect") == 0)
-		*mode = RS_REFLECT_INTERREFLECT;
-	else if (strncmp(text, "interreflect:", 13) == 0 &&
-	         rs_tool_parse_u32(text + 13, 1, RS_RENDER_MAX_BOUNCES, bounces))
-		*mode = RS_REFLECT_INTERREFLECT;
-	else
+	struct rs_render_desc d = {0};
+	if (rs_render_desc_set(&d, "reflections", text, NULL) != RS_OK)
 		return 0;
+	*mode = d.reflections;
+	*bounces = d.reflection_bounces;
 	return 1;
 }
 
 int rs_tool_parse_nodes(const char *text, struct rs_pack_desc *pack)
 {
-	const char *colon = strchr(text, ':');
-	size_t n = colon ? (size_t)(colon - text) : strlen(text);
-	if (n == 7 && strncmp(text, "compact", n) == 0)
-		pack->nodes = RS_PACK_NODES_COMPACT;
-	else if (n == 5 && strncmp(text, "paper", n) == 0)
-		pack->nodes = RS_PACK_NODES_PAPER;
-	else
+	struct rs_render_desc d = {.pack = *pack};
+	if (rs_render_desc_set(&d, "nodes", text, NULL) != RS_OK)
 		return 0;
-	if (!colon || strcmp(colon + 1, "directional") == 0)
-		pack->orders = RS_PACK_ORDERS_DIRECTIONAL;
-	else if (strcmp(colon + 1, "single") == 0)
-		pack->orders = RS_PACK_ORDERS_SINGLE;
-	else
-		return 0;
+	*pack = d.pack;
 	return 1;
 }
 
 const char *rs_tool_nodes_name(const struct rs_pack_desc *pack, char *out, size_t size)
 {
-	snprintf(out, size, "%s:%s", pack->nodes == RS_PACK_NODES_PAPER ? "paper" : "compact",
-	         pack->orders == RS_PACK_ORDERS_SINGLE ? "single" : "directional");
+	struct rs_render_desc d = {.pack = *pack};
+	rs_render_desc_get(&d, "nodes", out, size, NULL);
 	return out;
 }
 
 int rs_tool_parse_storage(const char *text, enum rs_scene_storage *out)
 {
-	static const char *const names[3] = {"auto", "2d", "buffer"};
-	for (int i = 0; i < 3; ++i)
-		if (strcmp(text, names[i]) == 0) {
-			*out = (enum rs_scene_storage)i;
-			return 1;
-		}
-	return 0;
+	struct rs_render_desc d = {0};
+	if (rs_render_desc_set(&d, "scene-storage", text, NULL) != RS_OK)
+		return 0;
+	*out = d.scene_storage;
+	return 1;
 }
 
 const char *rs_tool_storage_name(enum rs_scene_storage storage)
@@ -202,11 +137,6 @@ const char *rs_tool_storage_name(enum rs_scene_storage storage)
 
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size)
 {
-	if (desc->reflections == RS_REFLECT_INTERREFLECT)
-		snprintf(out, size, "interreflect:%u",
-		         desc->reflection_bounces ? desc->reflection_bounces : 1u);
-	else
-		snprintf(out, size, "%s",
-		         desc->reflections == RS_REFLECT_ENVMAP ? "envmap" : "trace");
+	rs_render_desc_get(desc, "reflections", out, size, NULL);
 	return out;
 }

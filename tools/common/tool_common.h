@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "raystream/rs_bvh.h"
+#include "raystream/rs_cli.h"
 #include "raystream/rs_image.h"
 #include "raystream/rs_load.h"
 #include "raystream/rs_pack.h"

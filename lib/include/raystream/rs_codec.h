@@ -60,6 +60,13 @@ enum rs_status rs_jpeg_decode(struct rs_jpeg *jpeg, const uint8_t *data, size_t 
                               uint32_t width, uint32_t height, uint8_t *out_rgba,
                               struct rs_error *err);
 
+/**
+ * Write RGBA8 pixels (alpha ignored) as a JPEG file at `quality` (1..100, 4:4:4), through a
+ * temporary file and a rename like every file the library writes: all or nothing.
+ */
+enum rs_status rs_jpeg_write(const char *path, const uint8_t *rgba, uint32_t width, uint32_t height,
+                             int quality, struct rs_error *err);
+
 #ifdef __cplusplus
 }
 #endif

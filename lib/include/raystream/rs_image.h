@@ -43,6 +43,11 @@ void rs_image_quantize(const float *rgb, uint32_t width, uint32_t height, uint8_
 enum rs_status rs_image_write_png(const char *path, const float *rgb, uint32_t width,
                                   uint32_t height, struct rs_error *err);
 
+/** Write 8-bit RGBA pixels (row 0 = top; rs_frame.rgba8, what renderers hand out) as an
+ * 8-bit RGBA PNG, through a temporary file like rs_image_write_png(). */
+enum rs_status rs_image_write_png_rgba8(const char *path, const uint8_t *rgba, uint32_t width,
+                                        uint32_t height, struct rs_error *err);
+
 /**
  * Read an 8-bit PNG as RGB bytes. *out_pixels is allocated by the call (width*height*3,
  * row 0 = top) and freed by the caller with rs_free().

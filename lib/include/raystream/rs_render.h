@@ -98,7 +98,10 @@ enum rs_scene_storage {
 struct rs_render_desc {
 	uint32_t width, height; /**< image size; 0: the scene camera's (at set_scene) */
 	uint32_t passes;        /**< ray segments per path; 0 -> 2 */
-	uint32_t lights;        /**< the scene's first N lights; 0 -> all */
+	/** The scene's first N lights; 0 -> all of them. The command-line tools and apps
+	 * default to all as well (--lights N restricts), so a zero descriptor and a tool run
+	 * without options render the same image. */
+	uint32_t lights;
 	enum rs_triangle_test triangle_test;
 	double ray_epsilon; /**< as rs_trace_desc.ray_epsilon; 0 -> the tracer's default */
 	enum rs_primary_mode primary;
@@ -117,12 +120,17 @@ struct rs_render_desc {
 	enum rs_reflection_mode reflections;
 	/** RS_REFLECT_INTERREFLECT: cube-map captures per frame, 1..8; 0 -> 1. */
 	uint32_t reflection_bounces;
-	/** GL backends: EGL platform to use ("surfaceless", "device", "gbm"); NULL: the
-	 * RS_EGL_PLATFORM environment variable, else the first that works in that order.
+	/** GL backends: EGL platform to use ("device", "gbm", "surfaceless"); NULL: the
+	 * RS_EGL_PLATFORM environment variable, else the first that works in that order
+	 * (rs_egl.h).
 	 * Read only while the renderer is created. */
 	const char *egl_platform;
 	/** GL backends: where the packed scene lives; the CPU backend ignores it. */
 	enum rs_scene_storage scene_storage;
+	/** The backend rs_renderer_open() opens when it is given no name: "auto", "cpu",
+	 * "egl", "osmesa" (rs_renderers.h); NULL -> "auto". The backends themselves ignore it;
+	 * rs_render_desc_set() points it at a static string. */
+	const char *backend;
 };
 
 /** Kernel timing, GL backends (summed over the passes of one frame). */
@@ -253,6 +261,43 @@ const char *rs_renderer_backend(const struct rs_renderer *renderer);
  * under 3 texels or a row wider than it). */
 enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct rs_render_desc *out,
                                       struct rs_error *err);
+
+/** One render option as the command line and config strings spell it. */
+struct rs_render_option {
+	const char *key;      /**< "passes"; on a command line "--passes" */
+	const char *values;   /**< the valid values, e.g. "1..64" or "trace|raster" */
+	const char *fallback; /**< what a zero descriptor means, e.g. "2" */
+	const char *help;     /**< one line */
+};
+
+/** Every render option (static table, `*out_count` entries), in --help order: backend, size,
+ * passes, lights, shadows, primary, reflections, bvh, nodes, scene-storage, threads,
+ * triangle-test, chain. */
+const struct rs_render_option *rs_render_options(size_t *out_count);
+
+/** The option named `key`, or NULL. */
+const struct rs_render_option *rs_render_option_find(const char *key);
+
+/**
+ * Set one option of `desc` from text, as a command line spells it: key "passes", value "2"
+ * (keys and values as rs_render_options() lists them). RS_ERR_INVALID with a message naming
+ * the key, the value and the valid values ("passes: '0' is not 1..64") for an unknown key
+ * or a bad value; `desc` is unchanged then. Ranges that depend on the scene or device (more
+ * lights than the scene has, a backend this build lacks) are checked when used.
+ */
+enum rs_status rs_render_desc_set(struct rs_render_desc *desc, const char *key, const char *value,
+                                  struct rs_error *err);
+
+/** rs_render_desc_set() for each item of a comma-separated "key=value" list
+ * ("passes=2,lights=4,shadows=map:1024"); all or nothing: `desc` is unchanged on failure. */
+enum rs_status rs_render_desc_parse(struct rs_render_desc *desc, const char *config,
+                                    struct rs_error *err);
+
+/** Spell one option of `desc` as rs_render_desc_set() takes it (a zero field as its default:
+ * "all", "camera", "cores") into `out` (cap bytes). RS_ERR_INVALID for an unknown key,
+ * RS_ERR_LIMIT when it does not fit. */
+enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char *key, char *out,
+                                  size_t cap, struct rs_error *err);
 
 /** A scene's BVH and its packed textures, owned together: what every backend uploads. */
 struct rs_render_accel {

@@ -37,11 +37,13 @@ enum rs_scenegen_kind {
 	RS_SCENEGEN_MIRRORS = 2,
 };
 
-/** What to build; zero-initialised means Cow1 (cow_path must still be set). */
+/** What to build; zero-initialised means Cow1 with the shipped cow. */
 struct rs_scenegen_desc {
 	enum rs_scenegen_kind kind;
-	uint32_t cows;        /**< N for CowN; 0 means 1 */
-	const char *cow_path; /**< path of cow.obj, required for RS_SCENEGEN_COW */
+	uint32_t cows; /**< N for CowN; 0 means 1 */
+	/** Path of the cow model for RS_SCENEGEN_COW; NULL: the shipped cow.obj, found by
+	 * rs_scenegen_data_path(). */
+	const char *cow_path;
 };
 
 /**
@@ -68,6 +70,27 @@ enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, 
  */
 enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_scene **out,
                                  struct rs_error *err);
+
+/**
+ * Find a file shipped with raystream (the models in data/, e.g. "cow.obj") into `out`
+ * (size bytes), looking in this order:
+ *   1. $RS_DATA_DIR, when set: the only place then (RS_ERR_NOT_FOUND when the file is not
+ *      there, rather than a quiet fallback to another copy);
+ *   2. PREFIX/share/raystream for the running program at PREFIX/bin (any folder name), so
+ *      an installed program finds its install's data wherever the prefix was moved;
+ *   3. the source tree's data/ the library was built from;
+ *   4. the configured install prefix's share/raystream.
+ * RS_ERR_NOT_FOUND names the places looked in.
+ */
+enum rs_status rs_scenegen_data_path(const char *file, char *out, size_t size,
+                                     struct rs_error *err);
+
+/**
+ * A scene by the name a command line gives: "box", "mirrors", "cowN" (the shipped cow,
+ * rs_scenegen_data_path()) or the path of an OBJ/PLY file with an optional view file
+ * beside it (rs_load_scene()). RS_ERR_NOT_FOUND names a name that is none of these.
+ */
+enum rs_status rs_scenegen_load(const char *name, struct rs_scene **out, struct rs_error *err);
 
 /**
  * Export a scene: an OBJ with positions, normals and one object per run of triangles
