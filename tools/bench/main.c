@@ -52,24 +52,6 @@ static enum rs_status parse_scene(void *out, const char *v, struct rs_error *err
 	                    "unknown scene '%s' (box, cow1, cow2, cow5, cow9 or cow17)", v);
 }
 
-/* Open the backend once (a tiny frame) to learn which one "auto" is on this machine, so
- * every row names it and the fallback note comes once. */
-static int resolve_backend(const struct rs_cli *cli, struct bench_options *o)
-{
-	static char name[16];
-	struct rs_render_desc d = o->render;
-	d.width = d.height = 8;
-	struct rs_renderer *r = NULL;
-	struct rs_error err = {0}, note = {0};
-	if (rs_renderer_open_noted(NULL, &d, &r, &note, &err) != RS_OK)
-		return rs_cli_fail(cli, &err);
-	rs_cli_note(cli, note.message);
-	snprintf(name, sizeof name, "%s", rs_renderer_backend(r));
-	rs_renderer_destroy(&r);
-	o->backend = name;
-	return 0;
-}
-
 /* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
 static int parse(int argc, char **argv, struct bench_options *o, const char **json_path)
 {
@@ -148,8 +130,10 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 		o->threads = n > 0 && n <= 256 ? (uint32_t)n : 1u;
 	}
 	/* Table 1 renders on the CPU reference: it needs no backend opened. */
-	if (o->times || o->table == 2)
-		return resolve_backend(&cli, o);
+	struct rs_error err = {0};
+	if ((o->times || o->table == 2) &&
+	    !(o->backend = rs_tool_backend_name(&cli, &o->render, &err)))
+		return rs_cli_fail(&cli, &err);
 	return 0;
 }
 

@@ -57,6 +57,13 @@ int rs_tool_find_cow(char *out, size_t size);
 /* A scene by name (box, cowN) or a mesh file path (OBJ/PLY with optional .json view). */
 enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struct rs_error *err);
 
+/* The backend `desc` asks for (desc->backend; NULL: auto) as this machine opens it: one
+ * 8x8 renderer is opened and closed so "auto" is resolved once, its fallback note (if any)
+ * goes to stderr through rs_cli_note(), and every row of a table can name the backend.
+ * Returns a static name ("egl"), or NULL with `err` set when it cannot be opened. */
+const char *rs_tool_backend_name(const struct rs_cli *cli, const struct rs_render_desc *desc,
+                                 struct rs_error *err);
+
 /* Write text through a temporary file and rename (never a partial file). */
 enum rs_status rs_tool_write_text(const char *path, const char *text, struct rs_error *err);
 
