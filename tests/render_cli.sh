@@ -9,7 +9,8 @@ expect_fail() {
   local name=$1 code=$2 regex=$3
   shift 3
   rm -f out.png out.json out.pfm
-  fails_cleanly "$name" "$code" "$regex" --out out.png --stats out.json --depth out.pfm "$@" || return
+  # cpu unless the case names a backend: auto's fallback note would be a second line.
+  fails_cleanly "$name" "$code" "$regex" --backend cpu --out out.png --stats out.json --depth out.pfm "$@" || return
   if [ -e out.png ] || [ -e out.json ] || [ -e out.pfm ]; then bad "$name: left an output file"; return; fi
   if ls ./*.tmp-* >/dev/null 2>&1; then bad "$name: left a temporary file"; return; fi
   ok "$name"

@@ -7,6 +7,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -73,6 +74,36 @@ static void test_round_trip_quality(void **state)
 	rs_jpeg_destroy(NULL);
 }
 
+/* rs_jpeg_write: a JPEG file that decodes to the image; a bad size leaves no file. */
+static void test_write_file(void **state)
+{
+	(void)state;
+	make_image();
+	char dir[] = "/tmp/rs_test_codec_XXXXXX", path[64];
+	assert_non_null(mkdtemp(dir));
+	snprintf(path, sizeof path, "%s/a.jpg", dir);
+	assert_int_equal(rs_jpeg_write(path, img, W, H, 95, NULL), RS_OK);
+	FILE *f = fopen(path, "rb");
+	assert_non_null(f);
+	size_t n = fread(jpg, 1, sizeof jpg, f);
+	fclose(f);
+	assert_true(n > 2 && jpg[0] == 0xFF && jpg[1] == 0xD8);
+	struct rs_jpeg *j = NULL;
+	assert_int_equal(rs_jpeg_create(&j, NULL), RS_OK);
+	assert_int_equal(rs_jpeg_decode(j, jpg, n, W, H, back, NULL), RS_OK);
+	assert_true(psnr(img, back) > 38.0);
+	rs_jpeg_destroy(&j);
+	struct rs_error err;
+	snprintf(path, sizeof path, "%s/b.jpg", dir);
+	assert_int_equal(rs_jpeg_write(path, img, 0, H, 95, &err), RS_ERR_INVALID);
+	assert_null(fopen(path, "rb"));
+	snprintf(path, sizeof path, "%s/no/c.jpg", dir);
+	assert_int_equal(rs_jpeg_write(path, img, W, H, 95, &err), RS_ERR_IO);
+	char cmd[64];
+	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+	assert_int_equal(system(cmd), 0);
+}
+
 static void test_bad_input_refused(void **state)
 {
 	(void)state;
@@ -120,6 +151,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(test_round_trip_quality),
+	    cmocka_unit_test(test_write_file),
 	    cmocka_unit_test(test_bad_input_refused),
 	    cmocka_unit_test(test_contracts),
 	};

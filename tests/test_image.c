@@ -59,6 +59,37 @@ static void png_round_trip_is_exact_after_quantizing(void **state)
 	rs_free(got);
 }
 
+/* RGBA8 as renderers hand it out (rs_frame.rgba8) is written as it is: an RGBA PNG whose
+ * colours read back exactly. */
+static void png_from_rgba8_keeps_every_byte(void **state)
+{
+	uint8_t rgba[5 * 2 * 4];
+	for (size_t i = 0; i < sizeof rgba; ++i)
+		rgba[i] = (uint8_t)(i % 4 == 3 ? 255 : i * 7);
+	char path[300];
+	path_in_dir(path, sizeof path, "rgba.png");
+	assert_int_equal(rs_image_write_png_rgba8(path, rgba, 5, 2, NULL), RS_OK);
+	uint8_t *got;
+	uint32_t w, h;
+	assert_int_equal(rs_image_read_png(path, &got, &w, &h, NULL), RS_OK);
+	assert_int_equal(w, 5);
+	assert_int_equal(h, 2);
+	for (size_t i = 0; i < 10; ++i)
+		assert_memory_equal(got + i * 3, rgba + i * 4, 3);
+	rs_free(got);
+	/* IHDR colour type 6: RGBA, the alpha kept. */
+	FILE *f = fopen(path, "rb");
+	uint8_t head[26];
+	assert_non_null(f);
+	assert_int_equal(fread(head, 1, sizeof head, f), sizeof head);
+	fclose(f);
+	assert_int_equal(head[25], 6);
+	struct rs_error err;
+	path_in_dir(path, sizeof path, "none.png");
+	assert_int_equal(rs_image_write_png_rgba8(path, rgba, 0, 2, &err), RS_ERR_INVALID);
+	assert_int_equal(access(path, F_OK), -1);
+}
+
 static void pfm_round_trip_keeps_rows_and_infinity(void **state)
 {
 	float depth[3 * 2] = {1.0f, 2.5f, INFINITY, 4.0f, 5.0f, 1e30f};
@@ -161,6 +192,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(png_round_trip_is_exact_after_quantizing),
+	    cmocka_unit_test(png_from_rgba8_keeps_every_byte),
 	    cmocka_unit_test(pfm_round_trip_keeps_rows_and_infinity),
 	    cmocka_unit_test(nan_is_refused_without_leaving_a_file),
 	    cmocka_unit_test(unwritable_path_fails_cleanly),

@@ -238,7 +238,7 @@ static int run(struct server *s)
 			fprintf(stderr, "raystream-server: --token must be printable ASCII\n");
 			return 2;
 		}
-	if (rs_tool_load_scene(s->o.scene, &scene, &err) != RS_OK) {
+	if (rs_scenegen_load(s->o.scene, &scene, &err) != RS_OK) {
 		fprintf(stderr, "raystream-server: %s\n", err.message);
 		return 1;
 	}

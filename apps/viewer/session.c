@@ -34,7 +34,7 @@ static int setup(struct viewer *v)
 {
 	struct rs_error err = {0};
 	const struct viewer_options *o = &v->o;
-	if (rs_tool_load_scene(o->scene, &v->scene, &err) != RS_OK)
+	if (rs_scenegen_load(o->scene, &v->scene, &err) != RS_OK)
 		return fail("", &err);
 	struct rs_pose_layout layout;
 	rs_pose_layout_default(&layout);

@@ -67,7 +67,7 @@ static int bench_scene(const struct bench_options *o, const struct paper_row *ro
 {
 	struct rs_error err = {0};
 	struct rs_scene *scene = NULL;
-	if (rs_tool_load_scene(row->scene, &scene, &err) != RS_OK) {
+	if (rs_scenegen_load(row->scene, &scene, &err) != RS_OK) {
 		fprintf(stderr, "raystream-bench: %s\n", err.message);
 		return 1;
 	}
@@ -161,7 +161,7 @@ static int bench_triangle_tests(const struct bench_options *o, const char *name)
 	int code = 1;
 	if (!rgb[0] || !rgb[1] || !depth[0] || !depth[1])
 		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
-	else if (rs_tool_load_scene(name, &scene, &err) == RS_OK)
+	else if (rs_scenegen_load(name, &scene, &err) == RS_OK)
 		code = 0;
 	double ms[2] = {0, 0};
 	for (int t = 0; t < 2 && code == 0; ++t) {

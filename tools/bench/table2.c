@@ -334,7 +334,7 @@ int bench_table2(const struct bench_options *o)
 		struct t2_scene *sc = &results[scenes];
 		struct rs_error err = {0};
 		*sc = (struct t2_scene){.name = bench_scenes[i], .paper_index = i};
-		if (rs_tool_load_scene(sc->name, &sc->scene, &err) != RS_OK) {
+		if (rs_scenegen_load(sc->name, &sc->scene, &err) != RS_OK) {
 			fprintf(stderr, "raystream-bench: %s\n", err.message);
 			code = 1;
 			break;

@@ -87,7 +87,7 @@ static int one_scene(const struct bench_options *o, const char *name, struct rs_
 		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
 		goto done;
 	}
-	if (rs_tool_load_scene(name, &scene, &err) != RS_OK)
+	if (rs_scenegen_load(name, &scene, &err) != RS_OK)
 		goto done;
 	if (desc.lights > rs_scene_light_count(scene)) {
 		rs_error_set(&err, RS_ERR_INVALID, "--lights %u: %s has %zu", desc.lights, name,

@@ -50,16 +50,6 @@ int rs_tool_parse_size(const char *text, uint32_t *out_w, uint32_t *out_h)
 	return rs_cli_parse_size(text, RS_IMAGE_MAX_SIDE, out_w, out_h);
 }
 
-int rs_tool_find_cow(char *out, size_t size)
-{
-	return rs_scenegen_data_path("cow.obj", out, size, NULL) == RS_OK;
-}
-
-enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struct rs_error *err)
-{
-	return rs_scenegen_load(name, out, err);
-}
-
 enum rs_status rs_tool_write_text(const char *path, const char *text, struct rs_error *err)
 {
 	struct rs_atomic_file af;

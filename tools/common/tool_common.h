@@ -48,15 +48,6 @@ const char *rs_tool_storage_name(enum rs_scene_storage storage);
 /* The same spelling for a descriptor ("interreflect:2"), into out (size bytes). */
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size);
 
-/*
- * Path of cow.obj: $RS_DATA_DIR/cow.obj, else the source tree's data/, else the installed
- * share/raystream/. Writes into out (size bytes); returns 0 when none exists.
- */
-int rs_tool_find_cow(char *out, size_t size);
-
-/* A scene by name (box, cowN) or a mesh file path (OBJ/PLY with optional .json view). */
-enum rs_status rs_tool_load_scene(const char *name, struct rs_scene **out, struct rs_error *err);
-
 /* The backend `desc` asks for (desc->backend; NULL: auto) as this machine opens it: one
  * 8x8 renderer is opened and closed so "auto" is resolved once, its fallback note (if any)
  * goes to stderr through rs_cli_note(), and every row of a table can name the backend.

@@ -305,7 +305,7 @@ int main(int argc, char **argv)
 		             o.size);
 		goto done;
 	}
-	if (rs_tool_load_scene(o.scene, &scene, &err) != RS_OK)
+	if (rs_scenegen_load(o.scene, &scene, &err) != RS_OK)
 		goto done;
 	if (o.lights > rs_scene_light_count(scene)) {
 		rs_error_set(&err, RS_ERR_INVALID, "%s has %zu lights, --lights %u", o.scene,

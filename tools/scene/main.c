@@ -1,29 +1,15 @@
 /*
  * raystream-scene: build a benchmark scene (or load a mesh file) and export it as OBJ + MTL
- * + JSON view file, or print what it contains.
+ * + JSON view file, or print what it contains. Files written are named on stdout.
  */
+#include <stdbool.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
+#include "raystream/rs_cli.h"
 #include "raystream/rs_load.h"
 #include "raystream/rs_scene.h"
 #include "raystream/rs_scenegen.h"
-#include "tool_common.h"
-
-static void usage(FILE *f)
-{
-	fprintf(f,
-	        "usage: raystream-scene --scene box|cowN|FILE [--cow COW.obj]\n"
-	        "                       [--out-obj F.obj [--out-view F.json]] [--info]\n"
-	        "  --scene     box, cow1..cow%u, or an OBJ/PLY file (+ its .json sidecar)\n"
-	        "  --cow       cow model for cowN (default $RS_DATA_DIR/cow.obj, the\n"
-	        "              source tree's data/ or the installed share/raystream/)\n"
-	        "  --out-obj   write the scene as OBJ + MTL (beside it, same name)\n"
-	        "  --out-view  write the camera/lights file (default: F.obj's .json sidecar)\n"
-	        "  --info      print counts, bounds, camera and lights\n",
-	        RS_SCENEGEN_MAX_COWS);
-}
 
 static void print_info(const char *name, const struct rs_scene *s)
 {
@@ -54,97 +40,78 @@ static void print_info(const char *name, const struct rs_scene *s)
 	printf("ambient: %g\n", rs_scene_ambient(s));
 }
 
+/* The MTL rs_scene_export() writes beside `obj`: its name with the extension replaced. */
+static void mtl_path(const char *obj, char *out, size_t size)
+{
+	const char *slash = strrchr(obj, '/'), *dot = strrchr(obj, '.');
+	size_t n = dot && (!slash || dot > slash) ? (size_t)(dot - obj) : strlen(obj);
+	snprintf(out, size, "%.*s.mtl", (int)n, obj);
+}
+
 int main(int argc, char **argv)
 {
 	const char *scene_name = NULL, *cow = NULL, *out_obj = NULL, *out_view = NULL;
-	char cow_buf[4096], view_buf[4096];
-	int info = 0;
-	struct rs_scenegen_desc desc;
+	char view_buf[4096], mtl_buf[4096];
+	bool info = false;
 	struct rs_scene *scene = NULL;
-	struct rs_error err;
+	struct rs_error err = {0};
 	enum rs_status st;
-
-	for (int i = 1; i < argc; i++) {
-		const char **slot = NULL;
-
-		if (strcmp(argv[i], "--scene") == 0)
-			slot = &scene_name;
-		else if (strcmp(argv[i], "--cow") == 0)
-			slot = &cow;
-		else if (strcmp(argv[i], "--out-obj") == 0)
-			slot = &out_obj;
-		else if (strcmp(argv[i], "--out-view") == 0)
-			slot = &out_view;
-		else if (strcmp(argv[i], "--info") == 0)
-			info = 1;
-		else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-			usage(stdout);
-			return 0;
-		} else {
-			fprintf(stderr, "raystream-scene: unknown option '%s'\n", argv[i]);
-			return 2;
-		}
-		if (slot != NULL) {
-			if (i + 1 >= argc) {
-				fprintf(stderr, "raystream-scene: %s needs a value\n", argv[i]);
-				return 2;
-			}
-			*slot = argv[++i];
-		}
-	}
-	if (scene_name == NULL || (!info && out_obj == NULL)) {
-		fprintf(stderr, "raystream-scene: give --scene and --out-obj and/or --info\n");
-		return 2;
-	}
-	if (out_view != NULL && out_obj == NULL) {
-		fprintf(stderr, "raystream-scene: --out-view needs --out-obj\n");
-		return 2;
-	}
-	rs_error_clear(&err);
-	if (rs_scenegen_parse(scene_name, &desc, NULL) == RS_OK) {
-		if (cow == NULL) {
-			if (!rs_tool_find_cow(cow_buf, sizeof(cow_buf))) {
-				fprintf(stderr,
-				        "raystream-scene: cow.obj not found (use --cow or set "
-				        "RS_DATA_DIR to its folder)\n");
-				return 1;
-			}
-			cow = cow_buf;
-		}
+	const struct rs_cli_option opts[] = {
+	    RS_CLI_STRING_OPT("--scene", &scene_name, "SCENE",
+	                      "box, mirrors, cow1..cow1024, or an OBJ/PLY file (+ its .json)"),
+	    {.name = "--cow",
+	     .kind = RS_CLI_STRING,
+	     .out = &cow,
+	     .arg = "COW.obj",
+	     .help = "cow model for cowN",
+	     .fallback = "the shipped cow.obj"},
+	    RS_CLI_STRING_OPT("--out-obj", &out_obj, "F.obj",
+	                      "write the scene as OBJ + MTL beside it"),
+	    {.name = "--out-view",
+	     .kind = RS_CLI_STRING,
+	     .out = &out_view,
+	     .arg = "F.json",
+	     .help = "write camera, lights and environment",
+	     .fallback = "F.obj's .json sidecar"},
+	    RS_CLI_FLAG_OPT("--info", &info, "print counts, bounds, camera and lights"),
+	};
+	struct rs_cli cli = {
+	    .prog = "raystream-scene",
+	    .usage = "--scene SCENE [--out-obj F.obj [--out-view F.json]] [--info]",
+	    .about = "The shipped cow.obj is found in $RS_DATA_DIR, else PREFIX/share/raystream\n"
+	             "beside the program, else the source tree (docs/scenes.md). Every file\n"
+	             "written is named on stdout.\n",
+	    .options = opts,
+	    .option_count = sizeof opts / sizeof opts[0]};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code;
+	if (scene_name == NULL || (!info && out_obj == NULL))
+		return rs_cli_usage_error(&cli, "give --scene and --out-obj and/or --info");
+	if (out_view != NULL && out_obj == NULL)
+		return rs_cli_usage_error(&cli, "--out-view needs --out-obj");
+	struct rs_scenegen_desc desc;
+	if (cow && rs_scenegen_parse(scene_name, &desc, NULL) == RS_OK) {
 		desc.cow_path = cow;
 		st = rs_scenegen_build(&desc, &scene, &err);
 	} else {
-		st = rs_load_scene(NULL, scene_name, &scene, &err);
-		/* "cow0" is no file either: name both readings, as raystream-render does. */
-		if (st == RS_ERR_NOT_FOUND)
-			rs_error_set(&err, st,
-			             "scene '%s' is neither box, cowN (N = 1..%u) nor an existing "
-			             "file",
-			             scene_name, RS_SCENEGEN_MAX_COWS);
+		st = rs_scenegen_load(scene_name, &scene, &err);
 	}
-	if (st != RS_OK) {
-		fprintf(stderr, "raystream-scene: %s\n", err.message);
-		return 1;
-	}
-	if (out_obj != NULL) {
-		if (out_view == NULL) {
-			if (rs_load_sidecar_path(out_obj, view_buf, sizeof(view_buf), NULL) !=
-			    RS_OK) {
-				fprintf(stderr, "raystream-scene: path too long: %s\n", out_obj);
-				rs_scene_destroy(&scene);
-				return 1;
-			}
+	if (st == RS_OK && out_obj != NULL) {
+		if (out_view == NULL &&
+		    (st = rs_load_sidecar_path(out_obj, view_buf, sizeof(view_buf), &err)) == RS_OK)
 			out_view = view_buf;
-		}
-		st = rs_scene_export(scene, out_obj, out_view, &err);
-		if (st != RS_OK) {
-			fprintf(stderr, "raystream-scene: %s\n", err.message);
-			rs_scene_destroy(&scene);
-			return 1;
+		if (st == RS_OK)
+			st = rs_scene_export(scene, out_obj, out_view, &err);
+		if (st == RS_OK) {
+			mtl_path(out_obj, mtl_buf, sizeof mtl_buf);
+			rs_cli_wrote(out_obj);
+			rs_cli_wrote(mtl_buf);
+			rs_cli_wrote(out_view);
 		}
 	}
-	if (info)
+	if (st == RS_OK && info)
 		print_info(scene_name, scene);
 	rs_scene_destroy(&scene);
-	return 0;
+	return st == RS_OK ? 0 : rs_cli_fail(&cli, &err);
 }

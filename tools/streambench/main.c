@@ -265,7 +265,7 @@ static int render_frames(const struct opts *o, const struct rs_render_desc *rend
 	struct rs_scene *scene = NULL;
 	struct rs_renderer *r = NULL;
 	int code = -1;
-	if (rs_tool_load_scene(o->scene, &scene, &err) != RS_OK)
+	if (rs_scenegen_load(o->scene, &scene, &err) != RS_OK)
 		goto done;
 	struct rs_render_desc d = *render;
 	d.width = o->w;
