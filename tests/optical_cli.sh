@@ -46,6 +46,11 @@ n=$(grep ' seq=' <<<"$out" | sed 's/.*quat=\[\([^]]*\)\].*/\1/' | flips)
 n=$(grep -v '^#' "$work/long/truth.txt" | cut -d' ' -f6-9 | flips)
 [ "$n" -eq 0 ] || fail "truth.txt: $n quaternion sign flips"
 
+# DIR is made with its parents, every file named on stdout; --help lists the defaults.
+"$synth" -n 2 --size 64x64 "$work/new/deep" > "$work/new.out" || fail "optsynth into a new folder"
+grep -q "^wrote $work/new/deep/rig.yaml$" "$work/new.out" || fail "rig.yaml not named on stdout"
+"$synth" --help | grep -q -- '--frames 1..100000 .*\[120\]' || fail "--help: no defaults"
+
 check_error() {
   local want=$1; shift
   set +e
@@ -57,6 +62,7 @@ check_error() {
 }
 check_error 2 "$synth"
 check_error 2 "$synth" --dim 3 "$work/x"
+grep -q -- "--dim: '3' .*0..2" "$work/err.txt" || fail "--dim 3: range not named"
 check_error 2 "$synth" --script fly "$work/x"
 [ ! -e "$work/x" ] || fail "a refused --script left $(ls "$work/x") behind"
 check_error 2 "$track" "video:$work/seq/left_%04d.png?calib=$work/seq/rig.yaml"
