@@ -160,6 +160,15 @@ check_error 2
 check_error 2 --pty -r "$work/x.rec" sim:
 check_error 2 -n 1e30 sim:
 check_error 2 'sim:rate=1e-300'
+# A bad value names the option and its valid range, in one line (not the usage).
+check_error 2 --predict 31 sim:
+grep -q -- "--predict: '31' .*0..30" "$work/err.txt" || fail "--predict 31: range not named"
+check_error 2 -n 0 sim:
+grep -q -- "--count: '0' .*1..1e18" "$work/err.txt" || fail "-n 0: range not named"
+# --help: every option with its default, on stdout, exit 0.
+"$tool" --help > "$work/help.txt" 2> "$work/help.err" || fail "--help exit"
+[ ! -s "$work/help.err" ] && grep -q -- '--timeout S .*\[5\]' "$work/help.txt" \
+  || fail "--help: no defaults"
 # A source that yields no sample: one error line, exit 1, and the final counters show why.
 set +e
 "$tool" --stats 0 --timeout 0.5 replay:/dev/zero > "$work/zero.out" 2> "$work/zero.err"

@@ -11,7 +11,6 @@
 #include <unistd.h>
 
 #include "private/rs_atomic_file.h"
-#include "raystream/rs_renderers.h"
 
 double rs_tool_now_ms(void)
 {
@@ -130,22 +129,6 @@ const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *ou
 {
 	rs_render_desc_get(desc, "reflections", out, size, NULL);
 	return out;
-}
-
-const char *rs_tool_backend_name(const struct rs_cli *cli, const struct rs_render_desc *desc,
-                                 struct rs_error *err)
-{
-	static char name[16];
-	struct rs_render_desc d = *desc;
-	d.width = d.height = 8;
-	struct rs_renderer *r = NULL;
-	struct rs_error note = {0};
-	if (rs_renderer_open_noted(NULL, &d, &r, &note, err) != RS_OK)
-		return NULL;
-	rs_cli_note(cli, note.message);
-	snprintf(name, sizeof name, "%s", rs_renderer_backend(r));
-	rs_renderer_destroy(&r);
-	return name;
 }
 
 void rs_tool_long_options(int argc, char **argv, const char *const (*map)[2], size_t count)
