@@ -71,8 +71,26 @@ else bad "--out x.jpg: $(head -c 8 x.jpg | od -An -tx1) $(cat stderr.txt)"; fi
 expect_fail "--out x.gif refused" 2 "--out: 'x.gif' does not end in .png, .jpg or .jpeg" \
   --scene box --size 8x8 --out x.gif
 
-# --- raystream-scene: the same grammar, mirrors listed, exports named ---
+# --- 4. Never silent success: a body shorter than its header (or OBJ line) is refused ---
+head='ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n'
+z='\x00\x00\x00\x00' one='\x00\x00\x80\x3f'
+{ printf "$head"; printf "$z$z$z$one$z$z$z$one$z$one$one$z"
+  printf '\x03\x00\x00\x00\x00\x01\x00\x00\x00\x02\x00\x00\x00'; } >cut.ply
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n' >cut_ascii.ply
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4' >cut.obj
+expect_fail "binary PLY with 1 of 2 faces" 1 "cut\.ply: PLY data ends after 1 of the 2 'face' elements" \
+  --scene cut.ply --size 8x8 --backend cpu
+expect_fail "ASCII PLY with 1 of 2 faces" 1 "cut_ascii\.ply: PLY data ends after 1 of the 2 'face'" \
+  --scene cut_ascii.ply --size 8x8 --backend cpu
+expect_fail "OBJ cut mid-face" 1 "cut\.obj: line 6: face with 2 vertices" \
+  --scene cut.obj --size 8x8 --backend cpu
 bin=$scene_bin
+expect_fail "scene --info refuses the cut PLY" 1 "cut\.ply: PLY data ends after 1 of the 2 'face'" \
+  --scene cut.ply --info
+expect_fail "scene --info refuses the cut OBJ" 1 "cut\.obj: line 6: face with 2 vertices" \
+  --scene cut.obj --info
+
+# --- raystream-scene: the same grammar, mirrors listed, exports named ---
 if "$bin" --help >help.txt 2>&1 && grep -q mirrors help.txt; then ok "scene --help lists mirrors"
 else bad "scene --help: $(cat help.txt)"; fi
 if "$bin" --scene box --out-obj b.obj >stdout.txt 2>stderr.txt && named "wrote b.obj" &&

@@ -19,6 +19,7 @@ struct opts {
 	uint32_t frames;
 	double rate;
 	bool quiet;
+	const char *out;
 	struct rs_render_desc desc;
 	const char *pos[2];
 };
@@ -27,17 +28,18 @@ struct opts {
 static bool parse(struct opts *o, struct rs_cli *cli, const char *const *args, int *code,
                   char *errbuf, size_t cap)
 {
-	static struct rs_cli_option table[4];
-	const struct rs_cli_option t[4] = {
+	static struct rs_cli_option table[5];
+	const struct rs_cli_option t[5] = {
 	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE", "what to render"),
 	    RS_CLI_U32_OPT("--frames", &o->frames, 1, 1000, "frames to time"),
 	    RS_CLI_DOUBLE_OPT("--rate", &o->rate, "HZ", 0.5, 1000.0, "samples per second"),
 	    RS_CLI_FLAG_OPT("--quiet", &o->quiet, "no progress"),
+	    RS_CLI_STRING_OPT("-o", &o->out, "FILE", "output"),
 	};
 	memcpy(table, t, sizeof t);
 	*cli = (struct rs_cli){.prog = "test-cli",
 	                       .options = table,
-	                       .option_count = 4,
+	                       .option_count = 5,
 	                       .render = &o->desc,
 	                       .render_keys = "passes,lights,backend",
 	                       .positional = o->pos,
@@ -80,6 +82,21 @@ static void values_ranges_and_render_options(void **state)
 	assert_int_equal(o.desc.lights, 0);
 	assert_int_equal(cli.positional_count, 2);
 	assert_string_equal(o.pos[1], "b");
+}
+
+/* A short name from the table, and "--" ending the options. */
+static void short_names_and_the_end_of_options(void **state)
+{
+	struct opts o = {0};
+	struct rs_cli cli;
+	char err[512];
+	int code = -1;
+	const char *args[] = {"-o", "rig.yaml", "--", "--quiet", NULL};
+	assert_true(parse(&o, &cli, args, &code, err, sizeof err));
+	assert_string_equal(o.out, "rig.yaml");
+	assert_false(o.quiet);
+	assert_int_equal(cli.positional_count, 1);
+	assert_string_equal(o.pos[0], "--quiet");
 }
 
 static void usage_errors_name_the_problem_and_exit_2(void **state)
@@ -174,6 +191,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(values_ranges_and_render_options),
+	    cmocka_unit_test(short_names_and_the_end_of_options),
 	    cmocka_unit_test(usage_errors_name_the_problem_and_exit_2),
 	    cmocka_unit_test(help_lists_every_option_with_its_default),
 	    cmocka_unit_test(out_folders_are_made_with_their_parents),

@@ -42,8 +42,7 @@ struct cow_ref {
 
 static struct rs_scene *cow_scene(uint32_t cows)
 {
-	struct rs_scenegen_desc d = {
-	    .kind = RS_SCENEGEN_COW, .cows = cows, .cow_path = RS_DATA_DIR "/cow.obj"};
+	struct rs_scenegen_desc d = {.kind = RS_SCENEGEN_COW, .cows = cows}; /* the shipped cow */
 	struct rs_scene *scene = NULL;
 	struct rs_error err;
 	if (rs_scenegen_build(&d, &scene, &err) != RS_OK)

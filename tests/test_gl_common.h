@@ -30,13 +30,10 @@ static inline struct rs_renderer *gl_open(const char *backend, const struct rs_r
 
 static inline struct rs_scene *gl_scene(const char *name)
 {
-	struct rs_scenegen_desc d;
 	struct rs_error err;
 	struct rs_scene *scene = NULL;
-	if (rs_scenegen_parse(name, &d, &err) != RS_OK)
-		fail_msg("%s", err.message);
-	d.cow_path = RS_DATA_DIR "/cow.obj";
-	if (rs_scenegen_build(&d, &scene, &err) != RS_OK)
+	/* The shipped cow found as every program finds it (rs_scenegen_data_path). */
+	if (rs_scenegen_load(name, &scene, &err) != RS_OK)
 		fail_msg("scenegen %s: %s", name, err.message);
 	return scene;
 }

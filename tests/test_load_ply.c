@@ -192,7 +192,7 @@ static void bad_strip_indices_are_refused(void **state)
 	const int whole[] = {0, 1, 2, 3};
 	ribbon(&p, BIN_LE, 5, whole, len4, 1, 1);
 	p.n -= 6;
-	expect_refused(&p, RS_ERR_PARSE, "ends inside");
+	expect_refused(&p, RS_ERR_PARSE, "ends after 0 of the 1 'tristrips' elements");
 }
 
 /* A 3-vertex ASCII file with the given face elements (header lines) and face data. */
@@ -231,6 +231,58 @@ static void undecoded_face_layouts_are_refused(void **state)
 	expect_refused(&p, RS_ERR_UNSUPPORTED, "exactly one");
 }
 
+/* Two triangles (0 1 2) and (1 3 2) over four vertices in every encoding, cut `cut` bytes
+ * short, or with `extra` bytes of junk after the last face. */
+static void two_faces(struct ply *p, enum fmt fmt, size_t cut, size_t extra)
+{
+	static const char *names[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+	static const double xyz[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+	static const int faces[2][3] = {{0, 1, 2}, {1, 3, 2}};
+	char head[512];
+	memset(p, 0, sizeof *p);
+	p->fmt = fmt;
+	snprintf(head, sizeof head,
+	         "ply\nformat %s 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+	         "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+	         "end_header\n",
+	         names[fmt]);
+	text(p, head);
+	for (int v = 0; v < 4; v++, endl(p))
+		for (int a = 0; a < 3; a++)
+			value(p, xyz[v][a], 4, 1);
+	for (int f = 0; f < 2; f++, endl(p)) {
+		value(p, 3, 1, 0);
+		for (int k = 0; k < 3; k++)
+			value(p, faces[f][k], 4, 0);
+	}
+	p->n -= cut;
+	for (size_t i = 0; i < extra; i++)
+		text(p, "7");
+}
+
+/* A body shorter than its header says is refused by element, never filled in: assimp
+ * made up the missing face (issue 18: "2 triangles" from a file holding one). */
+static void truncated_bodies_are_refused_by_element(void **state)
+{
+	for (int fmt = ASCII; fmt <= BIN_BE; fmt++) {
+		struct ply p;
+		struct rs_scene *s = NULL;
+		two_faces(&p, (enum fmt)fmt, 0, 0);
+		assert_int_equal(load(&p, &s, NULL), RS_OK);
+		assert_int_equal(rs_scene_triangle_count(s), 2);
+		rs_scene_destroy(&s);
+		/* The whole second face gone (ASCII: "3 1 3 2 \n", 9 bytes; binary: 13). */
+		two_faces(&p, (enum fmt)fmt, fmt == ASCII ? 9 : 13, 0);
+		expect_refused(&p, RS_ERR_PARSE, "ends after 1 of the 2 'face' elements");
+		/* Cut inside the second face's indices. */
+		two_faces(&p, (enum fmt)fmt, fmt == ASCII ? 4 : 3, 0);
+		expect_refused(&p, RS_ERR_PARSE, "ends after 1 of the 2 'face' elements");
+		/* Data the header does not declare: the counts disagree with the body. */
+		two_faces(&p, (enum fmt)fmt, 0, 3);
+		expect_refused(&p, RS_ERR_PARSE, "after its last declared element ('face')");
+	}
+}
+
 /* Vertex normals given with the strips are kept (renormalised), extra properties and
  * elements are skipped. */
 static void strip_file_normals_and_extra_properties(void **state)
@@ -261,6 +313,7 @@ int main(void)
 	    cmocka_unit_test(bad_strip_indices_are_refused),
 	    cmocka_unit_test(undecoded_face_layouts_are_refused),
 	    cmocka_unit_test(strip_file_normals_and_extra_properties),
+	    cmocka_unit_test(truncated_bodies_are_refused_by_element),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

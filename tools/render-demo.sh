@@ -13,4 +13,3 @@ shift || true
 mkdir -p "$root/out"
 "$build/tools/render/raystream-render" --scene "$scene" --backend egl --bvh sah --passes 2 \
   --lights 1 --size 512x512 --out "$root/out/$scene.png" --stats "$root/out/$scene.json" "$@"
-echo "wrote $root/out/$scene.png and $root/out/$scene.json"

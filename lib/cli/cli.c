@@ -173,13 +173,21 @@ bool rs_cli_parse(struct rs_cli *cli, int argc, char **argv, int *out_exit)
 	RS_ASSERT(cli && cli->prog && out_exit && (argc == 0 || argv));
 	*out_exit = 0;
 	cli->positional_count = 0;
+	bool rest = false;
 	for (int i = 1; i < argc; ++i) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
 			rs_cli_help(cli, stdout);
 			return false;
 		}
-		if (strncmp(a, "--", 2) != 0 || a[2] == '\0') {
+		if (!rest && strcmp(a, "--") == 0) { /* the rest are positionals, "-" or not */
+			rest = true;
+			continue;
+		}
+		/* "--name[=value]", or a short name the table spells out ("-o"). */
+		bool named = !rest && ((a[0] == '-' && a[1] == '-') ||
+		                       (a[0] == '-' && find_option(cli, a, strlen(a))));
+		if (!named) {
 			if (cli->positional_count < cli->positional_max) {
 				cli->positional[cli->positional_count++] = a;
 				continue;
@@ -187,7 +195,7 @@ bool rs_cli_parse(struct rs_cli *cli, int argc, char **argv, int *out_exit)
 			*out_exit = rs_cli_usage_error(cli, "unexpected argument '%s'", a);
 			return false;
 		}
-		const char *eq = strchr(a, '=');
+		const char *eq = a[1] == '-' ? strchr(a, '=') : NULL;
 		size_t len = eq ? (size_t)(eq - a) : strlen(a);
 		const struct rs_cli_option *o = find_option(cli, a, len);
 		const struct rs_render_option *r = o ? NULL : find_render(cli, a, len);

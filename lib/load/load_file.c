@@ -5,7 +5,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "load_internal.h"
 #include "raystream/rs_load.h"
@@ -86,4 +89,37 @@ enum rs_status rs_load_sidecar_path(const char *path, char *out, size_t size, st
 	memcpy(out, path, stem);
 	memcpy(out + stem, ".json", sizeof(".json"));
 	return RS_OK;
+}
+
+enum rs_status rs_load_map_file(const char *path, const unsigned char **out_bytes, size_t *out_size,
+                                struct rs_error *err)
+{
+	*out_bytes = NULL;
+	*out_size = 0;
+	int fd = open(path, O_RDONLY);
+	struct stat st;
+	if (fd < 0 || fstat(fd, &st) != 0) {
+		int e = errno;
+		if (fd >= 0)
+			close(fd);
+		return rs_error_set(err, RS_ERR_IO, "%s: %s", path, strerror(e));
+	}
+	size_t size = (size_t)st.st_size;
+	if (size == 0) {
+		close(fd);
+		return RS_OK;
+	}
+	void *map = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
+	close(fd);
+	if (map == MAP_FAILED)
+		return rs_error_set(err, RS_ERR_IO, "%s: cannot map %zu bytes", path, size);
+	*out_bytes = map;
+	*out_size = size;
+	return RS_OK;
+}
+
+void rs_load_unmap_file(const unsigned char *bytes, size_t size)
+{
+	if (bytes)
+		munmap((void *)bytes, size);
 }

@@ -20,6 +20,12 @@ enum rs_status rs_load_check_file(const char *path, size_t max_bytes, size_t *ou
 enum rs_status rs_load_read_text(const char *path, size_t max_bytes, char **out_text,
                                  size_t *out_size, struct rs_error *err);
 
+/* Map a whole file read-only (no copy: checks of large models cost no second buffer);
+ * an empty file gives NULL and 0. Release with rs_load_unmap_file(). */
+enum rs_status rs_load_map_file(const char *path, const unsigned char **out_bytes, size_t *out_size,
+                                struct rs_error *err);
+void rs_load_unmap_file(const unsigned char *bytes, size_t size);
+
 /* ---- PLY headers (load_ply_header.c) ---------------------------------------------- */
 
 #define RS_PLY_NAME_MAX 32
@@ -58,6 +64,7 @@ struct rs_ply_element {
 struct rs_ply_header {
 	enum rs_ply_format format;
 	size_t header_bytes; /* up to and including the end_header line */
+	bool partial;        /* an element line was left out (its count did not parse) */
 	size_t element_count;
 	struct rs_ply_element elements[RS_PLY_MAX_ELEMENTS];
 };
@@ -91,6 +98,13 @@ enum rs_status rs_load_ply_front(const struct rs_load_desc *desc, const char *pa
                                  size_t file_size, struct rs_scene *scene, bool *out_done,
                                  struct rs_error *err);
 
+/*
+ * An OBJ file (by its .obj name; RS_OK for others) whose 'v' lines have fewer than three
+ * coordinates or 'f' lines fewer than three vertices (a file cut off mid-line): assimp
+ * drops such lines silently. RS_ERR_PARSE naming the element and the line.
+ */
+enum rs_status rs_obj_check_body(const char *path, struct rs_error *err);
+
 /* ---- PLY faces (load_ply_faces.c) ----------------------------------------------------- */
 
 /* How a PLY file's faces are stored, as far as raystream decodes them. */
@@ -105,6 +119,15 @@ enum rs_ply_faces {
  */
 enum rs_status rs_ply_classify_faces(const struct rs_ply_header *header, const char *path,
                                      enum rs_ply_faces *out, struct rs_error *err);
+
+/*
+ * Hold the body to the header: every declared element present in full, nothing but
+ * whitespace after the last. RS_ERR_PARSE naming the element where the data ends ("after 1
+ * of the 2 'face' elements its header declares") or the bytes left over. RS_OK without looking
+ * for a header it could not follow (partial, unknown types): assimp judges those.
+ */
+enum rs_status rs_ply_check_body(const struct rs_ply_header *header, const char *path,
+                                 struct rs_error *err);
 
 /* Decode a file classified RS_PLY_FACES_TRISTRIPS and add its mesh to `scene`. */
 enum rs_status rs_ply_load_tristrips(const struct rs_load_desc *desc,

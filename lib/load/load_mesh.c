@@ -309,6 +309,8 @@ enum rs_status rs_load_mesh_file(const struct rs_load_desc *desc, const char *pa
 	st = rs_load_check_file(path, desc->max_file_bytes, &file_size, err);
 	if (st == RS_OK)
 		st = rs_load_ply_front(desc, path, file_size, scene, &done, err);
+	if (st == RS_OK && !done)
+		st = rs_obj_check_body(path, err);
 	if (st != RS_OK || done)
 		return st;
 	ai = aiImportFile(path, 0);

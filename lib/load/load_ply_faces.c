@@ -3,7 +3,9 @@
  * list, -1 restarting a strip), as several classic scanned models are distributed. assimp
  * reads only the first three indices of such a file, so they are decoded here: vertices
  * (x, y, z and, when all three are there, nx, ny, nz) and strips, ASCII or binary of
- * either byte order. Any other face layout assimp would misread is refused by name.
+ * either byte order. Any other face layout assimp would misread is refused by name, and
+ * every PLY body is walked once to hold it to its header (rs_ply_check_body): assimp
+ * invents elements a truncated file lacks.
  *
  * Strip rule: within a run of indices s0 s1 s2 ... (between restarts), triangle k is
  * (s[k], s[k+1], s[k+2]) for even k and (s[k+1], s[k], s[k+2]) for odd k, so every
@@ -190,12 +192,14 @@ static enum rs_status strip_index(struct strips *s, double v, const char *path,
 	return RS_OK;
 }
 
-/* Read (or skip) one element instance; vertex coordinates and strip indices are kept. */
+/* Read (or skip) one element instance; vertex coordinates and strip indices are kept when
+ * `s` is given (NULL: only walked, to check the body holds what the header declares). */
 static enum rs_status read_instance(struct body *b, const struct rs_ply_element *e, size_t i,
                                     struct strips *s, const char *path, struct rs_error *err)
 {
 	static const char *const axes[6] = {"x", "y", "z", "nx", "ny", "nz"};
-	bool vertex = strcmp(e->name, "vertex") == 0, strip = strcmp(e->name, "tristrips") == 0;
+	bool vertex = s && strcmp(e->name, "vertex") == 0;
+	bool strip = s && strcmp(e->name, "tristrips") == 0;
 	double v;
 	for (size_t j = 0; j < e->property_count; j++) {
 		const struct rs_ply_property *p = &e->properties[j];
@@ -229,8 +233,58 @@ static enum rs_status read_instance(struct body *b, const struct rs_ply_element 
 	}
 	return RS_OK;
 truncated:
-	return rs_error_set(err, RS_ERR_PARSE, "%s: PLY data ends inside '%s' %zu", path, e->name,
-	                    i);
+	return rs_error_set(err, RS_ERR_PARSE,
+	                    "%s: PLY data ends after %zu of the %llu '%s' elements its header "
+	                    "declares",
+	                    path, i, e->count, e->name);
+}
+
+/* Walk every element the header declares: the body must hold exactly them. */
+static enum rs_status walk(const struct rs_ply_header *h, const char *path, struct body *b,
+                           struct strips *s, struct rs_error *err)
+{
+	for (size_t e = 0; e < h->element_count; e++)
+		for (unsigned long long i = 0; i < h->elements[e].count; i++) {
+			enum rs_status st =
+			    read_instance(b, &h->elements[e], (size_t)i, s, path, err);
+			if (st != RS_OK)
+				return st;
+		}
+	/* Whitespace may follow (a final newline); anything else is data no element holds. */
+	const unsigned char *rest = b->p;
+	while (rest < b->end && (*rest == ' ' || *rest == '\t' || *rest == '\r' || *rest == '\n'))
+		rest++;
+	if (rest < b->end)
+		return rs_error_set(err, RS_ERR_PARSE,
+		                    "%s: PLY has %zu bytes after its last declared element ('%s')",
+		                    path, (size_t)(b->end - b->p),
+		                    h->element_count ? h->elements[h->element_count - 1].name : "");
+	return RS_OK;
+}
+
+enum rs_status rs_ply_check_body(const struct rs_ply_header *h, const char *path,
+                                 struct rs_error *err)
+{
+	RS_ASSERT(h && path);
+	if (h->partial)
+		return RS_OK; /* a header we could not follow: assimp judges the file */
+	for (size_t e = 0; e < h->element_count; e++)
+		for (size_t j = 0; j < h->elements[e].property_count; j++) {
+			const struct rs_ply_property *p = &h->elements[e].properties[j];
+			if (p->type == RS_PLY_UNKNOWN ||
+			    (p->is_list && p->count_type == RS_PLY_UNKNOWN))
+				return RS_OK;
+		}
+	const unsigned char *bytes;
+	size_t size;
+	enum rs_status status = rs_load_map_file(path, &bytes, &size, err);
+	if (status != RS_OK)
+		return status;
+	size_t skip = size < h->header_bytes ? size : h->header_bytes;
+	struct body b = {bytes ? bytes + skip : NULL, bytes ? bytes + size : NULL, h->format};
+	status = walk(h, path, &b, NULL, err);
+	rs_load_unmap_file(bytes, size);
+	return status;
 }
 
 /* Which of x, y, z, nx, ny, nz the vertex element has (bit a for axes[a]). */
@@ -266,13 +320,9 @@ static enum rs_status decode(const struct rs_load_desc *desc, const struct rs_pl
 	s->normals = want_normals ? calloc(s->vertex_count * 3, sizeof(float)) : NULL;
 	if (s->positions == NULL || (want_normals && s->normals == NULL))
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "%s: out of memory", path);
-	for (size_t e = 0; e < h->element_count; e++)
-		for (unsigned long long i = 0; i < h->elements[e].count; i++) {
-			enum rs_status st =
-			    read_instance(b, &h->elements[e], (size_t)i, s, path, err);
-			if (st != RS_OK)
-				return st;
-		}
+	enum rs_status st = walk(h, path, b, s, err);
+	if (st != RS_OK)
+		return st;
 	for (size_t i = 0; i < s->vertex_count * 3; i++)
 		if (!isfinite(s->positions[i]) || (s->normals && !isfinite(s->normals[i])))
 			return rs_error_set(err, RS_ERR_BAD_DATA,

@@ -39,6 +39,8 @@ enum rs_status rs_load_ply_front(const struct rs_load_desc *desc, const char *pa
 	if (st == RS_OK && is_ply)
 		st = rs_load_check_ply_header(h, path, file_size, err);
 	if (st == RS_OK && is_ply)
+		st = rs_ply_check_body(h, path, err);
+	if (st == RS_OK && is_ply)
 		st = rs_ply_classify_faces(h, path, &faces, err);
 	if (st == RS_OK && faces == RS_PLY_FACES_TRISTRIPS) {
 		st = rs_ply_load_tristrips(desc, h, path, scene, err);

@@ -75,12 +75,17 @@ static enum rs_status parse_line(char *line, struct rs_ply_header *h, bool *in_e
 		char *num_end = NULL;
 
 		*in_element = false;
-		if (name == NULL || num == NULL || num[0] == '-')
-			return RS_OK; /* assimp's to judge */
+		/* An element left out makes the header partial: assimp's to judge. */
+		if (name == NULL || num == NULL || num[0] == '-') {
+			h->partial = true;
+			return RS_OK;
+		}
 		errno = 0;
 		unsigned long long count = strtoull(num, &num_end, 10);
-		if (errno != 0 || *num_end != '\0')
+		if (errno != 0 || *num_end != '\0') {
+			h->partial = true;
 			return RS_OK;
+		}
 		if (h->element_count == RS_PLY_MAX_ELEMENTS)
 			return rs_error_set(err, RS_ERR_UNSUPPORTED,
 			                    "%s: PLY header has more than %d elements", path,

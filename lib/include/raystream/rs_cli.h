@@ -50,7 +50,7 @@ enum rs_cli_kind {
 
 /** One option of a program (the render options come from rs_render.h, see rs_cli). */
 struct rs_cli_option {
-	const char *name; /**< "--frames" */
+	const char *name; /**< "--frames" (or a short "-o") */
 	enum rs_cli_kind kind;
 	void *out;
 	const char *arg;  /**< the value's name in --help ("N", "FILE"); NULL for a flag */
@@ -112,10 +112,11 @@ struct rs_cli {
 };
 
 /**
- * Parse argv[1..argc): "--name value", "--name=value", flags, positionals; the last of a
- * repeated option wins. "--help" / "-h" print the help (rs_cli_help) on stdout. Returns
- * true to go on; false with *out_exit = 0 after --help, RS_CLI_EXIT_USAGE after a usage
- * error, reported as one line on stderr ("PROG: --passes: '0' is not 1..64 (see --help)").
+ * Parse argv[1..argc): "--name value", "--name=value", flags, positionals; a short name
+ * the table spells ("-o") takes its value as the next argument; after "--" every argument
+ * is a positional; the last of a repeated option wins. "--help" / "-h" print the help (rs_cli_help)
+ * on stdout. Returns true to go on; false with *out_exit = 0 after --help, RS_CLI_EXIT_USAGE after
+ * a usage error, reported as one line on stderr ("PROG: --passes: '0' is not 1..64 (see --help)").
  */
 bool rs_cli_parse(struct rs_cli *cli, int argc, char **argv, int *out_exit);
 
