@@ -49,12 +49,12 @@ ls "$work"/pipe.rec.tmp-* > /dev/null 2>&1 && fail "closed pipe left a temporary
 grep -q '^# stats samples=[1-9]' <("$tool" --stats 0 "replay:$work/pipe.rec") \
   || fail "closed pipe: recording unreadable"
 
-# 3. --duration stops a realtime source on time.
-start=$(date +%s%N)
-"$tool" -q -d 0.3 --stats 0 'sim:realtime=1&rate=100' > "$work/dur.txt"
-ms=$(( ($(date +%s%N) - start) / 1000000 ))
-[ "$ms" -lt 3000 ] || fail "--duration 0.3 took ${ms} ms"
-grep -q '^# stats samples=[1-9]' "$work/dur.txt" || fail "no samples in duration run"
+# 3. --duration stops a realtime source on time: 0.3 s at 100 Hz is about 30 samples
+#    (counted, not timed: the process's own start-up under load is no part of it).
+timeout 60 "$tool" -q -d 0.3 --stats 0 'sim:realtime=1&rate=100' > "$work/dur.txt" \
+  || fail "--duration 0.3 did not end"
+n=$(sed -n 's/^# stats samples=\([0-9]*\) .*/\1/p' "$work/dur.txt")
+[ -n "$n" ] && [ "$n" -ge 1 ] && [ "$n" -le 40 ] || fail "--duration 0.3 at 100 Hz: ${n:-no} samples"
 
 # 4. --pty plays a simulated device into a pseudo-terminal; a second process reads it
 #    through the serial path (tty raw mode, poll, parser) and solves poses.
