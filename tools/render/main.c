@@ -1,7 +1,9 @@
 /*
- * raystream-render: render a scene (box, cowN or a mesh file) with a backend and write the
- * image, the primary-hit depth and a stats file. Every failure is one line on stderr and
- * exit status 1 (2 for usage errors); no output file is ever left half-written.
+ * raystream-render: render a scene (box, mirrors, cowN or a mesh file) with a backend and
+ * write the image (PNG or JPEG), the primary-hit depth and a stats file, each named on
+ * stdout. Options through rs_cli and rs_render_desc_set (docs/tools.md). Every failure is
+ * one line on stderr and exit status 1 (2 for usage errors); no output file is ever left
+ * half-written.
  */
 #include <stdio.h>
 #include <stdlib.h>
