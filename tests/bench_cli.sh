@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Usage: bench_cli.sh BENCH_BINARY WORK_DIR. Checks the plumbing of raystream-bench --table 2
-# and --table 3 (no timing is asserted). Prints "N passed, N failed" and exits non-zero on any
+# and --builds (no timing is asserted). Prints "N passed, N failed" and exits non-zero on any
 # failure.
 source "$(dirname "$0")/cli_harness.sh"
 
@@ -10,28 +10,38 @@ expect_fail() {
   fails_cleanly "$name" "$code" "$regex" "$@" && ok "$name"
 }
 
-expect_fail "unknown table" 2 "--table" --table 4
-expect_fail "unknown backend" 2 "unknown backend 'vulkan'" --table 2 --backend vulkan
-expect_fail "unknown peer" 2 "--peer" --table 2 --peer optix
-expect_fail "unknown builder" 2 "BVH builder" --table 2 --bvh octree
-expect_fail "unknown scene" 2 "unknown scene" --table 2 --scene cow3
+# --help: usage on stdout with every default, exit 0.
+if "$bin" --help >out.txt 2>err.txt && [ ! -s err.txt ] && grep -q -- '--repeats 1..32 .*\[5\]' out.txt &&
+    grep -q -- '--backend .*\[auto\]' out.txt && grep -q -- '--times' out.txt; then ok "--help"
+else bad "--help: $(head -c 300 err.txt)"; fi
+# Bad input: one line naming the option and its valid values (not the usage), exit 2.
+expect_fail "unknown table" 2 "--table: '3' is not a whole number in 1\.\.2" --table 3
+expect_fail "zero repeats" 2 "--repeats: '0' .*1\.\.32" --repeats 0
+expect_fail "zero size" 2 "--size: '0' .*8\.\.16384" --table 2 --size 0
+expect_fail "unknown option" 2 "unknown option '--bogus'" --bogus
+expect_fail "unknown backend" 2 "--backend: .*vulkan.*auto\|cpu\|egl\|osmesa" --table 2 --backend vulkan
+expect_fail "unknown peer" 2 "--peer: 'optix' is not embree\|none" --table 2 --peer optix
+expect_fail "unknown builder" 2 "--bvh: .*octree" --table 2 --bvh octree
+expect_fail "unknown scene" 2 "unknown scene 'cow3'" --table 2 --scene cow3
 
 for scene in box cow1; do
-  if ! "$bin" --table 2 --size 16 --repeats 2 --scene "$scene" >out.txt 2>err.txt; then
+  if ! "$bin" --table 2 --backend cpu --size 16 --repeats 2 --scene "$scene" >out.txt 2>err.txt; then
     bad "$scene: exit $? ($(head -c 300 err.txt))"
     continue
   fi
-  # Every setting has its row; the CPU backend refuses raster and says so.
-  for setting in "tree BVH, 1 pass" "raster + BVH, 1 pass" "raster + BVH, 2 passes" \
-      "tree BVH, 2 passes"; do
+  # Every setting the CPU backend renders has its row; the raster ones it refuses are left
+  # out of the table and named once under it, not as half the table.
+  for setting in "tree BVH, 1 pass" "tree BVH, 2 passes"; do
     if grep -Fq "| $scene" out.txt && grep -F "| $setting |" out.txt | grep -q "$scene"; then
       ok "$scene: row '$setting'"
     else
       bad "$scene: no row '$setting'"
     fi
   done
-  if [ "$(grep -c "refused: .*raster" out.txt)" -eq 2 ]; then ok "$scene: raster refused"
-  else bad "$scene: raster rows not shown as refused"; fi
+  if ! grep -q "^| $scene *| raster" out.txt && [ "$(grep -c "raster" out.txt)" -eq 1 ] &&
+      grep -q "^Left out on this backend: raster + BVH, 1 pass; raster + BVH, 2 passes (cpu: .*primary rays only" out.txt; then
+    ok "$scene: raster left out, named once"
+  else bad "$scene: raster rows: $(grep raster out.txt | head -3)"; fi
   # The CPU backend is the reference: its traced images must match it exactly.
   if [ "$(grep "tree BVH" out.txt | grep -c "inf dB, 0.000%, agrees")" -eq 2 ]; then
     ok "$scene: cpu images equal the reference"
@@ -62,6 +72,28 @@ for scene in box cow1; do
   fi
 done
 
+# --json: the rows beside the table (refusals as such), named on stdout.
+if "$bin" --table 2 --backend cpu --size 16 --repeats 1 --scene box --peer none --json t2.json \
+    >out.txt 2>err.txt && grep -q '^wrote t2.json$' out.txt &&
+    jq -e '.mode == "table2" and (.rows | length) == 4 and
+           ([.rows[] | select(.refused)] | length) == 2 and
+           (.rows[0].fps > 0) and .rows[0].paper_fps == 443.34' t2.json >/dev/null; then
+  ok "table 2 --json"
+else bad "table 2 --json: $(head -c 300 err.txt) $(head -c 300 t2.json)"; fi
+if "$bin" --scene box --size 16 --flat-size 8 --repeats 1 --json t1.json >out.txt 2>err.txt &&
+    jq -e '.mode == "table1" and .rows[0].scene == "box" and .rows[0].hit_numbers.sah > 0 and
+           .rows[0].paper_hit_numbers.none == 174.652' t1.json >/dev/null; then
+  ok "table 1 --json"
+else bad "table 1 --json: $(head -c 300 err.txt) $(head -c 300 t1.json)"; fi
+# Table 2 without --backend renders on the GPU where a GL context opens (auto), and says in
+# one line when it falls back to cpu.
+if "$bin" --table 2 --size 16 --repeats 1 --scene box --peer none >auto.txt 2>auto_err.txt; then
+  if grep -q "^Table 2 on backend egl\|^Table 2 on backend osmesa" auto.txt; then ok "default backend: GL"
+  elif grep -q "^Table 2 on backend cpu" auto.txt && [ "$(grep -c 'cpu' auto_err.txt)" -eq 1 ]; then
+    ok "default backend: cpu, fallback stated"
+  else bad "default backend: $(head -n 1 auto.txt) / $(head -c 200 auto_err.txt)"; fi
+else bad "default backend: $(head -c 300 auto_err.txt)"; fi
+
 # A GL backend, when built: the raster settings run (not refused), every image agrees with
 # the reference, per-kernel rows come from stats.kernels[], and the renderer is named.
 if "$bin" --table 2 --backend egl --size 16 --repeats 1 --scene box --peer none \
@@ -72,7 +104,7 @@ if "$bin" --table 2 --backend egl --size 16 --repeats 1 --scene box --peer none 
     if echo "$row" | grep -q "agrees"; then ok "egl: '$setting' agrees with the reference"
     else bad "egl: '$setting': $row"; fi
   done
-  grep -q "refused" egl.txt && bad "egl refused a setting" || ok "egl: nothing refused"
+  grep -q "Left out" egl.txt && bad "egl refused a setting" || ok "egl: nothing refused"
   grep -Eq "^\| box +\| tree BVH, 1 pass \| [a-z]+ \| [0-9]+ \|" egl.txt &&
     ok "egl: per-kernel rows" || bad "egl: no per-kernel rows"
   grep -q "^renderer: " egl.txt && ! grep -q "^renderer: CPU" egl.txt &&
@@ -83,18 +115,18 @@ else
   bad "egl: $(head -c 300 egl_err.txt)"
 fi
 
-# --table 3: our build beside the peer's, one row per thread count, and the tree built on
+# --builds: our build beside the peer's, one row per thread count, and the tree built on
 # two threads is the one-thread tree.
-if "$bin" --table 3 --scene cow1 --threads 2 >build.txt 2>build_err.txt; then
+if "$bin" --builds --scene cow1 --threads 2 >build.txt 2>build_err.txt; then
   for t in 1 2; do
     row=$(grep -E "^\| cow1 +\| +5837 \| $t \|" build.txt)
-    if [ -z "$row" ]; then bad "table 3: no row for $t thread(s)"
-    elif echo "$row" | grep -q "| yes |$"; then ok "table 3: $t thread(s), same tree"
-    else bad "table 3: $t thread(s): $row"; fi
+    if [ -z "$row" ]; then bad "builds: no row for $t thread(s)"
+    elif echo "$row" | grep -q "| yes |$"; then ok "builds: $t thread(s), same tree"
+    else bad "builds: $t thread(s): $row"; fi
   done
-  grep -q "median of 7 builds" build.txt && ok "table 3: at least 7 builds" ||
-    bad "table 3: repeats not raised to 7"
+  grep -q "median of 7 builds" build.txt && ok "builds: at least 7 builds" ||
+    bad "builds: repeats not raised to 7"
 else
-  bad "table 3: exit $? ($(head -c 300 build_err.txt))"
+  bad "builds: exit $? ($(head -c 300 build_err.txt))"
 fi
 finish

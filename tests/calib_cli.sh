@@ -15,6 +15,13 @@ grep -q '12 of 12 pairs used' <<<"$out" || fail "pairs: $out"
 grep -q 'baseline 0.4000 m' <<<"$out" || fail "baseline: $out"
 [ -s "$work/rig.json" ] || fail "no rig file"
 
+# --help: every option with its default, on stdout, exit 0.
+"$tool" --help > "$work/help.txt" || fail "--help exit"
+grep -q -- '--board CxR .*\[9x6\]' "$work/help.txt" || fail "--help: no defaults"
+# --synth DIR is made with its parents (the one rule for every output folder).
+"$tool" --synth "$work/new/deep" --views 2 > /dev/null || fail "--synth into a new folder"
+[ -s "$work/new/deep/true.yaml" ] || fail "--synth: no true.yaml in the new folder"
+
 # Bad input: one line on stderr, non-zero exit.
 check_error() {
   local want=$1; shift
@@ -28,6 +35,8 @@ check_error() {
 check_error 2
 check_error 2 --board 2x9 a b
 check_error 2 --frobnicate a b
+check_error 2 --max 1 a b
+grep -q -- "--max: '1' .*5..10000" "$work/err.txt" || fail "--max 1: range not named"
 check_error 1 "$work/none_%04d.png" "$work/cal/right_%04d.png"
 check_error 1 -o "$work/rig.txt" "$work/cal/left_%04d.png" "$work/cal/right_%04d.png"
 # The wrong board size: found in no view, so too few views.

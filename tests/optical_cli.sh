@@ -23,6 +23,34 @@ awk -v a="$first" -v x="$x" -v y="$y" -v z="$z" 'BEGIN { split(a, p, " ");
   d = sqrt((p[1]-x)^2 + (p[2]-y)^2 + (p[3]-z)^2); exit !(d < 0.001) }' \
   || fail "first pose $first is not the truth $x $y $z"
 
+# flips FILE: how many consecutive quaternions (4 numbers per line on stdin) lie in
+# opposite hemispheres (q and -q are one rotation; a flip is a jump in the output).
+flips() {
+  awk 'NR > 1 { d = $1 * a + $2 * b + $3 * c + $4 * e; if (d < 0) n++ }
+       { a = $1; b = $2; c = $3; e = $4 } END { print n + 0 }'
+}
+
+# The README's pair of lines as written (default sequence, 640x480): every one of the 120
+# frame pairs shows all three markers, so every one is tracked, and the quaternions of
+# the track output and of truth.txt are continuous (no sign flips near 180 degrees).
+"$synth" "$work/readme" > "$work/readme.out"
+grep -q 'video:' "$work/readme.out" || fail "optsynth does not say how to track its frames"
+out=$("$track" --sigma 1 --stats 0 \
+  "video:$work/readme/left_%04d.png,$work/readme/right_%04d.png?calib=$work/readme/rig.yaml")
+[ "$(grep -c 'RS_POSE_OK.* markers=3' <<<"$out")" -eq 120 ] \
+  || fail "default sequence: $(grep -c 'RS_POSE_OK' <<<"$out") of 120 frames tracked"
+n=$(grep ' seq=' <<<"$out" | sed 's/.*quat=\[\([^]]*\)\].*/\1/' | flips)
+[ "$n" -eq 0 ] || fail "track output: $n quaternion sign flips"
+# A longer run (three seconds, through turns and the shake) keeps truth.txt continuous.
+"$synth" -n 360 --size 64x64 "$work/long" > /dev/null
+n=$(grep -v '^#' "$work/long/truth.txt" | cut -d' ' -f6-9 | flips)
+[ "$n" -eq 0 ] || fail "truth.txt: $n quaternion sign flips"
+
+# DIR is made with its parents, every file named on stdout; --help lists the defaults.
+"$synth" -n 2 --size 64x64 "$work/new/deep" > "$work/new.out" || fail "optsynth into a new folder"
+grep -q "^wrote $work/new/deep/rig.yaml$" "$work/new.out" || fail "rig.yaml not named on stdout"
+"$synth" --help | grep -q -- '--frames 1..100000 .*\[120\]' || fail "--help: no defaults"
+
 check_error() {
   local want=$1; shift
   set +e
@@ -34,7 +62,9 @@ check_error() {
 }
 check_error 2 "$synth"
 check_error 2 "$synth" --dim 3 "$work/x"
+grep -q -- "--dim: '3' .*0..2" "$work/err.txt" || fail "--dim 3: range not named"
 check_error 2 "$synth" --script fly "$work/x"
+[ ! -e "$work/x" ] || fail "a refused --script left $(ls "$work/x") behind"
 check_error 2 "$track" "video:$work/seq/left_%04d.png?calib=$work/seq/rig.yaml"
 check_error 1 "$track" "video:$work/seq/left_%04d.png,$work/seq/right_%04d.png?calib=$work/none.yaml"
 check_error 1 "$track" "video:$work/none_%04d.png,$work/seq/right_%04d.png?calib=$work/seq/rig.yaml"

@@ -1,5 +1,5 @@
 # tools/paper-tables.sh --quick: the three tables' plumbing on tiny sizes (no timing).
-if(TARGET raystream-bench AND TARGET raystream-glbench AND TARGET rs_egl)
+if(TARGET raystream-bench AND TARGET rs_egl)
   add_test(NAME paper_tables COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/paper_tables.sh
            ${PROJECT_SOURCE_DIR}/tools/paper-tables.sh ${CMAKE_CURRENT_BINARY_DIR}/paper_tables
            ${CMAKE_BINARY_DIR})

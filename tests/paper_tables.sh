@@ -6,6 +6,37 @@ source "$(dirname "$0")/cli_harness.sh"
 script=$bin
 build=$3
 
+# --help is usage on stdout, exit 0.
+bash "$script" --help >stdout.txt 2>stderr.txt && grep -q -- '--out FILE.md' stdout.txt &&
+  [ ! -s stderr.txt ] && ok "--help" || bad "--help: $(head -c 300 stderr.txt)"
+# An output that cannot be written is refused at the start (one line, exit 1, before any
+# table is measured), never "wrote" after the work, and nothing is left behind.
+# refused NAME TARGET: run with --out TARGET; true when refused cleanly.
+refused() {
+  local name=$1 target=$2 rc
+  bash "$script" --quick --build "$build" --out "$target" >stdout.txt 2>stderr.txt
+  rc=$?
+  if [ "$rc" -ne 1 ]; then bad "$name: exit $rc, want 1"
+  elif [ "$(wc -l <stderr.txt)" -ne 1 ] || grep -q 'Table\|wrote' stderr.txt; then
+    bad "$name: want one error line before any work: $(head -c 300 stderr.txt)"
+  elif compgen -G "$work/*.tmp-*" >/dev/null || compgen -G "$work/dir/*.tmp-*" >/dev/null; then
+    bad "$name: left a temporary file"
+  else ok "$name refused: $(cat stderr.txt)"; fi
+}
+mkdir -p dir
+refused "folder as --out" dir
+refused "missing folder" "$work/no-such-folder/t.md"
+echo x >plain && refused "file as folder" plain/t.md
+mkfifo fifo && refused "FIFO as --out" fifo
+[ -p fifo ] || bad "FIFO replaced"
+# a failure after the start (here: no tools in --build) leaves no output and no temporary
+if bash "$script" --build "$work/dir" --out dir/t.md >stdout.txt 2>stderr.txt; then
+  bad "missing tools: exit 0"
+else
+  [ ! -e dir/t.md ] && ! compgen -G "dir/t.md.tmp-*" >/dev/null && ok "failed run leaves nothing" ||
+    bad "failed run left $(ls dir)"
+fi
+
 if bash "$script" --quick --build "$build" --out tables.md >stdout.txt 2>stderr.txt; then
   ok "quick run"
 elif no_gl stderr.txt; then
@@ -15,6 +46,8 @@ elif no_gl stderr.txt; then
 else
   bad "quick run: $(tail -c 400 stderr.txt)"
 fi
+[ "$(cat stdout.txt)" = tables.md ] && ok "output named on stdout" ||
+  bad "stdout: $(head -c 200 stdout.txt)"
 for t in "Table 1" "Table 2" "Table 3"; do
   grep -q "^## $t" tables.md && ok "$t present" || bad "$t missing"
 done
@@ -24,8 +57,7 @@ for f in 174.652 443.34 646.73 268.77 101.74 3.46 12.79; do
 done
 grep -Eq '^\| box +\| +153 \| +[0-9.]+ \|' tables.md && ok "Table 1 has our hit numbers" ||
   bad "Table 1 row: $(grep '^| box' tables.md | head -1)"
-# Table 2 from raystream-bench --table 2 (a row per setting) or, on a build without it,
-# from raystream-glbench (a row per scene): either way our fps beside the paper's 443.34
+# Table 2 from raystream-bench --table 2 (a row per setting): our fps beside the paper's 443.34
 grep -Eq '^\| box +\| tree BVH, 1 pass \| [0-9.]+ .*\| [0-9.]+ \| .*443\.34|^\| box \| [0-9.]+ \([0-9.]+\) \| 443\.34' tables.md &&
   ok "Table 2 has our fps" ||
   bad "Table 2 row: $(grep '^| box' tables.md | tail -1)"

@@ -4,16 +4,27 @@
 # rendered again has exactly zero error, the Markdown names a pick, the plot is a PNG.
 source "$(dirname "$0")/cli_harness.sh"
 
+if "$bin" --help >out.txt 2>err.txt && [ ! -s err.txt ] && grep -q -- '--frames 1..64 .*\[5\]' out.txt &&
+    grep -q -- '--backend .*\[auto\]' out.txt; then ok "--help on stdout with defaults"
+else bad "--help: $(head -c 300 err.txt)"; fi
 fails_cleanly "no output dir" 2 "--out DIR is required" --quick && ok "no output dir"
 fails_cleanly "unknown option" 2 "unknown option '--frobnicate'" --frobnicate 1 --out . &&
   ok "unknown option"
-fails_cleanly "bad passes" 2 "--max-passes" --max-passes 9 --out . && ok "bad passes"
-fails_cleanly "bad time" 2 "--time wants wall or cpu" --time gpu --out . && ok "bad time"
-fails_cleanly "bad backend" 2 "unknown backend 'vulkan'" --backend vulkan --out . &&
-  ok "bad backend"
-fails_cleanly "unwritable dir" 1 "nodir: not a writable folder" --quick --backend cpu --no-plot \
-  --out nodir && ok "unwritable dir"
-if ls nodir* ./*.tmp-* >/dev/null 2>&1; then bad "unwritable dir left a file"; fi
+fails_cleanly "bad passes" 2 "--max-passes: '9' .*1\.\.5" --max-passes 9 --out . && ok "bad passes"
+fails_cleanly "zero frames" 2 "--frames: '0' .*1\.\.64" --frames 0 --out . && ok "zero frames"
+fails_cleanly "zero size" 2 "--size: '0' .*8\.\.4096" --size 0 --out . && ok "zero size"
+fails_cleanly "bad time" 2 "--time: 'gpu' is not wall\|cpu" --time gpu --out . && ok "bad time"
+fails_cleanly "bad backend" 2 "--backend: .*vulkan" --backend vulkan --out . && ok "bad backend"
+echo x >plain
+fails_cleanly "folder under a file" 1 "plain: exists and is not a folder" --quick --backend cpu \
+  --no-plot --out plain/report && ok "folder under a file"
+if ls ./*.tmp-* >/dev/null 2>&1; then bad "unwritable dir left a file"; fi
+# The README's line: --out report/ is made when it does not exist, and every file written
+# is named on stdout.
+if "$bin" --quick --backend cpu --no-plot --out new/report/ >new.out 2>new.err &&
+    [ -s new/report/report.csv ] && grep -q '^wrote new/report/*report.csv$' new.out &&
+    grep -q '^wrote new/report/*report.md$' new.out; then ok "--out folder made, outputs named"
+else bad "--out new/report/: $(tail -c 300 new.err) $(cat new.out)"; fi
 
 # check_run NAME DIR: the files of one good run.
 check_run() {

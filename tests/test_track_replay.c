@@ -166,6 +166,24 @@ static void missing_file_is_not_found(void **state)
 	assert_non_null(strstr(err.message, "raystream.rec"));
 }
 
+/* Without the header any file would read as an empty raw dump: a regular file with no
+ * frame is refused at open (replay:data/cow.obj used to "replay" 0 samples, exit 0). */
+static void non_recording_is_refused(void **state)
+{
+	const char *bodies[] = {"", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"};
+	for (size_t i = 0; i < 2; i++) {
+		FILE *f = fopen(path, "wb");
+		assert_non_null(f);
+		fputs(bodies[i], f);
+		fclose(f);
+		struct rs_track_source *src = NULL;
+		struct rs_error err;
+		assert_int_equal(rs_track_replay_open(path, NULL, &src, &err), RS_ERR_BAD_DATA);
+		assert_null(src);
+		assert_non_null(strstr(err.message, "not a recording"));
+	}
+}
+
 static void unknown_recording_version_is_unsupported(void **state)
 {
 	FILE *f = fopen(path, "wb");
@@ -363,6 +381,7 @@ int main(void)
 	    cmocka_unit_test_setup_teardown(damaged_record_is_counted_and_skipped, setup, teardown),
 	    cmocka_unit_test_setup_teardown(truncated_file_ends_cleanly, setup, teardown),
 	    cmocka_unit_test_setup_teardown(missing_file_is_not_found, setup, teardown),
+	    cmocka_unit_test_setup_teardown(non_recording_is_refused, setup, teardown),
 	    cmocka_unit_test_setup_teardown(unknown_recording_version_is_unsupported, setup,
 	                                    teardown),
 	    cmocka_unit_test_setup_teardown(unencodable_sample_is_not_recorded, setup, teardown),

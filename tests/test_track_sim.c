@@ -287,12 +287,28 @@ static void params_reject_bad_input(void **state)
 	                     "=5",
 	                     "rate=nan",
 	                     "script=walk:1,still:1,turn:1",
-	                     "seed=99999999999999999999"};
+	                     "seed=99999999999999999999",
+	                     "rate=0", /* not "the default" when written out */
+	                     "rate=0Hz",
+	                     "rate=2e6"};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
 		assert_int_equal(rs_sim_parse_params(bad[i], &d, script, sizeof script, &err),
 		                 RS_ERR_PARSE);
 		assert_true(err.message[0] != '\0');
 	}
+}
+
+static void script_length_is_one_pass(void **state)
+{
+	(void)state;
+	double s = 0;
+	assert_int_equal(rs_sim_script_seconds(NULL, &s, NULL), RS_OK);
+	assert_true(s == 6.0); /* still:0.5,walk:2,turn:2,shake:1,still:0.5 */
+	assert_int_equal(rs_sim_script_seconds("still,walk:0.25", &s, NULL), RS_OK);
+	assert_true(s == 1.25);
+	struct rs_error err;
+	assert_int_equal(rs_sim_script_seconds("fly", &s, &err), RS_ERR_INVALID);
+	assert_non_null(strstr(err.message, "fly"));
 }
 
 static void sim_source_delivers_quantised_samples(void **state)
@@ -354,6 +370,7 @@ int main(void)
 	    cmocka_unit_test(bad_descriptors_are_rejected),
 	    cmocka_unit_test(params_parse_units),
 	    cmocka_unit_test(params_reject_bad_input),
+	    cmocka_unit_test(script_length_is_one_pass),
 	    cmocka_unit_test(sim_source_delivers_quantised_samples),
 	    cmocka_unit_test(sim_source_realtime_paces),
 	};

@@ -15,6 +15,7 @@ packages=(
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libosmesa6-dev
   libturbojpeg0-dev libx11-dev xvfb x11-apps
   gnuplot-nox
+  jq  # tools/paper-tables.sh reads raystream-bench --json
 )
 
 # Intel Embree 3: the peer tracer of raystream-bench --table 2, a benchmark-only dependency

@@ -2,15 +2,23 @@
 # The seed paper's Tables 1, 2 and 3 regenerated on this machine, the paper's figures beside
 # ours, machine and renderer named, progress on stderr. Calls the built tools:
 #   Table 1  raystream-bench (hit numbers per builder, 2 passes)
-#   Table 2  raystream-bench --table 2 when this build has it, else raystream-glbench
+#   Table 2  raystream-bench --table 2
 #   Table 3  the mirrors scene at 5 passes: classic and inter-reflection environment
 #            mapping (2 bounces) and the ray tracer on the backend, and the CPU
-#            reference (raystream-glbench)
-# Usage: tools/paper-tables.sh [--quick] [--build DIR] [--backend egl|osmesa|cpu]
-#                              [--out FILE.md]
-#   --quick: box (and mirrors) at 32x32, one frame: checks the plumbing (CI), not speed.
-#   --build: the build folder (default $RS_BUILD_DIR, else build/ in the source tree).
+#            reference (raystream-bench --times, read from its --json)
 set -euo pipefail
+usage() {
+  cat <<'EOF'
+usage: tools/paper-tables.sh [--quick] [--build DIR] [--backend egl|osmesa|cpu] [--out FILE.md]
+  The paper's Tables 1-3 beside ours, as Markdown (stdout unless --out; progress on stderr).
+  --quick          box (and mirrors) at 32x32, one frame: the plumbing (CI), not speed
+  --build DIR      the build folder (default: $RS_BUILD_DIR, else build/ in the source tree)
+  --backend NAME   the backend of Tables 2 and 3 (default: egl)
+  --out FILE.md    write the tables there, all or nothing (its folder must exist; checked
+                   before any work)
+EOF
+}
+die() { echo "paper-tables: $*" >&2; exit "${code:-1}"; }
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${RS_BUILD_DIR:-$root/build}
 backend=egl
@@ -18,42 +26,51 @@ quick=0
 out=""
 while [ $# -gt 0 ]; do
   case $1 in
+    -h|--help) usage; exit 0 ;;
     --quick) quick=1; shift ;;
-    --build) build=${2:?--build needs a folder}; shift 2 ;;
-    --backend) backend=${2:?--backend needs a name}; shift 2 ;;
-    --out) out=${2:?--out needs a file}; shift 2 ;;
-    *) echo "paper-tables: unknown option '$1'" >&2; exit 2 ;;
+    --build|--backend|--out)
+      [ $# -ge 2 ] && [ -n "$2" ] || code=2 die "$1 needs a value (try --help)"
+      case $1 in --build) build=$2 ;; --backend) backend=$2 ;; --out) out=$2 ;; esac
+      shift 2 ;;
+    *) code=2 die "unknown option '$1' (try --help)" ;;
   esac
 done
+# The output is checked before minutes of work, not after: a folder, a missing folder or
+# one we cannot write is refused now, and a device or FIFO is never replaced. The tables
+# go to a temporary file beside the target, renamed over it only when complete.
+outtmp="" tmp=""
+trap 'rm -rf "$tmp"; [ -z "$outtmp" ] || rm -f "$outtmp"' EXIT
+if [ -n "$out" ]; then
+  [ -d "$out" ] && die "--out $out is a folder; give a file name (e.g. $out/tables.md)"
+  [ -e "$out" ] && [ ! -f "$out" ] && die "--out $out exists and is not a regular file"
+  outdir=$(dirname -- "$out")
+  [ -d "$outdir" ] || die "cannot write $out: no folder $outdir"
+  outtmp=$(mktemp "$out.tmp-XXXXXX" 2>/dev/null) || die "cannot write $out: folder $outdir is not writable"
+fi
 bench=$build/tools/bench/raystream-bench
-glbench=$build/tools/glbench/raystream-glbench
-for t in "$bench" "$glbench"; do
-  [ -x "$t" ] || { echo "paper-tables: $t not built (cmake --build $build)" >&2; exit 1; }
-done
+[ -x "$bench" ] || die "$bench not built (cmake --build $build)"
+command -v jq >/dev/null || die "jq is needed to read raystream-bench --json (tools/deps.sh)"
 if [ "$quick" = 1 ]; then
-  scenes=(box); size=32; frames=1; t1=(--scene box --size 32 --flat-size 16 --repeats 1)
+  size=32; frames=1; t1=(--scene box --size 32 --flat-size 16 --repeats 1)
 else
-  scenes=(box cow1 cow2 cow5 cow9 cow17); size=512; frames=5; t1=()
+  size=512; frames=5; t1=()
 fi
 # Table 3: inter-reflection bounces (the paper does not give its number).
 bounces3=2
 step() { echo "paper-tables: $*" >&2; }
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
 
-# glbench_row SCENE PASSES PRIMARY [BACKEND [REFLECTIONS]]: "fps hits" of one glbench
-# run, plus the renderer line kept for the header.
-glbench_row() {
-  local scene=$1 passes=$2 primary=$3 be=${4:-$backend} refl=${5:-trace} line
-  "$glbench" --backend "$be" --size "$size" --frames "$frames" --passes "$passes" \
-    --lights 1 --primary "$primary" --reflections "$refl" "$scene" >"$tmp/gl.txt"
-  line=$(head -1 "$tmp/gl.txt")
-  sed -n 's/^  renderer: //p' "$tmp/gl.txt" >"$tmp/renderer-$be"
-  local fps hits
-  fps=$(sed -n 's/.*= \([0-9.]*\) fps.*/\1/p' <<<"$line")
-  hits=$(sed -n 's/.*hit numbers \([0-9.]*\).*/\1/p' <<<"$line")
-  [ -n "$fps" ] && [ -n "$hits" ] || { echo "paper-tables: cannot read glbench: $line" >&2; return 1; }
-  echo "$fps $hits"
+# times_row SCENE PASSES PRIMARY [BACKEND [REFLECTIONS]]: "fps hits" of one
+# raystream-bench --times run, read from its JSON; the renderer string is kept for the
+# header.
+times_row() {
+  local scene=$1 passes=$2 primary=$3 be=${4:-$backend} refl=${5:-trace}
+  "$bench" --times --backend "$be" --size "$size" --repeats "$frames" --passes "$passes" \
+    --lights 1 --primary "$primary" --reflections "$refl" --json "$tmp/times.json" \
+    "$scene" >"$tmp/times.txt" || die "raystream-bench --times $scene failed"
+  jq -r '.rows[0].renderer' "$tmp/times.json" >"$tmp/renderer-$be"
+  jq -r '.rows[0] | "\(.fps * 100 | round / 100) \(.hit_numbers * 10 | round / 10)"' \
+    "$tmp/times.json" || die "cannot read $tmp/times.json"
 }
 
 {
@@ -73,50 +90,22 @@ step "Table 1 (raystream-bench ${t1[*]})"
   echo
 } >>"$tmp/out.md"
 
-declare -A paper2=(
-  [box]="443.34 (3.056)|646.73 (0.541)|268.77 (1.044)"
-  [cow1]="85.71 (35.055)|153.54 (12.846)|48.22 (26.845)"
-  [cow2]="51.23 (47.079)|85.62 (18.660)|30.54 (39.998)"
-  [cow5]="32.48 (87.545)|37.43 (36.332)|16.93 (138.311)"
-  [cow9]="18.42 (160.157)|22.63 (69.270)|10.50 (238.444)"
-  [cow17]="12.24 (248.820)|14.53 (99.822)|7.31 (361.564)")
-if "$bench" --help 2>&1 | grep -q -- "--table"; then
-  step "Table 2 (raystream-bench --table 2 --backend $backend)"
-  t2=(--table 2 --backend "$backend")
-  [ "$quick" = 1 ] && t2+=(--scene box --size 32 --repeats 1)
-  { echo "## Table 2 (raystream-bench --table 2)"; echo; "$bench" "${t2[@]}"; echo; } >>"$tmp/out.md"
-else
-  {
-    echo "## Table 2: fps (hit numbers), SAH BVH, 1 light ($backend, raystream-glbench)"
-    echo
-    echo "| scene | tree BVH 1 pass | paper | raster + BVH 1 pass | paper | raster + BVH 2 passes | paper |"
-    echo "|---|---:|---:|---:|---:|---:|---:|"
-  } >>"$tmp/out.md"
-  for s in "${scenes[@]}"; do
-    IFS='|' read -r p1 p2 p3 <<<"${paper2[$s]}"
-    cells=()
-    for cfg in "1 trace" "1 raster" "2 raster"; do
-      set -- $cfg
-      step "Table 2: $s, $1 pass(es), $2 primary"
-      row=$(glbench_row "$s" "$1" "$2")
-      cells+=("${row% *} (${row#* })")
-    done
-    echo "| $s | ${cells[0]} | $p1 | ${cells[1]} | $p2 | ${cells[2]} | $p3 |" >>"$tmp/out.md"
-  done
-  echo >>"$tmp/out.md"
-fi
+step "Table 2 (raystream-bench --table 2 --backend $backend)"
+t2=(--table 2 --backend "$backend")
+[ "$quick" = 1 ] && t2+=(--scene box --size 32 --repeats 1)
+{ echo "## Table 2 (raystream-bench --table 2)"; echo; "$bench" "${t2[@]}"; echo; } >>"$tmp/out.md"
 
 step "Table 3: mirrors, 5 passes, $backend"
-row=$(glbench_row mirrors 5 trace)
+row=$(times_row mirrors 5 trace)
 fps3=${row% *} hits3=${row#* }
 step "Table 3: mirrors, classic environment mapping, $backend"
-row=$(glbench_row mirrors 5 trace "$backend" envmap)
+row=$(times_row mirrors 5 trace "$backend" envmap)
 fpsenv=${row% *}
 step "Table 3: mirrors, inter-reflection environment mapping ($bounces3 bounces), $backend"
-row=$(glbench_row mirrors 5 trace "$backend" "interreflect:$bounces3")
+row=$(times_row mirrors 5 trace "$backend" "interreflect:$bounces3")
 fpsinter=${row% *}
 step "Table 3: mirrors, 5 passes, cpu reference"
-row=$(glbench_row mirrors 5 trace cpu)
+row=$(times_row mirrors 5 trace cpu)
 fpscpu=${row% *}
 {
   echo "## Table 3: environment mapping against ray tracing, mirrors scene (25,254 triangles), 5 passes, 1 light"
@@ -136,8 +125,11 @@ fpscpu=${row% *}
 } >>"$tmp/out.md"
 
 if [ -n "$out" ]; then
-  cp "$tmp/out.md" "$out.tmp-$$" && mv "$out.tmp-$$" "$out"
+  cat "$tmp/out.md" >"$outtmp" || die "cannot write $out"
+  mv -f "$outtmp" "$out" || die "cannot write $out"
+  outtmp=""
+  echo "$out"
   step "wrote $out"
 else
-  cat "$tmp/out.md"
+  cat "$tmp/out.md" || die "cannot write the tables to standard output"
 fi

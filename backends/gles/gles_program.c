@@ -288,8 +288,8 @@ void rs_gles_programs_delete(struct gles *g)
 }
 
 enum rs_status rs_gles_program_compile(const struct rs_gl *gl, const char *version,
-                                       const char *const *files, size_t count,
-                                       GLuint *out, struct rs_error *err)
+                                       const char *const *files, size_t count, GLuint *out,
+                                       struct rs_error *err)
 {
 	return program(gl, version, NULL, 0, files, count, "", out, err);
 }

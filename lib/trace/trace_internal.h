@@ -10,7 +10,6 @@
 #include "raystream/rs_trace.h"
 #include "private/rs_vec.h"
 
-
 /* The frame's ray queries: the packed BVH, or the caller's intersector. */
 static inline bool rs_trace_frame_closest(const struct rs_trace_frame *frame,
                                           const struct rs_ray *ray, struct rs_hit *hit,

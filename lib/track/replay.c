@@ -194,6 +194,27 @@ static enum rs_status replay_next(struct replay *r, struct rs_marker_sample *out
 	}
 }
 
+/* A file without the recorder's header is read as a raw frame dump, so any file at all
+ * would "replay" as zero samples and a clean end (replay:data/cow.obj). A regular file
+ * must therefore show a frame within its first MAX_SCAN bytes; streams (a FIFO, a
+ * device) cannot be looked at without consuming them and are taken as they come. */
+static enum rs_status probe_raw_dump(struct replay *r, struct rs_error *err)
+{
+	struct stat sb;
+	if (!r->raw || fstat(fileno(r->f), &sb) != 0 || !S_ISREG(sb.st_mode))
+		return RS_OK;
+	struct rs_marker_sample s;
+	enum rs_status st = replay_next(r, &s, NULL);
+	if (st == RS_ERR_IO)
+		return rs_error_set(err, RS_ERR_IO, "replay: %s: read error", r->path);
+	if (st != RS_OK)
+		return rs_error_set(err, RS_ERR_BAD_DATA,
+		                    "replay: %s is not a recording (no " MAGIC
+		                    " header, no tracker frame in its first %d bytes)",
+		                    r->path, MAX_SCAN);
+	return replay_rewind(r, err);
+}
+
 static enum rs_status replay_read(void *impl, struct rs_marker_sample *out, int timeout_ms,
                                   struct rs_error *err)
 {
@@ -275,6 +296,8 @@ enum rs_status rs_track_replay_open(const char *path, const struct rs_track_repl
 		return st;
 	}
 	enum rs_status st = replay_rewind(r, err);
+	if (st == RS_OK)
+		st = probe_raw_dump(r, err);
 	if (st != RS_OK) {
 		replay_destroy(r);
 		return st;

@@ -69,6 +69,22 @@ enum rs_status sim_parse_script(const char *script, struct sim_segment *out, siz
 	return RS_OK;
 }
 
+enum rs_status rs_sim_script_seconds(const char *script, double *out_s, struct rs_error *err)
+{
+	RS_ASSERT(out_s);
+	struct sim_segment seg[RS_SIM_MAX_SEGMENTS];
+	size_t n = 0;
+	enum rs_status st =
+	    sim_parse_script(script && script[0] ? script : RS_SIM_DEFAULT_SCRIPT, seg, &n, err);
+	if (st != RS_OK)
+		return st;
+	double total = 0;
+	for (size_t i = 0; i < n; i++)
+		total += seg[i].duration_s;
+	*out_s = total;
+	return RS_OK;
+}
+
 void sim_quat_integrate(double q[4], const double w_world[3], const double w_body[3], double h)
 {
 	double e[4], v[3];

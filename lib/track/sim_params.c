@@ -89,6 +89,12 @@ enum rs_status rs_sim_parse_pair(const char *key, size_t kn, const char *v, size
 		if (!parse_number(v, vn, nums[i].units, nums[i].dst) || *nums[i].dst < 0)
 			return rs_error_set(err, RS_ERR_PARSE, "sim: bad value '%.*s' for %s",
 			                    (int)(vn > 40 ? 40 : vn), v, nums[i].name);
+		/* In the descriptor 0 means "default 120 Hz"; written out, rate=0 is a
+		 * mistake, not a request for the default. */
+		if (nums[i].dst == &d->rate_hz && !(d->rate_hz >= 0.01 && d->rate_hz <= 1e6))
+			return rs_error_set(err, RS_ERR_PARSE,
+			                    "sim: rate '%.*s' out of range [0.01, 1e6] Hz",
+			                    (int)(vn > 40 ? 40 : vn), v);
 		return RS_OK;
 	}
 	uint64_t u;

@@ -1,165 +1,203 @@
 /*
- * raystream-bench: the paper's tables for this project.
+ * raystream-bench: the paper's tables for this project, and frame times per setting.
  *   --table 1 (default): hit numbers per scene and builder beside the paper's Table 1, the
  *             triangle tests' speed against error, and BVH build times (table1.c).
  *   --table 2: the paper's Table 2 on a render backend (fps, hit numbers, Mrays/s, time per
  *             kernel for tree BVH 1 pass, raster + BVH 1 and 2 passes) beside the Embree
  *             peer on the same rays when it was built (table2.c, embree/).
- *   --table 3: BVH build time, ours against Embree's medium build on the same threads
- *             (table3.c, embree/embree_build.c).
+ *   --times SCENE...: frame times of one render setting per scene (times.c; this was
+ *             raystream-glbench).
+ *   --builds: BVH build time, ours against Embree's medium build on the same threads
+ *             (builds.c, embree/embree_build.c).
+ * --json FILE writes the figures beside the tables; progress goes to stderr once a run
+ * has taken 2 s.
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "bench.h"
+#include "raystream/rs_cli.h"
 #include "raystream/rs_renderers.h"
 #include "tool_common.h"
 
 const char *const bench_scenes[BENCH_SCENE_COUNT] = {"box",  "cow1", "cow2",
                                                      "cow5", "cow9", "cow17"};
 
-void bench_min_max(const double *v, uint32_t n, double *out_min, double *out_max)
+static const char about[] =
+    "Table 1 renders on the CPU reference (it counts); Table 2 and --times on --backend,\n"
+    "by default the GPU where a GL context opens (auto; a line on stderr says when it falls\n"
+    "back to cpu, which traces primary rays only: Table 2's raster rows are then left out\n"
+    "and named once). Scenes: box, cow1, cow2, cow5, cow9, cow17 (Tables: default all);\n"
+    "--times takes any scene raystream-render does. Table 1 counts the paper's node\n"
+    "layout (paper:single) unless --nodes is given. Render options: docs/render.md;\n"
+    "figures and commands: docs/benchmarks.md.\n";
+
+static enum rs_status parse_peer(void *out, const char *v, struct rs_error *err)
 {
-	*out_min = *out_max = v[0];
-	for (uint32_t i = 1; i < n; ++i) {
-		*out_min = v[i] < *out_min ? v[i] : *out_min;
-		*out_max = v[i] > *out_max ? v[i] : *out_max;
-	}
+	if (strcmp(v, "embree") != 0 && strcmp(v, "none") != 0)
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not embree|none", v);
+	*(bool *)out = !strcmp(v, "embree");
+	return RS_OK;
 }
 
-static void usage(void)
+static enum rs_status parse_scene(void *out, const char *v, struct rs_error *err)
 {
-	puts("usage: raystream-bench [--table 1|2|3] [--size N] [--lights N] [--repeats N]\n"
-	     "                       [--threads N] [--scene NAME]\n"
-	     "  table 1: [--flat-size N] [--passes N] [--none-max-triangles N]\n"
-	     "  table 2: [--backend cpu|egl|osmesa] [--bvh none|linear|paper|sah]\n"
-	     "           [--peer embree|none] [--scene-storage auto|2d|buffer]\n"
-	     "  both:    [--nodes compact|paper[:directional|single]] (table 1: paper:single,\n"
-	     "           the paper's layout; table 2: compact:directional)\n"
-	     "Scenes: box, cow1, cow2, cow5, cow9, cow17 (default all).");
-}
-
-static int bad(const char *what, const char *value)
-{
-	fprintf(stderr, "raystream-bench: %s%s%s\n", what, value ? " " : "", value ? value : "");
-	return 2;
-}
-
-static int parse_builder(const char *v, enum rs_bvh_builder *out)
-{
-	static const char *const names[] = {"none", "linear", "paper", "sah"};
-	static const enum rs_bvh_builder ids[] = {RS_BVH_NONE, RS_BVH_LINEAR, RS_BVH_PAPER,
-	                                          RS_BVH_SAH};
-	for (int i = 0; i < 4; ++i)
-		if (!strcmp(v, names[i])) {
-			*out = ids[i];
-			return 1;
+	for (size_t s = 0; s < BENCH_SCENE_COUNT; ++s)
+		if (!strcmp(v, bench_scenes[s])) {
+			*(const char **)out = bench_scenes[s];
+			return RS_OK;
 		}
-	return 0;
+	return rs_error_set(err, RS_ERR_INVALID,
+	                    "unknown scene '%s' (box, cow1, cow2, cow5, cow9 or cow17)", v);
 }
 
-static int parse(int argc, char **argv, struct bench_options *o)
+/* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
+static int parse(int argc, char **argv, struct bench_options *o, const char **json_path)
 {
 	*o = (struct bench_options){.table = 1,
 	                            .size = 512,
 	                            .flat_size = 64,
 	                            .none_max_tris = 30000,
-	                            .passes = 2,
 	                            .lights = 1,
 	                            .repeats = 5,
-	                            .backend = "cpu",
-	                            .builder = RS_BVH_SAH,
 	                            .peer = true};
-	for (int i = 1; i < argc; ++i) {
-		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (!strcmp(a, "--help")) {
-			usage();
-			exit(0);
-		}
-		uint32_t *dst = !strcmp(a, "--size")                 ? &o->size
-		                : !strcmp(a, "--flat-size")          ? &o->flat_size
-		                : !strcmp(a, "--passes")             ? &o->passes
-		                : !strcmp(a, "--lights")             ? &o->lights
-		                : !strcmp(a, "--repeats")            ? &o->repeats
-		                : !strcmp(a, "--threads")            ? &o->threads
-		                : !strcmp(a, "--none-max-triangles") ? &o->none_max_tris
-		                : !strcmp(a, "--table")              ? &o->table
-		                                                     : NULL;
-		int known = dst || !strcmp(a, "--scene") || !strcmp(a, "--backend") ||
-		            !strcmp(a, "--bvh") || !strcmp(a, "--peer") || !strcmp(a, "--nodes") ||
-		            !strcmp(a, "--scene-storage");
-		if (!known)
-			return bad("unknown option:", a);
-		if (!v)
-			return bad("missing value for", a);
-		++i;
-		if (!strcmp(a, "--scene")) {
-			o->only = v;
-		} else if (!strcmp(a, "--backend")) {
-			if (!rs_renderer_has_backend(v)) {
-				fprintf(
-				    stderr,
-				    "raystream-bench: unknown backend '%s' (this build has: %s)\n",
-				    v, rs_renderer_backends());
-				return 2;
-			}
-			o->backend = v;
-		} else if (!strcmp(a, "--bvh")) {
-			if (!parse_builder(v, &o->builder))
-				return bad("unknown BVH builder (none, linear, paper or sah):", v);
-		} else if (!strcmp(a, "--nodes")) {
-			if (!rs_tool_parse_nodes(v, &o->pack))
-				return bad("--nodes wants compact|paper[:directional|single], not",
-				           v);
-			o->pack_set = true;
-		} else if (!strcmp(a, "--scene-storage")) {
-			if (!rs_tool_parse_storage(v, &o->storage))
-				return bad("--scene-storage wants auto, 2d or buffer, not", v);
-		} else if (!strcmp(a, "--peer")) {
-			if (strcmp(v, "embree") != 0 && strcmp(v, "none") != 0)
-				return bad("--peer wants embree or none, not", v);
-			o->peer = !strcmp(v, "embree");
-		} else {
-			uint32_t max = dst == &o->repeats         ? 32
-			               : dst == &o->table         ? 3
-			               : dst == &o->none_max_tris ? 1u << 24
-			               : dst == &o->lights        ? 64
-			                                          : 16384;
-			if (!rs_tool_parse_u32(v, 1, max, dst)) {
-				fprintf(stderr, "raystream-bench: bad option %s %s\n", a, v);
-				return 2;
-			}
-		}
-	}
-	if (o->only) {
-		size_t s = 0;
-		while (s < BENCH_SCENE_COUNT && strcmp(o->only, bench_scenes[s]) != 0)
-			++s;
-		/* An unknown name would otherwise print an empty table and exit 0. */
-		if (s == BENCH_SCENE_COUNT) {
-			fprintf(stderr,
-			        "raystream-bench: unknown scene '%s' (box, cow1, cow2, cow5, "
-			        "cow9 or cow17)\n",
-			        o->only);
-			return 2;
-		}
-	}
+	*json_path = NULL;
+	const struct rs_cli_option opts[] = {
+	    {.name = "--table",
+	     .kind = RS_CLI_U32,
+	     .out = &o->table,
+	     .arg = "1|2",
+	     .help = "the paper's Table 1 (hit numbers) or 2 (frame rates)",
+	     .min = 1,
+	     .max = 2},
+	    RS_CLI_FLAG_OPT("--times", &o->times,
+	                    "frame times of the render options per SCENE (was raystream-glbench)"),
+	    RS_CLI_FLAG_OPT("--builds", &o->builds,
+	                    "BVH build time against Embree's medium build, same threads"),
+	    RS_CLI_CALL_OPT("--scene", &o->only, parse_scene, "NAME",
+	                    "tables: one of the paper's scenes [all]"),
+	    RS_CLI_U32_OPT("--size", &o->size, 8, 16384, "image side, pixels"),
+	    RS_CLI_U32_OPT("--lights", &o->lights, 1, 64, "the scene's first N lights"),
+	    RS_CLI_U32_OPT("--repeats", &o->repeats, 1, 32, "timed frames (BVH builds) per row"),
+	    RS_CLI_U32_OPT("--flat-size", &o->flat_size, 8, 16384,
+	                   "table 1: image side for the none/linear builders"),
+	    RS_CLI_U32_OPT("--none-max-triangles", &o->none_max_tris, 1, 16777216,
+	                   "table 1: skip builder none above this"),
+	    {.name = "--peer",
+	     .kind = RS_CLI_CALL,
+	     .out = &o->peer,
+	     .call = parse_peer,
+	     .arg = "embree|none",
+	     .help = "table 2: the Intel Embree 3 peer, when built",
+	     .fallback = "embree"},
+	    RS_CLI_STRING_OPT("--json", json_path, "FILE", "the figures as JSON too"),
+	};
+	static const char *positional[BENCH_MAX_SCENES];
+	struct rs_cli cli = {
+	    .prog = "raystream-bench",
+	    .usage =
+	        "[--table 1|2] [options]  |  --builds [options]  |  --times [options] SCENE...",
+	    .about = about,
+	    .options = opts,
+	    .option_count = sizeof opts / sizeof opts[0],
+	    .render = &o->render,
+	    .render_keys = "backend,passes,threads,bvh,nodes,scene-storage,"
+	                   "primary,shadows,reflections,chain,triangle-test",
+	    .positional = positional,
+	    .positional_max = BENCH_MAX_SCENES,
+	    .positional_name = "SCENE..."};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code ? code : -1;
+	for (int i = 1; i < argc; ++i)
+		o->pack_set |= !strncmp(argv[i], "--nodes", 7);
+	if (o->times && !cli.positional_count)
+		return rs_cli_usage_error(&cli, "--times needs at least one SCENE");
+	if (!o->times && cli.positional_count)
+		return rs_cli_usage_error(&cli, "unexpected argument '%s' (scenes go with --times)",
+		                          positional[0]);
+	memcpy(o->scenes, positional, cli.positional_count * sizeof *positional);
+	o->scene_count = cli.positional_count;
+	const char *b = o->render.backend ? o->render.backend : "auto";
+	if (!rs_renderer_has_backend(b))
+		return rs_cli_usage_error(&cli,
+		                          "--backend: '%s' is not part of this build (have: %s)", b,
+		                          rs_renderer_backends());
+	o->passes = o->render.passes ? o->render.passes : 2;
+	o->builder = o->render.bvh.builder;
+	o->pack = o->render.pack;
+	o->storage = o->render.scene_storage;
+	o->threads = o->render.threads;
 	if (!o->threads) {
 		long n = sysconf(_SC_NPROCESSORS_ONLN);
 		o->threads = n > 0 && n <= 256 ? (uint32_t)n : 1u;
 	}
+	/* Table 1 renders on the CPU reference: it needs no backend opened. */
+	struct rs_error err = {0};
+	if ((o->times || o->table == 2) &&
+	    !(o->backend = rs_tool_backend_name(&cli, &o->render, &err)))
+		return rs_cli_fail(&cli, &err);
 	return 0;
+}
+
+/* Whether `path` can be written as a file (its folder exists and is writable; it is a
+ * regular file or nothing), without touching it. */
+static bool writable_target(const char *path, struct rs_error *err)
+{
+	struct stat sb;
+	if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+		rs_error_set(err, RS_ERR_IO, "cannot write %s: not a regular file", path);
+		return false;
+	}
+	char dir[4096];
+	snprintf(dir, sizeof dir, "%s", path);
+	char *slash = strrchr(dir, '/');
+	if (!slash)
+		snprintf(dir, sizeof dir, ".");
+	else
+		slash[slash == dir ? 1 : 0] = '\0';
+	if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode) || access(dir, W_OK) != 0) {
+		rs_error_set(err, RS_ERR_IO, "cannot write %s: %s is not a writable folder", path,
+		             dir);
+		return false;
+	}
+	return true;
 }
 
 int main(int argc, char **argv)
 {
 	struct bench_options o;
-	int code = parse(argc, argv, &o);
+	const char *json_path;
+	int code = parse(argc, argv, &o, &json_path);
 	if (code)
-		return code;
-	if (o.table == 3)
-		return bench_table3(&o);
-	return o.table == 2 ? bench_table2(&o) : bench_table1(&o);
+		return code < 0 ? 0 : code;
+	const struct rs_cli cli = {.prog = "raystream-bench"};
+	struct rs_error err = {0};
+	/* The JSON target is checked before minutes of work, not after. */
+	if (json_path && !writable_target(json_path, &err))
+		return rs_cli_fail(&cli, &err);
+	if (json_path) {
+		o.json = cJSON_CreateObject();
+		cJSON_AddStringToObject(o.json, "mode",
+		                        o.times        ? "times"
+		                        : o.builds     ? "builds"
+		                        : o.table == 2 ? "table2"
+		                                       : "table1");
+		cJSON_AddArrayToObject(o.json, "rows");
+	}
+	code = o.times        ? bench_times(&o)
+	       : o.builds     ? bench_builds(&o)
+	       : o.table == 2 ? bench_table2(&o)
+	                      : bench_table1(&o);
+	if (o.json && code == 0) {
+		if (rs_tool_write_json(json_path, o.json, &err) != RS_OK)
+			code = rs_cli_fail(&cli, &err);
+		else
+			rs_cli_wrote(json_path);
+	}
+	cJSON_Delete(o.json);
+	return code;
 }

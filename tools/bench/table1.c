@@ -125,6 +125,25 @@ static int bench_scene(const struct bench_options *o, const struct paper_row *ro
 	}
 	printf(" %5.1f%% | %6.3f |\n", 100.0 * hits[3] / hits[2], box[3]);
 	fflush(stdout);
+	if (o->json) {
+		static const char *const names[] = {"none", "linear", "paper", "sah"};
+		cJSON *r = cJSON_CreateObject();
+		cJSON_AddStringToObject(r, "scene", row->scene);
+		cJSON_AddNumberToObject(r, "triangles", (double)tris);
+		cJSON *h = cJSON_AddObjectToObject(r, "hit_numbers");
+		cJSON *ms = cJSON_AddObjectToObject(r, "build_ms");
+		for (int b = 0; b < 4; ++b) {
+			if (!isnan(hits[b]))
+				cJSON_AddNumberToObject(h, names[b], hits[b]);
+			cJSON_AddNumberToObject(ms, names[b], build_ms[b]);
+		}
+		cJSON *pp = cJSON_AddObjectToObject(r, "paper_hit_numbers");
+		if (row->none > 0)
+			cJSON_AddNumberToObject(pp, "none", row->none);
+		cJSON_AddNumberToObject(pp, "linear", row->linear);
+		cJSON_AddNumberToObject(pp, "paper", row->tree);
+		cJSON_AddItemToArray(cJSON_GetObjectItem(o->json, "rows"), r);
+	}
 	rs_scene_destroy(&scene);
 	return 0;
 }
@@ -203,6 +222,7 @@ int bench_table1(const struct bench_options *op)
 	for (size_t s = 0; s < sizeof paper / sizeof paper[0]; ++s) {
 		if (o.only && strcmp(o.only, paper[s].scene) != 0)
 			continue;
+		bench_progress("table 1: %s", paper[s].scene);
 		if (bench_scene(&o, &paper[s], build[rows]))
 			return 1;
 		names[rows++] = paper[s].scene;
@@ -213,9 +233,11 @@ int bench_table1(const struct bench_options *op)
 	printf("| scene | MT ms | watertight ms | watertight/MT | PSNR dB | max err | pixels off "
 	       "> 1/255 | depth hit/miss mismatches | depth max err |\n"
 	       "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-	for (int r = 0; r < rows; ++r)
+	for (int r = 0; r < rows; ++r) {
+		bench_progress("table 1: %s, triangle tests", names[r]);
 		if (bench_triangle_tests(&o, names[r]))
 			return 1;
+	}
 	printf("\nBVH build time, ms (median of %u builds, one thread)\n\n", o.repeats);
 	printf("| scene | none | linear | paper | sah |\n|---|---:|---:|---:|---:|\n");
 	for (int r = 0; r < rows; ++r)

@@ -2,8 +2,9 @@
  * raystream-bench --table 2: the paper's Table 2 on any render backend, through the render
  * interface: fps and hit numbers for tree BVH 1 pass, raster + BVH 1 pass and raster + BVH
  * 2 passes (plus traced 2 passes, the issue's target setting), with rays per second and where
- * the time goes per kernel, beside the paper's figures. Settings a backend refuses are shown
- * as refused. Every image is compared with the CPU double reference of the same setting.
+ * the time goes per kernel, beside the paper's figures. Settings a backend refuses are left
+ * out of the table and named once under it. Every image is compared with the CPU double reference
+ * of the same setting.
  *
  * Frames are timed on the wall clock around rs_renderer_render() into RGBA8 host memory
  * (what a viewer gets, readback included); hit numbers come from a separate counting frame
@@ -122,19 +123,6 @@ static enum rs_status open_with_scene(const char *backend, const struct rs_rende
 	return s;
 }
 
-static void keep_kernels(struct t2_result *r, const struct rs_render_stats *s, uint32_t rep)
-{
-	if (rep == 0)
-		r->kernel_count = s->kernel_count;
-	for (uint32_t k = 0; k < r->kernel_count && k < s->kernel_count; ++k) {
-		memcpy(r->kernels[k].name, s->kernels[k].name, sizeof r->kernels[k].name);
-		r->kernels[k].calls = s->kernels[k].calls;
-		r->kernels[k].ms[rep] = s->kernels[k].ms;
-	}
-	r->render_ms[rep] = s->render_ms;
-	r->readback_ms[rep] = s->readback_ms;
-}
-
 /* Hit numbers of one counting frame, when the backend can count. */
 static int count_hits(const struct bench_options *o, const struct rs_scene *scene,
                       const struct t2_setting *set, struct t2_result *r,
@@ -186,13 +174,8 @@ static int run_setting(const struct bench_options *o, const struct rs_scene *sce
 		snprintf(renderer, renderer_cap, "%s", rs_renderer_stats(rn)->renderer);
 	}
 	struct rs_frame frame = {.rgba8 = r->rgba8};
-	for (uint32_t rep = 0; rep < o->repeats && s == RS_OK; ++rep) {
-		double t0 = rs_now_ms();
-		s = rs_renderer_render(rn, NULL, &frame, &err);
-		r->ms[rep] = rs_now_ms() - t0;
-		if (s == RS_OK)
-			keep_kernels(r, rs_renderer_stats(rn), rep);
-	}
+	if (s == RS_OK)
+		s = bench_time_frames(rn, &frame, o->repeats, &r->frames, &err);
 	if (s != RS_OK) {
 		fprintf(stderr, "raystream-bench: %s, %s: %s\n", o->backend, set->name,
 		        err.message);
@@ -203,10 +186,10 @@ static int run_setting(const struct bench_options *o, const struct rs_scene *sce
 	rs_renderer_destroy(&rn);
 	r->hits = r->stats.total_per_pixel;
 	r->hits_valid = r->stats.counters_valid;
-	double ms[T2_MAX_REPEATS];
-	memcpy(ms, r->ms, o->repeats * sizeof *ms);
-	r->ms_median = rs_tool_median(ms, o->repeats);
-	bench_min_max(r->ms, o->repeats, &r->ms_min, &r->ms_max);
+	struct bench_summary wall = bench_summarize(r->frames.wall_ms, r->frames.n);
+	r->ms_median = wall.median;
+	r->ms_min = wall.min;
+	r->ms_max = wall.max;
 	struct rs_render_stats counted = {0};
 	int code = r->hits_valid ? 0 : count_hits(o, scene, set, r, &counted);
 	choose_rays(r, counted.pixels ? &counted : NULL, ref_stats);
@@ -222,11 +205,8 @@ static void print_row(const struct bench_options *o, const struct t2_scene *sc, 
 	if (set->paper >= 0)
 		snprintf(paper, sizeof paper, "%.2f (%.3f)", p->fps[set->paper],
 		         p->hits[set->paper]);
-	if (r->refused) {
-		printf("| %-5s | %s | refused: %s | | | | | | %s |\n", sc->name, set->name, r->why,
-		       paper);
+	if (r->refused) /* left out here; named once under the table (print_refused) */
 		return;
-	}
 	char hits[24] = "n/a";
 	if (r->hits_valid)
 		snprintf(hits, sizeof hits, "%.3f", r->hits);
@@ -241,6 +221,53 @@ static void print_row(const struct bench_options *o, const struct t2_scene *sc, 
 	(void)o;
 }
 
+/* Settings the backend cannot render (the CPU backend traces primary rays only): one line
+ * under the table instead of a row per scene. */
+static void print_refused(const struct bench_options *o, uint32_t scenes)
+{
+	const char *why = NULL;
+	for (int si = 0; si < T2_SETTINGS; ++si)
+		for (uint32_t i = 0; i < scenes; ++i)
+			if (results[i].settings[si].refused) {
+				printf("%s%s", why ? "; " : "\nLeft out on this backend: ",
+				       t2_settings[si].name);
+				why = results[i].settings[si].why;
+				break;
+			}
+	if (why)
+		printf(" (%s: %s)\n", o->backend, why);
+}
+
+static cJSON *json_row(const struct t2_scene *sc, int si)
+{
+	const struct t2_setting *set = &t2_settings[si];
+	const struct t2_result *r = &sc->settings[si];
+	cJSON *row = cJSON_CreateObject();
+	cJSON_AddStringToObject(row, "scene", sc->name);
+	cJSON_AddStringToObject(row, "setting", set->name);
+	if (set->paper >= 0) {
+		cJSON_AddNumberToObject(row, "paper_fps", paper2[sc->paper_index].fps[set->paper]);
+		cJSON_AddNumberToObject(row, "paper_hit_numbers",
+		                        paper2[sc->paper_index].hits[set->paper]);
+	}
+	if (r->refused) {
+		cJSON_AddStringToObject(row, "refused", r->why);
+		return row;
+	}
+	cJSON_AddItemToObject(row, "wall_ms",
+	                      bench_json_summary(bench_summarize(r->frames.wall_ms, r->frames.n)));
+	cJSON_AddNumberToObject(row, "fps", 1e3 / r->ms_median);
+	if (r->hits_valid)
+		cJSON_AddNumberToObject(row, "hit_numbers", r->hits);
+	cJSON_AddNumberToObject(row, "rays", (double)r->rays);
+	cJSON_AddNumberToObject(row, "mrays_per_s", (double)r->rays / (r->ms_median * 1e3));
+	cJSON_AddNumberToObject(row, "psnr_db", r->diff.psnr_db);
+	cJSON_AddNumberToObject(row, "bad_share", r->diff.bad_share);
+	cJSON_AddStringToObject(row, "verdict", t2_verdict(&r->diff));
+	cJSON_AddStringToObject(row, "renderer", r->stats.renderer);
+	return row;
+}
+
 static void print_kernels(const struct bench_options *o, uint32_t scenes)
 {
 	printf("\nWhere the time goes, ms per frame, median (min–max) over %u frames "
@@ -253,23 +280,20 @@ static void print_kernels(const struct bench_options *o, uint32_t scenes)
 			struct t2_result *r = &results[i].settings[si];
 			if (r->refused)
 				continue;
-			uint32_t n = r->kernel_count;
+			const struct bench_frames *f = &r->frames;
+			uint32_t n = f->kernel_count;
 			for (uint32_t k = 0; k <= n + 1; ++k) {
-				double *v = k < n    ? r->kernels[k].ms
-				            : k == n ? r->render_ms
-				                     : r->readback_ms;
-				const char *name = k < n    ? r->kernels[k].name
+				const double *v = k < n    ? f->kernels[k].ms
+				                  : k == n ? f->render_ms
+				                           : f->readback_ms;
+				const char *name = k < n    ? f->kernels[k].name
 				                   : k == n ? "render (total)"
 				                            : "readback";
-				double lo, hi, med;
-				bench_min_max(v, o->repeats, &lo, &hi);
-				double tmp[T2_MAX_REPEATS];
-				memcpy(tmp, v, o->repeats * sizeof *tmp);
-				med = rs_tool_median(tmp, o->repeats);
+				struct bench_summary m = bench_summarize(v, f->n);
 				printf("| %-5s | %s | %s | %u | %.2f (%.2f–%.2f) | %.0f%% |\n",
 				       results[i].name, t2_settings[si].name, name,
-				       k < n ? r->kernels[k].calls : 1u, med, lo, hi,
-				       100.0 * med / r->ms_median);
+				       k < n ? f->kernels[k].calls : 1u, m.median, m.min, m.max,
+				       100.0 * m.median / r->ms_median);
 			}
 		}
 	}
@@ -284,11 +308,6 @@ static void print_load(const char *when)
 
 int bench_table2(const struct bench_options *o)
 {
-	if (o->repeats > T2_MAX_REPEATS) {
-		fprintf(stderr, "raystream-bench: --repeats %u (table 2 keeps at most %d)\n",
-		        o->repeats, T2_MAX_REPEATS);
-		return 2;
-	}
 	size_t px = (size_t)o->size * o->size;
 	float *ref[3] = {NULL, malloc(px * 3 * sizeof(float)), malloc(px * 3 * sizeof(float))};
 	float *rgb = malloc(px * 3 * sizeof(float));
@@ -324,6 +343,7 @@ int bench_table2(const struct bench_options *o)
 		code = reference(o, sc->scene, 1, ref[1], &sc->reference[1]) ||
 		       reference(o, sc->scene, 2, ref[2], &sc->reference[2]);
 		for (int si = 0; si < T2_SETTINGS && code == 0; ++si) {
+			bench_progress("table 2: %s, %s", sc->name, t2_settings[si].name);
 			struct t2_result *r = &sc->settings[si];
 			r->rgb = rgb;
 			r->rgba8 = rgba8;
@@ -332,13 +352,19 @@ int bench_table2(const struct bench_options *o)
 			    &sc->reference[t2_settings[si].passes], r, renderer, sizeof renderer);
 			if (code == 0)
 				print_row(o, sc, si);
+			if (code == 0 && o->json)
+				cJSON_AddItemToArray(cJSON_GetObjectItem(o->json, "rows"),
+				                     json_row(sc, si));
 			fflush(stdout);
 		}
-		if (code == 0 && o->peer)
+		if (code == 0 && o->peer) {
+			bench_progress("table 2: %s, the peer", sc->name);
 			code = t2_peer_scene(o, sc, ref);
+		}
 		++scenes;
 	}
 	if (code == 0) {
+		print_refused(o, scenes);
 		char nodes[32];
 		printf("\nrenderer: %s; BVH nodes %s; scene storage %s\n", renderer,
 		       rs_tool_nodes_name(&o->pack, nodes, sizeof nodes),

@@ -8,7 +8,7 @@
 #include "raystream/rs_render.h"
 
 #define T2_SETTINGS 4
-#define T2_MAX_REPEATS 32
+#define T2_MAX_REPEATS BENCH_MAX_FRAMES
 
 struct t2_setting {
 	const char *name;
@@ -18,20 +18,12 @@ struct t2_setting {
 };
 extern const struct t2_setting t2_settings[T2_SETTINGS];
 
-struct t2_kernel {
-	char name[24];
-	uint32_t calls;
-	double ms[T2_MAX_REPEATS];
-};
-
 /* One backend setting on one scene. */
 struct t2_result {
 	bool refused;
 	char why[RS_ERROR_MESSAGE_MAX];
-	double ms[T2_MAX_REPEATS], ms_median, ms_min, ms_max; /* wall time per frame */
-	double render_ms[T2_MAX_REPEATS], readback_ms[T2_MAX_REPEATS];
-	uint32_t kernel_count;
-	struct t2_kernel kernels[RS_RENDER_MAX_KERNELS];
+	struct bench_frames frames;        /* the timed frames */
+	double ms_median, ms_min, ms_max;  /* wall time per frame */
 	struct rs_render_stats stats;      /* of the last timed frame */
 	struct rs_render_stats rays_stats; /* where the ray counts come from (see rays_from) */
 	uint64_t rays;                     /* primary + secondary + shadow */

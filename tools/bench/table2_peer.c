@@ -17,8 +17,10 @@
 #ifdef RS_BENCH_HAVE_EMBREE
 static void summary(double *v, uint32_t n, double *med, double *lo, double *hi)
 {
-	bench_min_max(v, n, lo, hi);
-	*med = rs_tool_median(v, n);
+	struct bench_summary s = bench_summarize(v, n);
+	*med = s.median;
+	*lo = s.min;
+	*hi = s.max;
 }
 
 static int peer_passes(const struct bench_options *o, struct t2_scene *sc, uint32_t passes,

@@ -4,38 +4,16 @@
  * and cam: sources read. --synth writes synthetic checkerboard pairs of a known rig to try
  * it. Errors are one line on stderr and a non-zero exit (1 runtime, 2 usage).
  */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "raystream/rs_cli.h"
 #include "raystream/rs_optical.h"
 #include "tool_common.h"
 
 #define TOOL "raystream-calib"
-
-static void usage(FILE *f)
-{
-	fprintf(f, "usage: " TOOL " [options] LEFT RIGHT\n"
-	           "       " TOOL " --synth DIR [--views N]\n"
-	           "  LEFT, RIGHT      image sequences (left_%%04d.png, from 0) or video files\n"
-	           "  -o, --out FILE   rig file to write, .yaml/.yml/.json (default rig.yaml)\n"
-	           "  --board CxR      inner corners of the checkerboard (default 9x6)\n"
-	           "  --square M       square side in metres (default 0.025)\n"
-	           "  --max N          use at most N frame pairs (default 100)\n"
-	           "  --synth DIR      write N synthetic pairs DIR/left_%%04d.png,\n"
-	           "                   DIR/right_%%04d.png and their rig DIR/true.yaml\n"
-	           "  --views N        synthetic pairs (default 16)\n");
-}
-
-static int die_usage(const char *msg, const char *arg)
-{
-	fprintf(stderr, TOOL ": error: %s%s%s (try --help)\n", msg, arg ? ": " : "",
-	        arg ? arg : "");
-	return 2;
-}
 
 static int synth(const char *dir, int views, const struct rs_optical_board *b)
 {
@@ -43,8 +21,8 @@ static int synth(const char *dir, int views, const struct rs_optical_board *b)
 	rs_optical_rig_example(0.4, 640, 480, &rig);
 	struct rs_error err;
 	char path[4096];
-	if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
-		fprintf(stderr, TOOL ": cannot create %s: %s\n", dir, strerror(errno));
+	if (rs_cli_make_dir(dir, &err) != RS_OK) {
+		fprintf(stderr, TOOL ": %s\n", err.message);
 		return 1;
 	}
 	snprintf(path, sizeof path, "%s/true.yaml", dir);
@@ -134,6 +112,7 @@ static int calibrate(const char *left, const char *right, const char *out, int m
 		fprintf(stderr, TOOL ": %s\n", err.message);
 		goto done;
 	}
+	rs_cli_wrote(out);
 	double *t = rig.t_cam1_cam0;
 	printf("%s: %zu of %d pairs used, reprojection RMS %.3f px, f %.1f/%.1f px, baseline "
 	       "%.4f m\n",
@@ -150,61 +129,61 @@ done:
 	return code;
 }
 
+static enum rs_status parse_board(void *out, const char *v, struct rs_error *err)
+{
+	struct rs_optical_board *b = out;
+	char extra;
+	int c, r;
+	if (sscanf(v, "%dx%d%c", &c, &r, &extra) != 2 || c < 3 || r < 3 || c > 64 || r > 64)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "'%s' is not CxR inner corners, 3..64 each", v);
+	b->cols = c;
+	b->rows = r;
+	return RS_OK;
+}
+
+static const char about[] =
+    "LEFT, RIGHT: image sequences (left_%04d.png, from 0) or video files, frame i of each\n"
+    "taken together. --synth DIR writes synthetic pairs of a known rig (DIR/left_%04d.png,\n"
+    "DIR/right_%04d.png, DIR/true.yaml; DIR is made) to try it. -o is --out.\n";
+
 int main(int argc, char **argv)
 {
 	const char *out = "rig.yaml", *synth_dir = NULL, *files[2] = {NULL, NULL};
 	struct rs_optical_board b = {.cols = 9, .rows = 6, .square_m = 0.025};
-	int max = 100, views = 16, nfiles = 0;
-	for (int i = 1; i < argc; ++i) {
-		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-			usage(stdout);
-			return 0;
-		}
-		int takes = !strcmp(a, "-o") || !strcmp(a, "--out") || !strcmp(a, "--board") ||
-		            !strcmp(a, "--square") || !strcmp(a, "--max") ||
-		            !strcmp(a, "--synth") || !strcmp(a, "--views");
-		if (takes && !v)
-			return die_usage("missing value for", a);
-		if (!strcmp(a, "-o") || !strcmp(a, "--out")) {
-			out = v;
-		} else if (!strcmp(a, "--board")) {
-			char extra;
-			if (sscanf(v, "%dx%d%c", &b.cols, &b.rows, &extra) != 2 || b.cols < 3 ||
-			    b.rows < 3 || b.cols > 64 || b.rows > 64)
-				return die_usage("board must be CxR inner corners, 3 to 64 each",
-				                 v);
-		} else if (!strcmp(a, "--square")) {
-			char *end = NULL;
-			b.square_m = strtod(v, &end);
-			if (*end || !(b.square_m > 0 && b.square_m < 10))
-				return die_usage("square must be 0 to 10 m", v);
-		} else if (!strcmp(a, "--max")) {
-			uint32_t n;
-			if (!rs_tool_parse_u32(v, 5, 10000, &n))
-				return die_usage("max must be 5 to 10000", v);
-			max = (int)n;
-		} else if (!strcmp(a, "--views")) {
-			uint32_t n;
-			if (!rs_tool_parse_u32(v, 1, 1000, &n))
-				return die_usage("views must be 1 to 1000", v);
-			views = (int)n;
-		} else if (!strcmp(a, "--synth")) {
-			synth_dir = v;
-		} else if (a[0] == '-' && a[1]) {
-			return die_usage("unknown option", a);
-		} else if (nfiles < 2) {
-			files[nfiles++] = a;
-			continue;
-		} else {
-			return die_usage("more than two streams", a);
-		}
-		++i;
-	}
+	uint32_t max = 100, views = 16;
+	const struct rs_cli_option opts[] = {
+	    RS_CLI_STRING_OPT("--out", &out, "FILE", "rig file to write: .yaml, .yml or .json"),
+	    {.name = "--board",
+	     .kind = RS_CLI_CALL,
+	     .out = &b,
+	     .call = parse_board,
+	     .arg = "CxR",
+	     .help = "inner corners of the checkerboard",
+	     .fallback = "9x6"},
+	    RS_CLI_DOUBLE_OPT("--square", &b.square_m, "M", 1e-6, 10, "square side, metres"),
+	    RS_CLI_U32_OPT("--max", &max, 5, 10000, "use at most N frame pairs"),
+	    RS_CLI_STRING_OPT("--synth", &synth_dir, "DIR", "write synthetic pairs instead"),
+	    RS_CLI_U32_OPT("--views", &views, 1, 1000, "--synth: pairs"),
+	};
+	static const char *const short_names[][2] = {{"-o", "--out"}};
+	rs_tool_long_options(argc, argv, short_names, 1);
+	struct rs_cli cli = {.prog = TOOL,
+	                     .usage = "[options] LEFT RIGHT  |  --synth DIR [--views N]",
+	                     .about = about,
+	                     .options = opts,
+	                     .option_count = sizeof opts / sizeof opts[0],
+	                     .positional = files,
+	                     .positional_max = 2,
+	                     .positional_name = "LEFT RIGHT"};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code;
 	if (synth_dir)
-		return nfiles ? die_usage("--synth takes no streams", files[0])
-		              : synth(synth_dir, views, &b);
-	if (nfiles != 2)
-		return die_usage("need LEFT and RIGHT streams", NULL);
-	return calibrate(files[0], files[1], out, max, &b);
+		return cli.positional_count
+		           ? rs_cli_usage_error(&cli, "--synth takes no streams ('%s')", files[0])
+		           : synth(synth_dir, (int)views, &b);
+	if (cli.positional_count != 2)
+		return rs_cli_usage_error(&cli, "need LEFT and RIGHT streams");
+	return calibrate(files[0], files[1], out, (int)max, &b);
 }

@@ -122,3 +122,13 @@ const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *ou
 	rs_render_desc_get(desc, "reflections", out, size, NULL);
 	return out;
 }
+
+void rs_tool_long_options(int argc, char **argv, const char *const (*map)[2], size_t count)
+{
+	for (int i = 1; i < argc; ++i)
+		for (size_t k = 0; k < count; ++k)
+			if (strcmp(argv[i], map[k][0]) == 0) {
+				argv[i] = (char *)map[k][1];
+				break;
+			}
+}

@@ -45,6 +45,18 @@ const char *rs_tool_storage_name(enum rs_scene_storage storage);
 /* The same spelling for a descriptor ("interreflect:2"), into out (size bytes). */
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size);
 
+/* The backend `desc` asks for (desc->backend; NULL: auto) as this machine opens it: one
+ * 8x8 renderer is opened and closed so "auto" is resolved once, its fallback note (if any)
+ * goes to stderr through rs_cli_note(), and every row of a table can name the backend.
+ * Returns a static name ("egl"), or NULL with `err` set when it cannot be opened. */
+const char *rs_tool_backend_name(const struct rs_cli *cli, const struct rs_render_desc *desc,
+                                 struct rs_error *err);
+
+/* The one-letter spellings a tool keeps ("-n" for "--count"): each argv entry equal to
+ * map[i][0] becomes map[i][1] in place, before rs_cli_parse() sees it, so the long option
+ * is the one that is parsed, checked and named in errors. */
+void rs_tool_long_options(int argc, char **argv, const char *const (*map)[2], size_t count);
+
 /* Write text through a temporary file and rename (never a partial file). */
 enum rs_status rs_tool_write_text(const char *path, const char *text, struct rs_error *err);
 

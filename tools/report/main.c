@@ -15,6 +15,7 @@
 #include <sys/utsname.h>
 #include <unistd.h>
 
+#include "raystream/rs_cli.h"
 #include "raystream/rs_renderers.h"
 #include "report.h"
 #include "tool_common.h"
@@ -26,14 +27,6 @@ struct options {
 	uint32_t size, frames, lights, max_passes, threads;
 	bool plot, by_cpu, diffs;
 };
-
-static int usage(void)
-{
-	fprintf(stderr, "usage: raystream-report [--quick] [--scene NAME] [--size N] "
-	                "[--backend cpu|egl|osmesa] [--frames N] [--lights N] [--max-passes N] "
-	                "[--threads N] [--time wall|cpu] [--no-plot] [--diffs] --out DIR\n");
-	return 2;
-}
 
 static void add(struct report *rep, const char *backend, struct rs_render_desc d, const char *label)
 {
@@ -175,85 +168,87 @@ static enum rs_status write_diff(const char *dir, uint32_t index, float *img, co
 	for (size_t k = 0; k < n; ++k)
 		img[k] = fminf(8.0f * fabsf(img[k] - ref[k]), 1.0f);
 	snprintf(path, sizeof path, "%s/diff-%02u.png", dir, index);
-	return rs_image_write_png(path, img, size, size, err);
+	enum rs_status st = rs_image_write_png(path, img, size, size, err);
+	if (st == RS_OK)
+		rs_cli_wrote(path);
+	return st;
 }
 
-static int parse(int argc, char **argv, struct options *o)
+static enum rs_status parse_time(void *out, const char *v, struct rs_error *err)
+{
+	if (strcmp(v, "wall") != 0 && strcmp(v, "cpu") != 0)
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not wall|cpu", v);
+	*(bool *)out = !strcmp(v, "cpu");
+	return RS_OK;
+}
+
+static const char about[] =
+    "Renders every setting that trades accuracy for speed on --backend (auto: the GPU\n"
+    "where a GL context opens, else cpu, said on stderr), times it and compares it with\n"
+    "the CPU reference; writes DIR/report.csv, report.md (Pareto front, pick per error\n"
+    "budget) and report.png (gnuplot), making DIR if needed, and names each file on\n"
+    "stdout. --quick: box at 32x32, 1 frame, 2 passes (options after it still apply).\n";
+
+/* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
+static int parse(int argc, char **argv, struct options *o, struct rs_render_desc *render)
 {
 	*o = (struct options){
 	    .scene = "cow1", .size = 512, .frames = 5, .lights = 1, .max_passes = 5, .plot = true};
-	o->backend = rs_renderer_has_backend("egl") ? "egl" : "cpu";
-	for (int i = 1; i < argc; ++i) {
-		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (!strcmp(a, "--quick")) {
-			o->scene = "box";
-			o->size = 32;
-			o->frames = 1;
-			o->max_passes = 2;
-			continue;
-		}
-		if (!strcmp(a, "--no-plot")) {
-			o->plot = false;
-			continue;
-		}
-		if (!strcmp(a, "--diffs")) {
-			o->diffs = true;
-			continue;
-		}
-		if (!strcmp(a, "--time")) {
-			if (!v || (strcmp(v, "wall") != 0 && strcmp(v, "cpu") != 0)) {
-				fprintf(stderr,
-				        "raystream-report: --time wants wall or cpu, not '%s'\n",
-				        v ? v : "");
-				return 2;
-			}
-			o->by_cpu = !strcmp(v, "cpu");
-			++i;
-			continue;
-		}
-		if (!strcmp(a, "--help"))
-			return usage();
-		uint32_t *dst = !strcmp(a, "--size")         ? &o->size
-		                : !strcmp(a, "--frames")     ? &o->frames
-		                : !strcmp(a, "--lights")     ? &o->lights
-		                : !strcmp(a, "--max-passes") ? &o->max_passes
-		                : !strcmp(a, "--threads")    ? &o->threads
-		                                             : NULL;
-		const char **sdst = !strcmp(a, "--scene")     ? &o->scene
-		                    : !strcmp(a, "--backend") ? &o->backend
-		                    : !strcmp(a, "--out")     ? &o->out
-		                                              : NULL;
-		if (!dst && !sdst) {
-			fprintf(stderr, "raystream-report: unknown option '%s'\n", a);
-			return 2;
-		}
-		if (!v) {
-			fprintf(stderr, "raystream-report: %s needs a value\n", a);
-			return 2;
-		}
-		++i;
-		uint32_t max = dst == &o->frames       ? MAX_FRAMES
-		               : dst == &o->max_passes ? 5
-		               : dst == &o->lights     ? 4
-		               : dst == &o->threads    ? RS_RENDER_MAX_THREADS
-		                                       : 4096;
-		if (sdst)
-			*sdst = v;
-		else if (!rs_tool_parse_u32(v, dst == &o->size ? 8 : 1, max, dst)) {
-			fprintf(stderr, "raystream-report: bad value for %s: '%s' (1..%u)\n", a, v,
-			        max);
-			return 2;
-		}
+	*render = (struct rs_render_desc){0};
+	bool quick = false, no_plot = false;
+	for (int i = 1; i < argc; ++i)
+		quick |= !strcmp(argv[i], "--quick");
+	if (quick) /* the defaults of a quick run; options given still win */
+		*o = (struct options){
+		    .scene = "box", .size = 32, .frames = 1, .lights = 1, .max_passes = 2};
+	const struct rs_cli_option opts[] = {
+	    RS_CLI_STRING_OPT("--out", &o->out, "DIR", "the report's folder (required; made)"),
+	    RS_CLI_FLAG_OPT("--quick", &quick, "box, 32x32, 1 frame, 2 passes: the plumbing"),
+	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE", "box, mirrors, cowN or a mesh file"),
+	    RS_CLI_U32_OPT("--size", &o->size, 8, 4096, "image side, pixels"),
+	    RS_CLI_U32_OPT("--frames", &o->frames, 1, 64, "timed frames per setting"),
+	    RS_CLI_U32_OPT("--lights", &o->lights, 1, 4, "the scene's first N lights"),
+	    RS_CLI_U32_OPT("--max-passes", &o->max_passes, 1, 5, "pass counts measured: 1..N"),
+	    {.name = "--time",
+	     .kind = RS_CLI_CALL,
+	     .out = &o->by_cpu,
+	     .call = parse_time,
+	     .arg = "wall|cpu",
+	     .help = "the time the front and the picks use",
+	     .fallback = "wall"},
+	    RS_CLI_FLAG_OPT("--no-plot", &no_plot, "no report.png"),
+	    RS_CLI_FLAG_OPT("--diffs", &o->diffs, "DIR/diff-NN.png: |setting - reference| x 8"),
+	};
+	struct rs_cli cli = {.prog = "raystream-report",
+	                     .usage = "--out DIR [options]",
+	                     .about = about,
+	                     .options = opts,
+	                     .option_count = sizeof opts / sizeof opts[0],
+	                     .render = render,
+	                     .render_keys = "backend,threads"};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code ? code : -1;
+	o->plot = !no_plot;
+	o->threads = render->threads;
+	if (!o->out)
+		return rs_cli_usage_error(&cli, "--out DIR is required");
+	const char *b = render->backend ? render->backend : "auto";
+	if (!rs_renderer_has_backend(b))
+		return rs_cli_usage_error(&cli,
+		                          "--backend: '%s' is not part of this build (have: %s)", b,
+		                          rs_renderer_backends());
+	/* The folder is made (and checked) before a long run, not found missing after it. */
+	struct rs_error err = {0};
+	struct stat st;
+	if (rs_cli_make_dir(o->out, &err) != RS_OK)
+		return rs_cli_fail(&cli, &err);
+	if (stat(o->out, &st) != 0 || !S_ISDIR(st.st_mode) || access(o->out, W_OK) != 0) {
+		rs_error_set(&err, RS_ERR_IO, "%s: not a writable folder", o->out);
+		return rs_cli_fail(&cli, &err);
 	}
-	if (!o->out) {
-		fprintf(stderr, "raystream-report: --out DIR is required\n");
-		return 2;
-	}
-	if (!rs_renderer_has_backend(o->backend)) {
-		fprintf(stderr, "raystream-report: unknown backend '%s' (this build has %s)\n",
-		        o->backend, rs_renderer_backends());
-		return 2;
-	}
+	if (!(o->backend = rs_tool_backend_name(&cli, render, &err)))
+		return rs_cli_fail(&cli, &err);
 	return 0;
 }
 
@@ -286,9 +281,10 @@ static void describe_machine(struct report *rep)
 int main(int argc, char **argv)
 {
 	struct options o;
-	int code = parse(argc, argv, &o);
+	struct rs_render_desc render;
+	int code = parse(argc, argv, &o, &render);
 	if (code)
-		return code;
+		return code < 0 ? 0 : code;
 	static struct report rep;
 	rep = (struct report){.scene = o.scene,
 	                      .size = o.size,
@@ -297,12 +293,6 @@ int main(int argc, char **argv)
 	                      .by_cpu = o.by_cpu,
 	                      .diffs = o.diffs,
 	                      .max_passes = o.max_passes};
-	/* A long run must not end in an unwritable folder. */
-	struct stat st;
-	if (stat(o.out, &st) != 0 || !S_ISDIR(st.st_mode) || access(o.out, W_OK) != 0) {
-		fprintf(stderr, "raystream-report: %s: not a writable folder\n", o.out);
-		return 1;
-	}
 	describe_machine(&rep);
 	settings(&rep, &o);
 	struct rs_error err = {0};

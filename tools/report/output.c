@@ -60,6 +60,8 @@ static enum rs_status save(const char *dir, const char *name, struct text *t, st
 	enum rs_status st = t->failed
 	                        ? rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for %s", path)
 	                        : rs_tool_write_text(path, t->s ? t->s : "", err);
+	if (st == RS_OK)
+		rs_cli_wrote(path);
 	free(t->s);
 	*t = (struct text){0};
 	return st;
@@ -212,6 +214,7 @@ static enum rs_status plot(const struct report *rep, const char *dir, struct rs_
 		return rs_error_set(err, RS_ERR_IO, "gnuplot could not write %s (exit %d)", path,
 		                    rc);
 	}
+	rs_cli_wrote(path);
 	return RS_OK;
 }
 

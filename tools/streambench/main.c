@@ -17,6 +17,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "raystream/rs_cli.h"
 #include "raystream/rs_codec.h"
 #include "raystream/rs_renderers.h"
 #include "raystream/rs_stream.h"
@@ -155,7 +156,51 @@ static void link_run(const struct opts *o, uint8_t **msgs, const size_t *len, do
 
 /* ---- frames, codec figures, report ---------------------------------------------------- */
 
-static int parse(int argc, char **argv, struct opts *o)
+static enum rs_status parse_size(void *out, const char *v, struct rs_error *err)
+{
+	uint32_t *wh = out;
+	if (!rs_cli_parse_size(v, 4096, &wh[0], &wh[1]))
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not WxH, sides 1..4096", v);
+	return RS_OK;
+}
+
+static enum rs_status parse_subsampling(void *out, const char *v, struct rs_error *err)
+{
+	if (strcmp(v, "420") != 0 && strcmp(v, "444") != 0)
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not 420|444", v);
+	*(enum rs_jpeg_subsampling *)out = !strcmp(v, "444") ? RS_JPEG_444 : RS_JPEG_420;
+	return RS_OK;
+}
+
+static enum rs_status parse_qualities(void *out, const char *v, struct rs_error *err)
+{
+	struct opts *o = out;
+	uint32_t n = 0;
+	for (const char *p = v;;) {
+		char *end;
+		long q = strtol(p, &end, 10);
+		if (end == p || q < 1 || q > 100 || n == MAX_Q || (*end && *end != ','))
+			return rs_error_set(err, RS_ERR_INVALID,
+			                    "'%s' is not a list of 1..%d qualities 1..100 (50,80)",
+			                    v, MAX_Q);
+		o->q[n++] = (int)q;
+		if (!*end)
+			break;
+		p = end + 1;
+	}
+	o->nq = n;
+	return RS_OK;
+}
+
+static const char about[] =
+    "Renders FRAMES frames of SCENE once (a small orbit), then per JPEG quality: size,\n"
+    "encode/decode time and PSNR; and all of them, raw and JPEG, pushed through an\n"
+    "emulated link (by default the paper's 802.11g case: 25 Mbit/s, 5 ms one way; said on\n"
+    "stderr at the start) to a receiver thread: delivered fps and latency. Progress on\n"
+    "stderr. The whole chain with the apps: tools/stream-bench.sh.\n";
+
+/* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
+static int parse(int argc, char **argv, struct opts *o, struct rs_render_desc *render)
 {
 	*o = (struct opts){.scene = "box",
 	                   .w = 512,
@@ -165,61 +210,56 @@ static int parse(int argc, char **argv, struct opts *o)
 	                   .q = {50, 70, 80, 85, 90, 95},
 	                   .mbps = 25,
 	                   .latency_ms = 5};
-	for (int i = 1; i + 1 < argc + 1; ++i) {
-		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (!strcmp(a, "--help")) {
-			puts("usage: raystream-streambench [--scene S] [--size WxH] [--frames N]\n"
-			     "         [--qualities 50,70,...] [--link-mbps R] [--link-latency-ms "
-			     "L]\n"
-			     "         [--threads N] [--subsampling 420|444]");
-			exit(0);
-		}
-		if (!v) {
-			fprintf(stderr, "raystream-streambench: %s needs a value\n", a);
-			return 2;
-		}
-		++i;
-		int ok = 1;
-		if (!strcmp(a, "--scene"))
-			o->scene = v;
-		else if (!strcmp(a, "--size"))
-			ok = rs_tool_parse_size(v, &o->w, &o->h) && o->w <= 4096 && o->h <= 4096;
-		else if (!strcmp(a, "--frames"))
-			ok = rs_tool_parse_u32(v, 2, 1000, &o->frames);
-		else if (!strcmp(a, "--threads"))
-			ok = rs_tool_parse_u32(v, 1, 256, &o->threads);
-		else if (!strcmp(a, "--subsampling"))
-			ok = !strcmp(v, "420") || !strcmp(v, "444"),
-			o->sub = !strcmp(v, "444") ? RS_JPEG_444 : RS_JPEG_420;
-		else if (!strcmp(a, "--link-mbps"))
-			ok = sscanf(v, "%lf", &o->mbps) == 1 && o->mbps > 0;
-		else if (!strcmp(a, "--link-latency-ms"))
-			ok = sscanf(v, "%lf", &o->latency_ms) == 1 && o->latency_ms >= 0;
-		else if (!strcmp(a, "--qualities")) {
-			o->nq = 0;
-			for (const char *p = v; *p && o->nq < MAX_Q;) {
-				char *end;
-				long q = strtol(p, &end, 10);
-				ok &= end != p && q >= 1 && q <= 100;
-				if (!ok)
-					break;
-				o->q[o->nq++] = (int)q;
-				p = *end == ',' ? end + 1 : end;
-				if (end == p && *p)
-					ok = 0;
-			}
-		} else
-			ok = 0;
-		if (!ok) {
-			fprintf(stderr, "raystream-streambench: bad option %s %s\n", a, v);
-			return 2;
-		}
-	}
+	*render = (struct rs_render_desc){.passes = 2};
+	uint32_t wh[2] = {o->w, o->h};
+	const struct rs_cli_option opts[] = {
+	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE", "box, mirrors, cowN or a mesh file"),
+	    {.name = "--size",
+	     .kind = RS_CLI_CALL,
+	     .out = wh,
+	     .call = parse_size,
+	     .arg = "WxH",
+	     .help = "frame size, sides 1..4096",
+	     .fallback = "512x512"},
+	    RS_CLI_U32_OPT("--frames", &o->frames, 2, 1000, "frames in the sequence"),
+	    {.name = "--qualities",
+	     .kind = RS_CLI_CALL,
+	     .out = o,
+	     .call = parse_qualities,
+	     .arg = "Q,Q,...",
+	     .help = "JPEG qualities 1..100",
+	     .fallback = "50,70,80,85,90,95"},
+	    {.name = "--subsampling",
+	     .kind = RS_CLI_CALL,
+	     .out = &o->sub,
+	     .call = parse_subsampling,
+	     .arg = "420|444",
+	     .help = "JPEG chroma subsampling",
+	     .fallback = "420"},
+	    RS_CLI_DOUBLE_OPT("--link-mbps", &o->mbps, "0.001..100000", 0.001, 1e5,
+	                      "emulated link rate, Mbit/s (the paper's 802.11g)"),
+	    RS_CLI_DOUBLE_OPT("--link-latency-ms", &o->latency_ms, "0..10000", 0, 1e4,
+	                      "emulated one-way latency, ms"),
+	};
+	struct rs_cli cli = {.prog = "raystream-streambench",
+	                     .usage = "[options]",
+	                     .about = about,
+	                     .options = opts,
+	                     .option_count = sizeof opts / sizeof opts[0],
+	                     .render = render,
+	                     .render_keys = "backend,threads,passes"};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code ? code : -1;
+	o->w = wh[0];
+	o->h = wh[1];
+	o->threads = render->threads;
 	return 0;
 }
 
 /* Render the sequence: the scene camera swung +-10 degrees about the target. */
-static int render_frames(const struct opts *o, uint8_t **frames, double *render_ms)
+static int render_frames(const struct opts *o, const struct rs_render_desc *render,
+                         uint8_t **frames, double *render_ms, char *backend, size_t cap)
 {
 	struct rs_error err = {0};
 	struct rs_scene *scene = NULL;
@@ -227,14 +267,19 @@ static int render_frames(const struct opts *o, uint8_t **frames, double *render_
 	int code = -1;
 	if (rs_scenegen_load(o->scene, &scene, &err) != RS_OK)
 		goto done;
-	struct rs_render_desc d = {.width = o->w,
-	                           .height = o->h,
-	                           .passes = 2,
-	                           .lights = rs_scene_light_count(scene) ? 1u : 0u,
-	                           .threads = o->threads};
-	if (rs_renderer_open("cpu", &d, &r, &err) != RS_OK ||
+	struct rs_render_desc d = *render;
+	d.width = o->w;
+	d.height = o->h;
+	d.lights = rs_scene_light_count(scene) ? 1u : 0u;
+	struct rs_error note = {0};
+	if (rs_renderer_open_noted(NULL, &d, &r, &note, &err) != RS_OK ||
 	    rs_renderer_set_scene(r, scene, &err) != RS_OK)
 		goto done;
+	if (note.message[0])
+		fprintf(stderr, "raystream-streambench: %s\n", note.message);
+	snprintf(backend, cap, "%s", rs_renderer_backend(r));
+	fprintf(stderr, "raystream-streambench: rendering %u frames of %s on %s\n", o->frames,
+	        o->scene, backend);
 	struct rs_camera base = *rs_scene_camera(scene);
 	for (uint32_t i = 0; i < o->frames; ++i) {
 		struct rs_camera c = base;
@@ -307,9 +352,14 @@ static void build(const struct opts *o, uint8_t **frames, int quality, uint8_t *
 int main(int argc, char **argv)
 {
 	struct opts o;
-	int code = parse(argc, argv, &o);
+	struct rs_render_desc render;
+	int code = parse(argc, argv, &o, &render);
 	if (code)
-		return code;
+		return code < 0 ? 0 : code;
+	fprintf(stderr,
+	        "raystream-streambench: emulating a %g Mbit/s link with %g ms latency "
+	        "(--link-mbps, --link-latency-ms)\n",
+	        o.mbps, o.latency_ms);
 	size_t px = (size_t)o.w * o.h;
 	uint8_t **frames = calloc(o.frames, sizeof *frames),
 	        **msgs = calloc(o.frames, sizeof *msgs);
@@ -317,22 +367,26 @@ int main(int argc, char **argv)
 	double *render_ms = calloc(o.frames, sizeof *render_ms), rs[4];
 	for (uint32_t i = 0; i < o.frames; ++i)
 		frames[i] = malloc(px * 4);
-	if (render_frames(&o, frames, render_ms) != 0)
+	char backend[16] = "";
+	if (render_frames(&o, &render, frames, render_ms, backend, sizeof backend) != 0)
 		return 1;
 	stats(render_ms, o.frames, rs);
-	printf("scene %s %ux%u, %u frames, cpu render %.1f ms median (%.1f-%.1f) = %.2f fps; "
+	printf("scene %s %ux%u, %u frames, %s render %.1f ms median (%.1f-%.1f) = %.2f fps; "
 	       "link %.1f Mbit/s + %.1f ms\n",
-	       o.scene, o.w, o.h, o.frames, rs[0], rs[2], rs[3], 1e3 / rs[0], o.mbps, o.latency_ms);
+	       o.scene, o.w, o.h, o.frames, backend, rs[0], rs[2], rs[3], 1e3 / rs[0], o.mbps,
+	       o.latency_ms);
 	printf("%-8s %10s %18s %18s %18s %9s %12s %12s\n", "encoding", "KB/frame", "encode ms",
 	       "decode ms", "PSNR dB (min)", "link fps", "lat med ms", "lat p99 ms");
 	for (uint32_t k = 0; k <= o.nq; ++k) {
 		int q = k == 0 ? 0 : o.q[k - 1];
 		double fig[4][4], fps = 0, lat[4] = {0};
-		build(&o, frames, q, msgs, len, fig);
-		link_run(&o, msgs, len, &fps, lat);
 		char name[16];
 		snprintf(name, sizeof name, q ? "%s q%d" : "raw",
 		         o.sub == RS_JPEG_444 ? "444" : "420", q);
+		fprintf(stderr, "raystream-streambench: [%u/%u] %s: encode, link\n", k + 1,
+		        o.nq + 1, name);
+		build(&o, frames, q, msgs, len, fig);
+		link_run(&o, msgs, len, &fps, lat);
 		printf("%-8s %10.1f %6.2f (%4.2f-%5.2f) %6.2f (%4.2f-%5.2f) %8.2f (%6.2f) %9.2f "
 		       "%12.1f "
 		       "%12.1f\n",

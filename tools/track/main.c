@@ -13,9 +13,11 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "raystream/rs_cli.h"
 #include "raystream/rs_pose.h"
 #include "raystream/rs_track.h"
 #include "raystream/rs_tracker.h"
+#include "tool_common.h"
 #include "track_tool.h"
 
 #define TOOL "raystream-track"
@@ -35,140 +37,101 @@ struct options {
 	int filter, quiet, reconnect, bench, bench_samples, pty;
 };
 
-static void usage(FILE *f)
-{
-	fprintf(
-	    f, "usage: " TOOL " [options] URI\n"
-	       "  URI: hid:VID:PID[:SERIAL]  usb:VID:PID  serial:/dev/PATH[?baud=N]\n"
-	       "       sim:[seed=N&noise=0.5mm&rate=120&script=walk,turn&realtime=1&...]\n"
-	       "       replay:FILE[?realtime=1]\n"
-	       "       video:LEFT,RIGHT?calib=RIG[&rate=60]  (image sequences or videos)\n"
-	       "       cam:0,1?calib=RIG   (two V4L2 cameras; see docs/optical.md)\n"
-	       "  -n, --count N       stop after N samples\n"
-	       "  -d, --duration S    stop after S seconds\n"
-	       "  -r, --record FILE   record every sample (replay with replay:FILE)\n"
-	       "  -l, --layout FILE   marker layout JSON (default: 10 x 8 cm triangle)\n"
-	       "  -f, --filter        1-euro filter the poses\n"
-	       "  -p, --predict MS    predict MS ms (at most 30) ahead of each sample (implies\n"
-	       "                      --filter)\n"
-	       "      --sigma MM      expected marker noise for the solver (default 0.5)\n"
-	       "      --stats S       fault counters every S seconds (0: only at the end)\n"
-	       "      --timeout S     give up after S seconds without a sample (default 5)\n"
-	       "      --reconnect     reopen a disconnected device instead of exiting\n"
-	       "  -q, --quiet         no pose lines\n"
-	       "      --pty           play the source into a new pseudo-terminal (its path is\n"
-	       "                      printed) for serial:PATH in another process; no poses\n"
-	       "      --bench [N]     protocol throughput and pty latency benchmark (N samples)\n");
-}
-
-static int die_usage(const char *msg, const char *arg)
-{
-	fprintf(stderr, TOOL ": error: %s%s%s (try --help)\n", msg, arg ? ": " : "",
-	        arg ? arg : "");
-	return 2;
-}
-
-static int parse_double(const char *s, double lo, double *out)
+static enum rs_status parse_count(void *out, const char *v, struct rs_error *err)
 {
 	char *end = NULL;
 	errno = 0;
-	double v = strtod(s, &end);
-	if (!s[0] || *end || errno || !isfinite(v) || v < lo)
-		return 0;
-	*out = v;
-	return 1;
+	double d = strtod(v, &end);
+	/* 1e18 keeps the conversion to long long defined. */
+	if (!v[0] || *end || errno || !(d >= 1 && d <= 1e18) || d != floor(d))
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not a whole number 1..1e18", v);
+	*(long long *)out = (long long)d;
+	return RS_OK;
 }
+
+static const char about[] =
+    "URI: hid:VID:PID[:SERIAL]  usb:VID:PID  serial:/dev/PATH[?baud=N]\n"
+    "     sim:[seed=N&noise=0.5mm&rate=120&script=walk,turn&realtime=1&...]\n"
+    "          (not real-time: one pass of the script, 6 s of motion by default,\n"
+    "          unless duration=S, --count or --duration say otherwise)\n"
+    "     replay:FILE[?realtime=1]\n"
+    "     video:LEFT,RIGHT?calib=RIG[&rate=60]  (image sequences or videos)\n"
+    "     cam:0,1?calib=RIG   (two V4L2 cameras; see docs/optical.md)\n"
+    "One-letter spellings: -n --count, -d --duration, -r --record, -l --layout,\n"
+    "-f --filter, -p --predict, -q --quiet; --bench N is --bench-samples N.\n";
 
 static int parse_args(int argc, char **argv, struct options *o)
 {
 	*o = (struct options){
 	    .sigma_mm = 0.5, .stats_every_s = 1.0, .timeout_s = 5.0, .bench_samples = 2000};
-	for (int i = 1; i < argc; i++) {
-		const char *a = argv[i];
-		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-		double d;
-#define NEED_VALUE()                                                                               \
-	do {                                                                                       \
-		if (!v)                                                                            \
-			return die_usage("missing value for", a);                                  \
-		i++;                                                                               \
-	} while (0)
-		if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-			usage(stdout);
-			exit(0);
-		} else if (!strcmp(a, "-n") || !strcmp(a, "--count")) {
-			NEED_VALUE();
-			/* 1e18 keeps the conversion to long long defined. */
-			if (!parse_double(v, 1, &d) || d != floor(d) || d > 1e18)
-				return die_usage("count must be a positive integer (at most 1e18)",
-				                 v);
-			o->count = (long long)d;
-		} else if (!strcmp(a, "-d") || !strcmp(a, "--duration")) {
-			NEED_VALUE();
-			if (!parse_double(v, 0, &d) || d == 0)
-				return die_usage("duration must be a positive number of seconds",
-				                 v);
-			o->duration_s = d;
-		} else if (!strcmp(a, "-r") || !strcmp(a, "--record")) {
-			NEED_VALUE();
-			o->record = v;
-		} else if (!strcmp(a, "-l") || !strcmp(a, "--layout")) {
-			NEED_VALUE();
-			o->layout = v;
-		} else if (!strcmp(a, "-f") || !strcmp(a, "--filter")) {
-			o->filter = 1;
-		} else if (!strcmp(a, "-p") || !strcmp(a, "--predict")) {
-			NEED_VALUE();
-			if (!parse_double(v, 0, &o->predict_ms) ||
-			    o->predict_ms > RS_POSE_MAX_PREDICTION_S * 1e3)
-				return die_usage("predict must be 0 to 30 ms (the prediction cap)",
-				                 v);
-			o->filter = 1;
-		} else if (!strcmp(a, "--sigma")) {
-			NEED_VALUE();
-			if (!parse_double(v, 0, &o->sigma_mm) || o->sigma_mm == 0)
-				return die_usage("sigma must be > 0 mm", v);
-		} else if (!strcmp(a, "--stats")) {
-			NEED_VALUE();
-			if (!parse_double(v, 0, &o->stats_every_s))
-				return die_usage("stats interval must be >= 0 s", v);
-		} else if (!strcmp(a, "--timeout")) {
-			NEED_VALUE();
-			if (!parse_double(v, 0, &o->timeout_s) || o->timeout_s == 0)
-				return die_usage("timeout must be > 0 s", v);
-		} else if (!strcmp(a, "--reconnect")) {
-			o->reconnect = 1;
-		} else if (!strcmp(a, "--pty")) {
-			o->pty = 1;
-		} else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-			o->quiet = 1;
-		} else if (!strcmp(a, "--bench")) {
-			o->bench = 1;
-			if (v && v[0] != '-') {
-				if (!parse_double(v, 10, &d) || d != floor(d) || d > 1e7)
-					return die_usage("bench samples must be an integer >= 10",
-					                 v);
-				o->bench_samples = (int)d;
-				i++;
-			}
-		} else if (a[0] == '-' && a[1]) {
-			return die_usage("unknown option", a);
-		} else if (!o->uri) {
-			o->uri = a;
-		} else {
-			return die_usage("more than one source URI", a);
-		}
-#undef NEED_VALUE
-	}
+	bool filter = false, quiet = false, reconnect = false, bench = false, pty = false;
+	uint32_t samples = 2000;
+	const struct rs_cli_option opts[] = {
+	    RS_CLI_CALL_OPT("--count", &o->count, parse_count, "N", "stop after N samples"),
+	    RS_CLI_DOUBLE_OPT("--duration", &o->duration_s, "S", 1e-6, 1e9, "stop after S seconds"),
+	    RS_CLI_STRING_OPT("--record", &o->record, "FILE",
+	                      "record every sample (replay with replay:FILE)"),
+	    {.name = "--layout",
+	     .kind = RS_CLI_STRING,
+	     .out = &o->layout,
+	     .arg = "FILE",
+	     .help = "marker layout JSON",
+	     .fallback = "10 x 8 cm triangle"},
+	    RS_CLI_FLAG_OPT("--filter", &filter, "1-euro filter the poses"),
+	    RS_CLI_DOUBLE_OPT("--predict", &o->predict_ms, "0..30", 0,
+	                      RS_POSE_MAX_PREDICTION_S * 1e3,
+	                      "predict MS ms ahead of each sample (implies --filter)"),
+	    RS_CLI_DOUBLE_OPT("--sigma", &o->sigma_mm, "MM", 1e-6, 1e3,
+	                      "expected marker noise for the solver, mm"),
+	    RS_CLI_DOUBLE_OPT("--stats", &o->stats_every_s, "S", 0, 1e9,
+	                      "fault counters every S seconds (0: only at the end)"),
+	    RS_CLI_DOUBLE_OPT("--timeout", &o->timeout_s, "S", 1e-6, 1e9,
+	                      "give up after S seconds without a sample"),
+	    RS_CLI_FLAG_OPT("--reconnect", &reconnect,
+	                    "reopen a disconnected device instead of exiting"),
+	    RS_CLI_FLAG_OPT("--quiet", &quiet, "no pose lines"),
+	    RS_CLI_FLAG_OPT("--pty", &pty,
+	                    "play the source into a new pseudo-terminal (path printed) for "
+	                    "serial:PATH elsewhere"),
+	    RS_CLI_FLAG_OPT("--bench", &bench, "protocol throughput and pty latency benchmark"),
+	    RS_CLI_U32_OPT("--bench-samples", &samples, 10, 10000000, "--bench: samples"),
+	};
+	static const char *const short_names[][2] = {
+	    {"-n", "--count"},  {"-d", "--duration"}, {"-r", "--record"}, {"-l", "--layout"},
+	    {"-f", "--filter"}, {"-p", "--predict"},  {"-q", "--quiet"}};
+	rs_tool_long_options(argc, argv, short_names, sizeof short_names / sizeof short_names[0]);
+	/* "--bench N" (the older spelling) is --bench-samples N. */
+	for (int i = 1; i + 1 < argc; ++i)
+		if (!strcmp(argv[i], "--bench") && argv[i + 1][0] >= '0' && argv[i + 1][0] <= '9')
+			argv[i] = "--bench-samples";
+	struct rs_cli cli = {.prog = TOOL,
+	                     .usage = "[options] URI  |  --bench [N]",
+	                     .about = about,
+	                     .options = opts,
+	                     .option_count = sizeof opts / sizeof opts[0],
+	                     .positional = &o->uri,
+	                     .positional_max = 1,
+	                     .positional_name = "URI"};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code ? code : -1;
+	for (int i = 1; i < argc; ++i) /* --predict implies --filter, even --predict 0 */
+		filter |= !strncmp(argv[i], "--predict", 9);
+	o->filter = filter;
+	o->quiet = quiet;
+	o->reconnect = reconnect;
+	o->pty = pty;
+	o->bench = bench || samples != 2000;
+	o->bench_samples = (int)samples;
 	if (!o->uri && !o->bench)
-		return die_usage("no source URI", NULL);
+		return rs_cli_usage_error(&cli, "no source URI");
 	if (o->bench && o->uri)
-		return die_usage("--bench takes no source URI", o->uri);
+		return rs_cli_usage_error(&cli, "--bench takes no source URI ('%s')", o->uri);
 	/* --pty only plays the source into the pseudo-terminal: say so rather than silently
 	 * ignoring a recording or filter the user asked for. */
 	if (o->pty && (o->record || o->filter))
-		return die_usage("--pty cannot be combined with --record, --filter or --predict",
-		                 NULL);
+		return rs_cli_usage_error(
+		    &cli, "--pty cannot be combined with --record, --filter or --predict");
 	return 0;
 }
 
@@ -207,17 +170,26 @@ static int output_failed(int *reported)
 	return 1;
 }
 
-/* sim: gets the tool's layout, so the solver and the simulated markers agree. */
-static enum rs_status open_source(const char *uri, const struct rs_pose_layout *layout,
+/* sim: gets the tool's layout, so the solver and the simulated markers agree. A sim that
+ * is not real-time produces samples as fast as they are printed, so unbounded it would
+ * fill the terminal (or a disk) within seconds: unless duration=, --count or --duration
+ * bound it, it runs one pass of its script. A real-time sim runs like a device, until
+ * stopped. */
+static enum rs_status open_source(const struct options *o, const struct rs_pose_layout *layout,
                                   struct rs_track_source **src, struct rs_error *err)
 {
-	if (strncmp(uri, "sim:", 4) != 0)
-		return rs_tracker_open(uri, src, err);
+	if (strncmp(o->uri, "sim:", 4) != 0)
+		return rs_tracker_open(o->uri, src, err);
 	static char script[512];
 	struct rs_track_sim_source_desc d;
-	enum rs_status st = rs_track_sim_parse_params(uri + 4, &d, script, sizeof script, err);
+	enum rs_status st = rs_track_sim_parse_params(o->uri + 4, &d, script, sizeof script, err);
 	if (st != RS_OK)
 		return st;
+	if (!d.realtime && d.sim.duration_s == 0 && o->count == 0 && o->duration_s == 0) {
+		st = rs_sim_script_seconds(d.sim.script, &d.sim.duration_s, err);
+		if (st != RS_OK)
+			return st;
+	}
 	d.sim.layout = (const double(*)[3])layout->markers;
 	return rs_track_sim_open(&d, src, err);
 }
@@ -241,7 +213,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 	struct rs_pose_filter *filter = NULL;
 	struct rs_track_recorder *rec = NULL;
 	int code = 1, started = 0, output_error = 0;
-	if (open_source(o->uri, layout, &src, &err) != RS_OK) {
+	if (open_source(o, layout, &src, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": cannot open '%s': %s\n", o->uri, err.message);
 		return err.status == RS_ERR_PARSE || err.status == RS_ERR_INVALID ? 2 : 1;
 	}
@@ -259,6 +231,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 	}
 	double start = rs_track_now_s(), next_stats = start + o->stats_every_s;
 	double last_sample = start;
+	double prev_q[4] = {0, 0, 0, 0}; /* zero: the first line keeps its sign */
 	long long n = 0;
 	/* From here on every end of the run, an error included, prints the final counters. */
 	started = 1;
@@ -329,6 +302,15 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 				rs_pose_filter_predict(filter, pose.time_s + o->predict_ms * 1e-3,
 				                       &pose, NULL);
 		}
+		/* The solver hands out canonical quaternions (w >= 0), whose sign flips from
+		 * line to line near 180 degrees (markers facing a camera): the printed run
+		 * keeps each in the hemisphere of the line before, so it reads continuous. */
+		double dot = 0;
+		for (int k = 0; k < 4; ++k)
+			dot += pose.orientation[k] * prev_q[k];
+		for (int k = 0; k < 4 && dot < 0; ++k)
+			pose.orientation[k] = -pose.orientation[k];
+		memcpy(prev_q, pose.orientation, sizeof prev_q);
 		if (!o->quiet)
 			print_pose(&s, &pose, &q);
 		if (output_failed(&output_error))
@@ -362,7 +344,7 @@ int main(int argc, char **argv)
 	struct options o;
 	int r = parse_args(argc, argv, &o);
 	if (r)
-		return r;
+		return r < 0 ? 0 : r;
 	struct rs_pose_layout layout;
 	struct rs_error err;
 	if (o.layout) {

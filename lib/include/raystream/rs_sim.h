@@ -78,11 +78,16 @@ void rs_sim_destroy(struct rs_sim **sim);
 enum rs_status rs_sim_next(struct rs_sim *sim, struct rs_marker_sample *out_sample,
                            struct rs_pose *out_truth, struct rs_error *err);
 
+/** Length in seconds of one pass of `script` (NULL or "": RS_SIM_DEFAULT_SCRIPT, 6 s);
+ *  RS_ERR_INVALID with a message for a bad script. */
+enum rs_status rs_sim_script_seconds(const char *script, double *out_s, struct rs_error *err);
+
 /**
  * Parse `key=value&key=value` (the part after "sim:") into `out_desc` (zeroed first).
  * Keys: seed, rate (Hz), noise (length: 0.5mm, 500um, 0.0005 = m), dropout, occlusion,
  * occlusion_time (time), swap, jitter (time: 0.2ms, 200us, 0.0002 = s), duration (time),
- * first_seq, script. The script text is copied into `script_buf` (capacity
+ * first_seq, script; an explicit rate must lie in [0.01, 1e6] Hz (rate=0 is refused, not
+ * read as the default). The script text is copied into `script_buf` (capacity
  * `script_cap`) and out_desc->script points there. RS_ERR_PARSE with a message naming
  * the bad key or value; unknown keys are errors.
  */

@@ -131,7 +131,9 @@ struct rs_track_replay_desc {
 /**
  * Open a replay file: either a recording (docs/protocol.md, "Replay files") or a raw dump
  * of protocol frames (host times then equal device times). RS_ERR_NOT_FOUND / RS_ERR_IO /
- * RS_ERR_PARSE with a message in `err`. At the end of the file, reads return RS_END.
+ * RS_ERR_PARSE with a message in `err`; RS_ERR_BAD_DATA for a regular file that is neither
+ * (no header and no frame in its first MiB: not a recording). At the end of the file,
+ * reads return RS_END.
  */
 enum rs_status rs_track_replay_open(const char *path, const struct rs_track_replay_desc *desc,
                                     struct rs_track_source **out_source, struct rs_error *err);

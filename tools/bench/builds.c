@@ -1,5 +1,5 @@
 /*
- * raystream-bench --table 3: BVH build time against the peer's. Our SAH builder
+ * raystream-bench --builds: BVH build time against the peer's. Our SAH builder
  * (rs_bvh_build) and Embree 3's medium-quality build (the one Embree uses for scenes that
  * change) over the same mesh on the same number of threads, one build of each in turn,
  * median of at least 7 each, wall clock and the process's CPU time (all threads: the work, which
@@ -15,6 +15,7 @@
 #include "bench.h"
 #include "peer.h"
 #include "raystream/rs_bvh.h"
+#include "raystream/rs_scenegen.h"
 #include "tool_common.h"
 
 enum { MIN_REPEATS = 7 };
@@ -98,7 +99,7 @@ static int bench_scene(const struct bench_options *o, const char *name, uint32_t
 {
 	struct rs_error err = {0};
 	struct rs_scene *scene = NULL;
-	if (rs_tool_load_scene(name, &scene, &err) != RS_OK) {
+	if (rs_scenegen_load(name, &scene, &err) != RS_OK) {
 		fprintf(stderr, "raystream-bench: %s\n", err.message);
 		return 1;
 	}
@@ -159,7 +160,7 @@ static void print_load(const char *when)
 		printf("load average %s: %.2f %.2f %.2f\n", when, load[0], load[1], load[2]);
 }
 
-int bench_table3(const struct bench_options *o)
+int bench_builds(const struct bench_options *o)
 {
 	uint32_t repeats = o->repeats < MIN_REPEATS ? MIN_REPEATS : o->repeats;
 	bool peer = HAVE_PEER && o->peer;
