@@ -108,8 +108,7 @@ extern "C" enum rs_status rs_optical_detect(const struct rs_optical_detect_desc 
                                             struct rs_optical_blob *out, size_t cap, size_t *out_n,
                                             struct rs_error *err)
 {
-	if (!out_n || (cap && !out))
-		return rs_error_set(err, RS_ERR_INVALID, "detect: NULL argument");
+	RS_ASSERT(img && out_n && (!cap || out));
 	*out_n = 0;
 	rs_status st = check_image(img, err);
 	if (st != RS_OK)

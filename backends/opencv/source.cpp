@@ -118,8 +118,7 @@ const rs_track_source_ops k_ops = {src_read, nullptr, nullptr, src_destroy};
 extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *rest,
                                               struct rs_track_source **out, struct rs_error *err)
 {
-	if (!scheme || !rest || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "optical: NULL argument");
+	RS_ASSERT(scheme && rest && out);
 	*out = nullptr;
 	bool camera = !std::strcmp(scheme, "cam");
 	if (!camera && std::strcmp(scheme, "video"))

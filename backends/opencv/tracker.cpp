@@ -88,8 +88,7 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
                                                     struct rs_optical_tracker **out,
                                                     struct rs_error *err)
 {
-	if (!desc || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	RS_ASSERT(desc && out);
 	*out = nullptr;
 	rs_optical_tracker_desc d = *desc;
 	enum rs_status st = rs_optical_rig_check(&d.rig, err);
@@ -355,8 +354,7 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 	rs_optical_quality qd;
 	rs_optical_quality &q = out_quality ? *out_quality : qd;
 	std::memset(&q, 0, sizeof q);
-	if (!t || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	RS_ASSERT(t && out);
 	empty_sample(time_s, out);
 	const rs_optical_image *img[2] = {img0, img1};
 	for (int v = 0; v < 2; ++v) {
@@ -395,8 +393,7 @@ rs_optical_tracker_process_blobs(struct rs_optical_tracker *t, const struct rs_o
 	rs_optical_quality qd;
 	rs_optical_quality &q = out_quality ? *out_quality : qd;
 	std::memset(&q, 0, sizeof q);
-	if (!t || !out || (n0 && !blobs0) || (n1 && !blobs1))
-		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	RS_ASSERT(t && out && (!n0 || blobs0) && (!n1 || blobs1));
 	empty_sample(time_s, out);
 	const rs_optical_blob *b[2] = {blobs0, blobs1};
 	size_t n[2] = {std::min(n0, k_max_blobs), std::min(n1, k_max_blobs)};
