@@ -50,7 +50,8 @@ static void tracker_calls_check_their_handles(void **state)
 	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_OK);
 	RS_EXPECT_CONTRACT_VIOLATION(
 	    rs_optical_tracker_process(NULL, NULL, NULL, 0.0, &smp, NULL, NULL));
-	RS_EXPECT_CONTRACT_VIOLATION(rs_optical_tracker_process(t, NULL, NULL, 0.0, NULL, NULL, NULL));
+	RS_EXPECT_CONTRACT_VIOLATION(
+	    rs_optical_tracker_process(t, NULL, NULL, 0.0, NULL, NULL, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(
 	    rs_optical_tracker_process_blobs(t, NULL, 1, b, 1, 0.0, &smp, NULL, NULL));
 	RS_EXPECT_CONTRACT_VIOLATION(
