@@ -2,16 +2,26 @@
 // rs_optical_tracker into marker samples.
 #include "optical_internal.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <new>
 #include <string>
+#include <vector>
 
 using namespace rs_optical;
 
 namespace
 {
+
+struct OpticalSource;
+
+// The optical sources alive, for rs_optical_source_quality(): a track source keeps its
+// implementation private, so the sources made here are looked up by their handle.
+std::mutex g_lock;
+std::vector<std::pair<const rs_track_source *, OpticalSource *>> g_sources;
 
 struct OpticalSource {
 	rs_optical_frames *frames[2] = {nullptr, nullptr};
@@ -19,8 +29,17 @@ struct OpticalSource {
 	bool live = false; // cam: host clock; video: frame index / rate
 	double rate_hz = 60.0;
 	uint32_t sequence = 0;
+	rs_optical_quality quality{}; // of the last frame pair
+	bool have_quality = false;
 	~OpticalSource()
 	{
+		{
+			std::lock_guard<std::mutex> lock(g_lock);
+			g_sources.erase(
+			    std::remove_if(g_sources.begin(), g_sources.end(),
+			                   [this](const auto &e) { return e.second == this; }),
+			    g_sources.end());
+		}
 		rs_optical_tracker_destroy(&tracker);
 		rs_optical_frames_destroy(&frames[0]);
 		rs_optical_frames_destroy(&frames[1]);
@@ -96,10 +115,15 @@ rs_status src_read(void *impl, rs_marker_sample *out, int timeout_ms, rs_error *
 		}
 	}
 	double t = s->live ? rs_track_now_s() : s->sequence / s->rate_hz;
-	rs_status st =
-	    rs_optical_tracker_process(s->tracker, &img[0], &img[1], t, out, nullptr, err);
+	rs_optical_quality q;
+	rs_status st = rs_optical_tracker_process(s->tracker, &img[0], &img[1], t, out, &q, err);
 	if (st != RS_OK)
 		return st;
+	{
+		std::lock_guard<std::mutex> lock(g_lock);
+		s->quality = q;
+		s->have_quality = true;
+	}
 	out->sequence = s->sequence;
 	out->device_time_us = (uint64_t)std::llround(t * 1e6);
 	s->sequence++;
@@ -149,5 +173,27 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 			delete s;
 			return st;
 		}
-	return rs_track_source_create(&k_ops, s, out, err);
+	if ((st = rs_track_source_create(&k_ops, s, out, err)) != RS_OK)
+		return st; // k_ops.destroy freed s
+	try {
+		std::lock_guard<std::mutex> lock(g_lock);
+		g_sources.emplace_back(*out, s);
+	} catch (const std::bad_alloc &) {
+		rs_track_source_destroy(out);
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical: out of memory");
+	}
+	return RS_OK;
+}
+
+extern "C" bool rs_optical_source_quality(const struct rs_track_source *src,
+                                          struct rs_optical_quality *out)
+{
+	RS_ASSERT(out);
+	std::lock_guard<std::mutex> lock(g_lock);
+	for (const auto &e : g_sources)
+		if (e.first == src && e.second->have_quality) {
+			*out = e.second->quality;
+			return true;
+		}
+	return false;
 }

@@ -12,6 +12,7 @@
 #ifndef RS_OPTICAL_H
 #define RS_OPTICAL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -289,6 +290,14 @@ void rs_optical_frames_destroy(struct rs_optical_frames **frames);
  */
 enum rs_status rs_optical_open_uri(const char *scheme, const char *rest,
                                    struct rs_track_source **out, struct rs_error *err);
+
+/**
+ * The quality of the last frame pair a video: or cam: source (from rs_optical_open_uri or
+ * rs_tracker_open) turned into a sample: its stated pose errors and, for a sample without
+ * markers, the verdict saying why. False (nothing written) for any other source or before
+ * its first sample.
+ */
+bool rs_optical_source_quality(const struct rs_track_source *src, struct rs_optical_quality *out);
 
 #ifdef __cplusplus
 }
