@@ -173,7 +173,7 @@ static void test_spots_walk_across_each_edge(void **state)
 			struct seq s;
 			seq_open(&s, 0.4);
 			int edge_blobs = 0;
-			for (double off = -4; off <= 8; off += 0.25) {
+			for (double off = -4; off <= 8; off += 0.5) {
 				double u = W / 2.0 - 40, w = H / 2.0 - 30;
 				if (e == 0)
 					u = off;
@@ -222,7 +222,8 @@ static void test_markers_at_the_corners(void **state)
 /* Camera 0 sees marker k; camera 1 does not, but sees a stray spot on its epipolar line:
  * what camera 1 would see of a point d along camera 0's ray through the marker. Tracked:
  * after five clean frames the spot slides out from 1 to 45 mm (0.4 s), on one side of the
- * marker, then the other. Cold: each frame on its own (a second apart). */
+ * marker, then the other. Cold: each frame on its own (a second apart). Offsets below
+ * 5 mm are reported apart (a known limit). */
 static void stray_sequence(struct seq *s, const struct rs_pose *T, int k, int tracked)
 {
 	double X[3], u, w;
@@ -252,27 +253,19 @@ static void test_stray_spot_on_hidden_markers_epipolar_line(void **state)
 	for (int tracked = 1; tracked >= 0; --tracked) {
 		struct seq s;
 		seq_open(&s, 0.4);
-		for (int trial = 0; trial < 6; ++trial) {
+		for (int trial = 0; trial < 3; ++trial) { /* each marker hidden once */
 			struct rs_pose T;
 			facing_pose(&r, &T);
 			s.t += 1.0; /* a new scene: no history */
 			stray_sequence(&s, &T, trial % 3, tracked);
 		}
+		/* Within 5 mm two cameras cannot tell the stray from the marker moved along camera
+		 * 0's ray where that ray lies near the display's normal (docs/optical.md): printed,
+		 * not asserted. */
 		printf("# stray within 5 mm of the hidden marker: worst error/stated %.2f (known "
 		       "limit)\n",
 		       s.small);
-		if (tracked) {
-			seq_close(&s, "stray on epipolar, tracked");
-			continue;
-		}
-		/* Without history two cameras cannot tell a stray on the epipolar line of a
-		 * hidden marker from that marker moved along camera 0's ray, where that ray
-		 * lies near the display's normal (docs/optical.md): printed, not asserted. */
-		printf("# %-28s %3d frames, %3d good, worst error/stated %.2f (known limit)\n",
-		       "stray on epipolar, cold", s.frames, s.good, s.worst);
-		assert_int_equal(s.unexplained, 0);
-		rs_optical_tracker_destroy(&s.tracker);
-		rs_pose_solver_destroy(&s.solver);
+		seq_close(&s, tracked ? "stray on epipolar, tracked" : "stray on epipolar, cold");
 	}
 }
 
