@@ -49,8 +49,9 @@ static void test_video_source_reads_sequence(void **state)
 	assert_non_null(mkdtemp(dir));
 	write_sequence(dir, W);
 	/* Unrelated random poses: a second apart (rate 1), or the step gate would hold them. */
-	snprintf(rest, sizeof rest, "%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&rate=1", dir,
-	         dir, dir);
+	snprintf(rest, sizeof rest,
+	         "%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&rate=1&sigma_px=0.05", dir, dir,
+	         dir);
 	struct rs_track_source *src = NULL;
 	struct rs_error err;
 	assert_int_equal(rs_optical_open_uri("video", rest, &src, &err), RS_OK);
@@ -104,6 +105,8 @@ static void test_video_source_bad_input(void **state)
 	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/none.yaml", RS_ERR_NOT_FOUND},
 	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/l_00.png", RS_ERR_PARSE}, /* not a rig */
 	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&speed=2", RS_ERR_PARSE},
+	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&sigma_px=-1", RS_ERR_PARSE},
+	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&sigma_px=0.1x", RS_ERR_PARSE},
 	    {"%s/x_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml", RS_ERR_IO}, /* unreadable */
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {

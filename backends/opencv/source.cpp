@@ -46,10 +46,11 @@ struct OpticalSource {
 	}
 };
 
-// The key=value options after '?': calib (required), layout, rate.
+// The key=value options after '?': calib (required), layout, rate, sigma_px.
 struct Options {
 	std::string a, b, calib, layout;
 	double rate_hz = 60.0;
+	double sigma_px = 0.0; // centroid noise the gate and the stated errors use (0: default)
 };
 
 rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
@@ -85,10 +86,17 @@ rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
 			if (*end || !(o->rate_hz >= 0.01 && o->rate_hz <= 1e6))
 				return rs_error_set(err, RS_ERR_PARSE, "%s: bad rate '%.40s'",
 				                    scheme, v.c_str());
+		} else if (k == "sigma_px") {
+			char *end = nullptr;
+			o->sigma_px = std::strtod(v.c_str(), &end);
+			if (*end || !(o->sigma_px >= 1e-4 && o->sigma_px <= 100))
+				return rs_error_set(err, RS_ERR_PARSE, "%s: bad sigma_px '%.40s'",
+				                    scheme, v.c_str());
 		} else {
-			return rs_error_set(err, RS_ERR_PARSE,
-			                    "%s: unknown option '%.40s' (calib, layout, rate)",
-			                    scheme, k.c_str());
+			return rs_error_set(
+			    err, RS_ERR_PARSE,
+			    "%s: unknown option '%.40s' (calib, layout, rate, sigma_px)", scheme,
+			    k.c_str());
 		}
 		if (amp == std::string::npos)
 			break;
@@ -152,6 +160,7 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 	if (st != RS_OK)
 		return st;
 	rs_optical_tracker_desc d{};
+	d.centroid_sigma_px = o.sigma_px;
 	if ((st = rs_optical_rig_load(o.calib.c_str(), &d.rig, err)) != RS_OK)
 		return st;
 	if (!o.layout.empty() &&

@@ -282,7 +282,8 @@ enum rs_status rs_optical_frames_read(struct rs_optical_frames *frames,
 void rs_optical_frames_destroy(struct rs_optical_frames **frames);
 
 /**
- * Open a video: source: `LEFT,RIGHT?calib=FILE[&layout=FILE][&rate=HZ]` where LEFT and
+ * Open a video: source: `LEFT,RIGHT?calib=FILE[&layout=FILE][&rate=HZ][&sigma_px=PX]` (PX:
+ * the tracker's centroid_sigma_px) where LEFT and
  * RIGHT are printf patterns of image sequences ("left_%04d.png", numbered from 0) or
  * video files; or a cam: source: `0,1?calib=FILE` (V4L2 indices or /dev/video paths).
  * `rest` is the URI after the scheme. Frames become marker samples (rs_optical_tracker);
