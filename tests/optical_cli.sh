@@ -22,6 +22,12 @@ first=$(grep -m1 ' seq=0 ' <<<"$out" | sed 's/.*pos=\[\([^]]*\)\].*/\1/')
 awk -v a="$first" -v x="$x" -v y="$y" -v z="$z" 'BEGIN { split(a, p, " ");
   d = sqrt((p[1]-x)^2 + (p[2]-y)^2 + (p[3]-z)^2); exit !(d < 0.001) }' \
   || fail "first pose $first is not the truth $x $y $z"
+# Each optical sample states its own error: the first pose is within 5x of it.
+grep -v '^#' <<<"$out" | grep -qv ' optical=RS_OPTICAL_SOLVED' && fail "a sample not solved: $out"
+stated=$(grep -m1 ' seq=0 ' <<<"$out" | sed 's/.* stated=[^/]*\/\([0-9.]*\)mm.*/\1/')
+awk -v a="$first" -v x="$x" -v y="$y" -v z="$z" -v s="$stated" 'BEGIN { split(a, p, " ");
+  d = sqrt((p[1]-x)^2 + (p[2]-y)^2 + (p[3]-z)^2); exit !(s > 0 && d * 1e3 <= 5 * s) }' \
+  || fail "first pose $first is more than 5x its stated ${stated} mm from the truth"
 
 # flips FILE: how many consecutive quaternions (4 numbers per line on stdin) lie in
 # opposite hemispheres (q and -q are one rotation; a flip is a jump in the output).

@@ -258,11 +258,11 @@ static void check_law(double baseline, double sigma_px)
 	struct rng r = {.s = 77 + (uint64_t)(sigma_px * 100)};
 	double se_rot = 0, se_pos = 0, sp_rot = 0, sp_pos = 0, s_sig = 0, s_sig_law = 0;
 	double worst_r = 0, worst_p = 0;
-	int good = 0, trials = 1500;
+	int good = 0, trials = 1500, refused = 0;
 	for (int trial = 0; trial < trials; ++trial) {
 		struct rs_pose T;
 		facing_pose(&r, &T);
-		struct rs_optical_blob b[2][3];
+		struct rs_optical_blob b[2][3] = {{{0}}};
 		double P[3][3], cov[3][3][3], tr = 0;
 		for (int i = 0; i < 3; ++i) {
 			rs_pose_transform_point(&T, L.markers[i], P[i]);
@@ -280,9 +280,19 @@ static void check_law(double baseline, double sigma_px)
 		    rs_optical_tracker_process_blobs(t, b[0], 3, b[1], 3, 0.0, &smp, &oq, NULL),
 		    RS_OK);
 		if (oq.markers != 3)
-			printf("# trial %d: blobs %u %u matches %u side error %.4f\n", trial,
-			       oq.blobs[0], oq.blobs[1], oq.matches, oq.side_error_m);
-		assert_int_equal(oq.markers, 3);
+			printf("# gate refused trial %d: blobs %u %u matches %u side error %.4f %s "
+			       "chi2 %.1f "
+			       "%.1f %.1f\n",
+			       trial, oq.blobs[0], oq.blobs[1], oq.matches, oq.side_error_m,
+			       rs_optical_verdict_name(oq.verdict), oq.reprojection_chi2,
+			       oq.marker_chi2, oq.side_chi2);
+		/* The consistency gate may refuse a clean sample (false alarm ~1.4e-4,
+		 * docs/optical.md): counted, and it must say why. */
+		if (oq.markers != 3) {
+			assert_int_not_equal(oq.verdict, RS_OPTICAL_SOLVED);
+			++refused;
+			continue;
+		}
 		s_sig += oq.sigma_m * oq.sigma_m;
 		s_sig_law += tr / 9.0;
 		/* the tracker's own stated pose errors are this law */
@@ -308,16 +318,17 @@ static void check_law(double baseline, double sigma_px)
 	printf("# baseline %.2f m, %.2f px: %d/%d solved, rot RMS %.4f deg (law %.4f), pos RMS "
 	       "%.4f mm (law %.4f), marker sigma %.4f mm (law %.4f)\n",
 	       baseline, sigma_px, good, trials, rot * 180 / RS_PI, rot_law * 180 / RS_PI,
-	       pos * 1e3, pos_law * 1e3, sqrt(s_sig / trials) * 1e3,
-	       sqrt(s_sig_law / trials) * 1e3);
+	       pos * 1e3, pos_law * 1e3, sqrt(s_sig / (trials - refused)) * 1e3,
+	       sqrt(s_sig_law / (trials - refused)) * 1e3);
 	printf(
 	    "# stated vs law at the true markers: worst %.2f %% (rotation), %.2f %% (position)\n",
 	    100 * worst_r, 100 * worst_p);
 	assert_true(worst_r < 0.1 && worst_p < 0.1);
+	assert_true(refused <= 2); /* 0.1 % of 1500, rounded up */
 	assert_true(good >= trials / 2);
 	assert_true(rot > 0.85 * rot_law && rot < 1.15 * rot_law);
 	assert_true(pos > 0.85 * pos_law && pos < 1.15 * pos_law);
-	assert_true(fabs(sqrt(s_sig / trials) / sqrt(s_sig_law / trials) - 1) < 0.02);
+	assert_true(fabs(sqrt(s_sig / s_sig_law) - 1) < 0.02);
 	rs_optical_tracker_destroy(&t);
 }
 

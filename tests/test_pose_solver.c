@@ -225,7 +225,8 @@ static void test_solver_applies_calibration_offset(void **state)
 	                       .orientation = {0.0, 0.6, 0.0, 0.8}};
 	L.T_markers_display = T_md;
 	struct rs_pose_solver *s = NULL;
-	assert_int_equal(rs_pose_solver_create(NULL, &L, &s, NULL), RS_OK);
+	struct rs_pose_solver_desc d = {.independent_samples = 1}; /* unrelated poses */
+	assert_int_equal(rs_pose_solver_create(&d, &L, &s, NULL), RS_OK);
 	struct rng r = {3};
 	for (int trial = 0; trial < 100; ++trial) {
 		struct rs_pose T_tm, expect, out;

@@ -47,8 +47,7 @@ static bool finite_all(const double *v, int n)
 extern "C" enum rs_status rs_optical_rig_check(const struct rs_optical_rig *rig,
                                                struct rs_error *err)
 {
-	if (!rig)
-		return rs_error_set(err, RS_ERR_INVALID, "rig: NULL");
+	RS_ASSERT(rig);
 	for (int c = 0; c < 2; ++c) {
 		const rs_optical_camera &k = rig->cam[c];
 		if (k.width < 1 || k.height < 1 || k.width > 16384 || k.height > 16384)
@@ -116,8 +115,7 @@ static bool read_mat(const cv::FileNode &n, int rows, int cols, double *out)
 extern "C" enum rs_status rs_optical_rig_load(const char *path, struct rs_optical_rig *out,
                                               struct rs_error *err)
 {
-	if (!path || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "rig: NULL argument");
+	RS_ASSERT(path && out);
 	if (access(path, R_OK) != 0)
 		return rs_error_set(err, errno == ENOENT ? RS_ERR_NOT_FOUND : RS_ERR_IO,
 		                    "rig: cannot open '%s': %s", path, strerror(errno));
@@ -205,8 +203,7 @@ template <class Writer> static rs_status atomic_write(const char *path, Writer w
 extern "C" enum rs_status rs_optical_rig_save(const char *path, const struct rs_optical_rig *rig,
                                               struct rs_error *err)
 {
-	if (!path || !rig)
-		return rs_error_set(err, RS_ERR_INVALID, "rig: NULL argument");
+	RS_ASSERT(path && rig);
 	enum rs_status st = rs_optical_rig_check(rig, err);
 	if (st != RS_OK)
 		return st;
@@ -242,7 +239,8 @@ extern "C" enum rs_status rs_optical_rig_save(const char *path, const struct rs_
 extern "C" enum rs_status rs_optical_write_png(const char *path, const uint8_t *pixels, int width,
                                                int height, struct rs_error *err)
 {
-	if (!path || !pixels || width < 1 || height < 1)
+	RS_ASSERT(path && pixels);
+	if (width < 1 || height < 1)
 		return rs_error_set(err, RS_ERR_INVALID, "png: bad arguments");
 	cv::Mat m(height, width, CV_8UC1, const_cast<uint8_t *>(pixels));
 	// imwrite picks the codec from the name, which the temporary name hides: encode first.

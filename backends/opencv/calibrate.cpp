@@ -26,8 +26,7 @@ extern "C" enum rs_status rs_optical_calibrate(const struct rs_optical_board *bo
                                                struct rs_optical_rig *out, size_t *out_used,
                                                struct rs_error *err)
 {
-	if (!out || (n && (!views0 || !views1)))
-		return rs_error_set(err, RS_ERR_INVALID, "calibrate: NULL argument");
+	RS_ASSERT(out && (!n || (views0 && views1)));
 	rs_optical_board b = board ? *board : rs_optical_board{};
 	if (!b.cols)
 		b.cols = 9;

@@ -31,10 +31,23 @@ bool detect_desc_valid(const rs_optical_detect_desc &d)
 	       d.max_area_px >= d.min_area_px && std::isfinite(d.max_aspect) && d.max_aspect >= 1.0;
 }
 
+static bool window_has_other(const cv::Mat &labels, int i, int x0, int y0, int x1, int y1)
+{
+	for (int y = y0; y < y1; ++y) {
+		const int *lab = labels.ptr<int>(y);
+		for (int x = x0; x < x1; ++x)
+			if (lab[x] != 0 && lab[x] != i)
+				return true;
+	}
+	return false;
+}
+
 void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &s,
-            std::vector<rs_optical_blob> &out)
+            std::vector<rs_optical_blob> &out, DetectCounts *counts)
 {
 	out.clear();
+	if (counts)
+		*counts = DetectCounts{};
 	cv::threshold(img, s.binary, d.threshold, 255, cv::THRESH_BINARY);
 	int n =
 	    cv::connectedComponentsWithStats(s.binary, s.labels, s.stats, s.centroids, 8, CV_32S);
@@ -46,13 +59,28 @@ void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &
 		// reaches 3 px beyond the thresholded pixels, and the weight is the brightness
 		// above the local background (the window's rim): linear in how much of a pixel
 		// the marker covers, so the centroid of a symmetric spot has no bias.
-		const int m = 3;
-		int x0 = std::max(0, s.stats.at<int>(i, cv::CC_STAT_LEFT) - m);
-		int y0 = std::max(0, s.stats.at<int>(i, cv::CC_STAT_TOP) - m);
-		int x1 = std::min(img.cols, s.stats.at<int>(i, cv::CC_STAT_LEFT) +
-		                                s.stats.at<int>(i, cv::CC_STAT_WIDTH) + m);
-		int y1 = std::min(img.rows, s.stats.at<int>(i, cv::CC_STAT_TOP) +
-		                                s.stats.at<int>(i, cv::CC_STAT_HEIGHT) + m);
+		const int m = k_centroid_margin_px;
+		int x0 = s.stats.at<int>(i, cv::CC_STAT_LEFT) - m;
+		int y0 = s.stats.at<int>(i, cv::CC_STAT_TOP) - m;
+		int x1 = s.stats.at<int>(i, cv::CC_STAT_LEFT) +
+		         s.stats.at<int>(i, cv::CC_STAT_WIDTH) + m;
+		int y1 = s.stats.at<int>(i, cv::CC_STAT_TOP) +
+		         s.stats.at<int>(i, cv::CC_STAT_HEIGHT) + m;
+		// A window cut by the image edge loses one flank of the spot: its centroid moves
+		// 0.2-0.6 px inwards (issue 19), a pose error many times the stated one. Such a
+		// blob is not a measurement.
+		if (x0 < 0 || y0 < 0 || x1 > img.cols || y1 > img.rows) {
+			if (counts)
+				counts->at_edge++;
+			continue;
+		}
+		// Another bright region (a neighbouring spot, a lamp, a saturated reflection)
+		// inside the window biases the background and the flanks alike.
+		if (window_has_other(s.labels, i, x0, y0, x1, y1)) {
+			if (counts)
+				counts->crowded++;
+			continue;
+		}
 		double rim = 0;
 		int nrim = 0;
 		for (int y = y0; y < y1; ++y) {
@@ -69,10 +97,7 @@ void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &
 		double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
 		for (int y = y0; y < y1; ++y) {
 			const uint8_t *row = img.ptr<uint8_t>(y);
-			const int *lab = s.labels.ptr<int>(y);
 			for (int x = x0; x < x1; ++x) {
-				if (lab[x] != 0 && lab[x] != i)
-					continue;
 				double w = row[x] - bg;
 				sw += w;
 				sx += w * x;
@@ -108,8 +133,7 @@ extern "C" enum rs_status rs_optical_detect(const struct rs_optical_detect_desc 
                                             struct rs_optical_blob *out, size_t cap, size_t *out_n,
                                             struct rs_error *err)
 {
-	if (!out_n || (cap && !out))
-		return rs_error_set(err, RS_ERR_INVALID, "detect: NULL argument");
+	RS_ASSERT(img && out_n && (!cap || out));
 	*out_n = 0;
 	rs_status st = check_image(img, err);
 	if (st != RS_OK)
@@ -121,7 +145,7 @@ extern "C" enum rs_status rs_optical_detect(const struct rs_optical_detect_desc 
 	DetectScratch s;
 	std::vector<rs_optical_blob> blobs;
 	try {
-		detect(wrap(*img), d, s, blobs);
+		detect(wrap(*img), d, s, blobs, nullptr);
 	} catch (const cv::Exception &e) {
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "detect: %.160s", e.msg.c_str());
 	}

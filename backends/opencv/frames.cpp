@@ -20,8 +20,7 @@ extern "C" enum rs_status rs_optical_frames_open(const char *what, int camera,
                                                  struct rs_optical_frames **out,
                                                  struct rs_error *err)
 {
-	if (!what || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "frames: NULL argument");
+	RS_ASSERT(what && out);
 	*out = nullptr;
 	// The library is silent (errors come back through rs_error); OpenCV would otherwise
 	// log a warning to stderr at the end of every image sequence.
@@ -61,8 +60,7 @@ extern "C" enum rs_status rs_optical_frames_open(const char *what, int camera,
 extern "C" enum rs_status rs_optical_frames_read(struct rs_optical_frames *f,
                                                  struct rs_optical_image *out, struct rs_error *err)
 {
-	if (!f || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "frames: NULL argument");
+	RS_ASSERT(f && out);
 	bool ok = false;
 	try {
 		ok = f->cap.read(f->frame) && !f->frame.empty();

@@ -18,9 +18,18 @@ struct DetectScratch {
 
 void resolve_detect(const rs_optical_detect_desc *in, rs_optical_detect_desc *out);
 bool detect_desc_valid(const rs_optical_detect_desc &d);
-// Blobs of `img` passing the gates, largest first.
+// How far beyond its thresholded pixels a spot's centroid window reaches (its flanks).
+const int k_centroid_margin_px = 3;
+
+// Blobs refused as measurements: window cut by the image edge, or shared with another
+// bright region.
+struct DetectCounts {
+	uint32_t at_edge = 0, crowded = 0;
+};
+
+// Blobs of `img` passing the gates, largest first; `counts` (may be null) the refused ones.
 void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &s,
-            std::vector<rs_optical_blob> &out);
+            std::vector<rs_optical_blob> &out, DetectCounts *counts);
 
 } // namespace rs_optical
 

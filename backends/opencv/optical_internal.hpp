@@ -48,6 +48,16 @@ rs_status check_image(const rs_optical_image *img, rs_error *err);
 void pose_error_law(const rs_pose_layout &layout, const cv::Vec3d P[3], const cv::Matx33d S[3],
                     double *out_rot_rms, double *out_pos_rms);
 
+// Inverse covariance, per unit centroid variance, of a centroid in undistorted pixels at
+// `undistorted` (the lens's distortion Jacobian; the identity without distortion).
+cv::Matx22d centroid_weight(const rs_optical_camera &c, cv::Point2d undistorted);
+
+// Chi-square of the side lengths of P (layout_sides[k] opposite P[k]) for marker
+// covariances S: in total (3 degrees of freedom) and per marker (the two sides meeting at
+// it, 2 degrees). Infinite when the points coincide.
+void side_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
+               double *out_total, double out_marker[3]);
+
 } // namespace rs_optical
 
 #endif

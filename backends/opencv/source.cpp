@@ -2,16 +2,26 @@
 // rs_optical_tracker into marker samples.
 #include "optical_internal.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <new>
 #include <string>
+#include <vector>
 
 using namespace rs_optical;
 
 namespace
 {
+
+struct OpticalSource;
+
+// The optical sources alive, for rs_optical_source_quality(): a track source keeps its
+// implementation private, so the sources made here are looked up by their handle.
+std::mutex g_lock;
+std::vector<std::pair<const rs_track_source *, OpticalSource *>> g_sources;
 
 struct OpticalSource {
 	rs_optical_frames *frames[2] = {nullptr, nullptr};
@@ -19,18 +29,28 @@ struct OpticalSource {
 	bool live = false; // cam: host clock; video: frame index / rate
 	double rate_hz = 60.0;
 	uint32_t sequence = 0;
+	rs_optical_quality quality{}; // of the last frame pair
+	bool have_quality = false;
 	~OpticalSource()
 	{
+		{
+			std::lock_guard<std::mutex> lock(g_lock);
+			g_sources.erase(
+			    std::remove_if(g_sources.begin(), g_sources.end(),
+			                   [this](const auto &e) { return e.second == this; }),
+			    g_sources.end());
+		}
 		rs_optical_tracker_destroy(&tracker);
 		rs_optical_frames_destroy(&frames[0]);
 		rs_optical_frames_destroy(&frames[1]);
 	}
 };
 
-// The key=value options after '?': calib (required), layout, rate.
+// The key=value options after '?': calib (required), layout, rate, sigma_px.
 struct Options {
 	std::string a, b, calib, layout;
 	double rate_hz = 60.0;
+	double sigma_px = 0.0; // centroid noise the gate and the stated errors use (0: default)
 };
 
 rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
@@ -66,10 +86,17 @@ rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
 			if (*end || !(o->rate_hz >= 0.01 && o->rate_hz <= 1e6))
 				return rs_error_set(err, RS_ERR_PARSE, "%s: bad rate '%.40s'",
 				                    scheme, v.c_str());
+		} else if (k == "sigma_px") {
+			char *end = nullptr;
+			o->sigma_px = std::strtod(v.c_str(), &end);
+			if (*end || !(o->sigma_px >= 1e-4 && o->sigma_px <= 100))
+				return rs_error_set(err, RS_ERR_PARSE, "%s: bad sigma_px '%.40s'",
+				                    scheme, v.c_str());
 		} else {
-			return rs_error_set(err, RS_ERR_PARSE,
-			                    "%s: unknown option '%.40s' (calib, layout, rate)",
-			                    scheme, k.c_str());
+			return rs_error_set(
+			    err, RS_ERR_PARSE,
+			    "%s: unknown option '%.40s' (calib, layout, rate, sigma_px)", scheme,
+			    k.c_str());
 		}
 		if (amp == std::string::npos)
 			break;
@@ -96,10 +123,15 @@ rs_status src_read(void *impl, rs_marker_sample *out, int timeout_ms, rs_error *
 		}
 	}
 	double t = s->live ? rs_track_now_s() : s->sequence / s->rate_hz;
-	rs_status st =
-	    rs_optical_tracker_process(s->tracker, &img[0], &img[1], t, out, nullptr, err);
+	rs_optical_quality q;
+	rs_status st = rs_optical_tracker_process(s->tracker, &img[0], &img[1], t, out, &q, err);
 	if (st != RS_OK)
 		return st;
+	{
+		std::lock_guard<std::mutex> lock(g_lock);
+		s->quality = q;
+		s->have_quality = true;
+	}
 	out->sequence = s->sequence;
 	out->device_time_us = (uint64_t)std::llround(t * 1e6);
 	s->sequence++;
@@ -118,8 +150,7 @@ const rs_track_source_ops k_ops = {src_read, nullptr, nullptr, src_destroy};
 extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *rest,
                                               struct rs_track_source **out, struct rs_error *err)
 {
-	if (!scheme || !rest || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "optical: NULL argument");
+	RS_ASSERT(scheme && rest && out);
 	*out = nullptr;
 	bool camera = !std::strcmp(scheme, "cam");
 	if (!camera && std::strcmp(scheme, "video"))
@@ -129,6 +160,7 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 	if (st != RS_OK)
 		return st;
 	rs_optical_tracker_desc d{};
+	d.centroid_sigma_px = o.sigma_px;
 	if ((st = rs_optical_rig_load(o.calib.c_str(), &d.rig, err)) != RS_OK)
 		return st;
 	if (!o.layout.empty() &&
@@ -150,5 +182,27 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 			delete s;
 			return st;
 		}
-	return rs_track_source_create(&k_ops, s, out, err);
+	if ((st = rs_track_source_create(&k_ops, s, out, err)) != RS_OK)
+		return st; // k_ops.destroy freed s
+	try {
+		std::lock_guard<std::mutex> lock(g_lock);
+		g_sources.emplace_back(*out, s);
+	} catch (const std::bad_alloc &) {
+		rs_track_source_destroy(out);
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical: out of memory");
+	}
+	return RS_OK;
+}
+
+extern "C" bool rs_optical_source_quality(const struct rs_track_source *src,
+                                          struct rs_optical_quality *out)
+{
+	RS_ASSERT(out);
+	std::lock_guard<std::mutex> lock(g_lock);
+	for (const auto &e : g_sources)
+		if (e.first == src && e.second->have_quality) {
+			*out = e.second->quality;
+			return true;
+		}
+	return false;
 }

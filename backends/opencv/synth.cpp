@@ -71,8 +71,7 @@ extern "C" enum rs_status rs_optical_synth_render(const struct rs_optical_rig *r
                                                   uint8_t *out0, uint8_t *out1,
                                                   struct rs_error *err)
 {
-	if (!rig || !layout || !T_cam0_markers || !out0 || !out1)
-		return rs_error_set(err, RS_ERR_INVALID, "synth: NULL argument");
+	RS_ASSERT(rig && layout && T_cam0_markers && out0 && out1);
 	enum rs_status st = rs_optical_rig_check(rig, err);
 	if (st != RS_OK)
 		return st;
@@ -131,8 +130,7 @@ extern "C" enum rs_status rs_optical_synth_board(const struct rs_optical_rig *ri
                                                  const struct rs_pose *T_cam0_board, uint8_t *out0,
                                                  uint8_t *out1, struct rs_error *err)
 {
-	if (!rig || !board || !T_cam0_board || !out0 || !out1)
-		return rs_error_set(err, RS_ERR_INVALID, "synth board: NULL argument");
+	RS_ASSERT(rig && board && T_cam0_board && out0 && out1);
 	enum rs_status st = rs_optical_rig_check(rig, err);
 	if (st != RS_OK)
 		return st;

@@ -19,6 +19,15 @@ namespace
 
 const int k_perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
 const size_t k_max_blobs = 24; // per view; more bright spots than this is not a marker scene
+// The last triple settles an ambiguous frame only if at most this old, and only for a
+// candidate within this distance of it while every other candidate is farther (and 3x
+// farther): a reflection of the display lies centimetres to decimetres away.
+const double k_prior_max_age_s = 0.1;
+// The step gate predicts from the raw velocity of the last two poses: a smoothed one lags a
+// shaking hand by its time constant times the acceleration, degrees per frame. Its noise,
+// about the last pose's error, adds to the stated errors instead.
+const double k_velocity_tc_s = 0.0;
+const double k_prior_reach_m = 0.02;
 
 struct Pair {
 	int i, j;    // blob indices in view 0 and 1
@@ -36,7 +45,18 @@ struct rs_optical_tracker {
 	DetectScratch scratch;
 	std::vector<rs_optical_blob> blobs[2];
 	std::vector<cv::Point2d> raw[2], und[2];
+	std::vector<cv::Matx22d> W[2]; // each centroid's inverse covariance per sigma^2
+	DetectCounts counts[2];
 	std::vector<Pair> pairs;
+	std::vector<cv::Vec3d> candidates; // centroids of the triples that fit the layout
+	bool have_last = false;            // the last triple reported, for settle_by_prior()
+	double last_time = 0;
+	cv::Vec3d last_centroid;
+	// The last reported display pose, its stated errors and smoothed velocities: the
+	// step gate's prediction.
+	rs_pose last_pose;
+	double last_rot_rms = 0, last_pos_rms = 0;
+	double velocity[3] = {0, 0, 0}, angular_velocity[3] = {0, 0, 0};
 };
 
 static void sides_of(const cv::Vec3d p[3], double s[3])
@@ -88,8 +108,7 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
                                                     struct rs_optical_tracker **out,
                                                     struct rs_error *err)
 {
-	if (!desc || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	RS_ASSERT(desc && out);
 	*out = nullptr;
 	rs_optical_tracker_desc d = *desc;
 	enum rs_status st = rs_optical_rig_check(&d.rig, err);
@@ -171,64 +190,78 @@ static int best_order(const double ls[3], const cv::Vec3d p[3], double *cost, do
 	return best;
 }
 
-// Projection Jacobian rows of both views at X (pixels per metre), summed as J^T J: the
-// inverse is the covariance of the maximum-likelihood point per unit centroid variance.
-static cv::Matx33d info_matrix(const rs_optical_tracker &t, const cv::Vec3d &X)
+// The 2x3 projection Jacobian of view M at X (undistorted pixels per metre) and the
+// residual of the observation; false behind the camera.
+static bool project_jacobian(const cv::Matx34d &M, const cv::Vec3d &X, cv::Point2d obs,
+                             cv::Matx23d *J, cv::Vec2d *r)
+{
+	cv::Vec3d x = M * cv::Vec4d(X[0], X[1], X[2], 1.0);
+	if (!(x[2] > 0))
+		return false;
+	for (int row = 0; row < 2; ++row)
+		for (int k = 0; k < 3; ++k)
+			(*J)(row, k) = (M(row, k) * x[2] - M(2, k) * x[row]) / (x[2] * x[2]);
+	*r = cv::Vec2d(x[0] / x[2] - obs.x, x[1] / x[2] - obs.y);
+	return true;
+}
+
+// Both views' J^T W J at X, W each centroid's inverse covariance in undistorted pixels
+// (the lens's distortion Jacobian): the inverse is the covariance of the maximum-likelihood
+// point per unit centroid variance.
+static cv::Matx33d info_matrix(const rs_optical_tracker &t, const cv::Vec3d &X,
+                               const cv::Matx22d W[2])
 {
 	const cv::Matx34d *P[2] = {&t.P0, &t.P1};
 	cv::Matx33d JtJ = cv::Matx33d::zeros();
 	for (int v = 0; v < 2; ++v) {
-		const cv::Matx34d &M = *P[v];
-		cv::Vec3d x = M * cv::Vec4d(X[0], X[1], X[2], 1.0);
-		for (int row = 0; row < 2; ++row) {
-			cv::Vec3d J;
-			for (int k = 0; k < 3; ++k)
-				J[k] = (M(row, k) * x[2] - M(2, k) * x[row]) / (x[2] * x[2]);
-			JtJ += J * J.t();
-		}
+		cv::Matx23d J;
+		cv::Vec2d r;
+		if (project_jacobian(*P[v], X, cv::Point2d(0, 0), &J, &r))
+			JtJ += J.t() * W[v] * J;
 	}
 	return JtJ;
 }
 
-// Covariance of a triangulated point for isotropic centroid noise sigma_px:
-// sigma^2 (J^T J)^-1; infinite when the views do not constrain it.
-static cv::Matx33d point_cov(const rs_optical_tracker &t, const cv::Vec3d &X)
+// Covariance of a triangulated point for centroid noise sigma_px per image coordinate:
+// sigma^2 (J^T W J)^-1; infinite when the views do not constrain it.
+static cv::Matx33d point_cov(const rs_optical_tracker &t, const cv::Vec3d &X,
+                             const cv::Matx22d W[2])
 {
 	cv::Matx33d inv;
-	if (!cv::invert(info_matrix(t, X), inv, cv::DECOMP_CHOLESKY))
+	if (!cv::invert(info_matrix(t, X, W), inv, cv::DECOMP_CHOLESKY))
 		return cv::Matx33d::eye() * INFINITY;
 	return inv * (t.d.centroid_sigma_px * t.d.centroid_sigma_px);
 }
 
-static void reproject(const cv::Matx34d &P, const cv::Vec3d &X, cv::Point2d *out)
-{
-	cv::Vec3d x = P * cv::Vec4d(X[0], X[1], X[2], 1.0);
-	*out = cv::Point2d(x[0] / x[2], x[1] / x[2]);
-}
-
-// Gauss-Newton on the reprojection error in both views (the maximum-likelihood point for
-// Gaussian centroid noise), from the DLT solution; three steps converge to ~1e-9 px.
-static cv::Vec3d refine(const rs_optical_tracker &t, cv::Vec3d X, cv::Point2d a, cv::Point2d b)
+// Weighted squared reprojection error of X in both views (r^T W r per view).
+static void reprojection(const rs_optical_tracker &t, const cv::Vec3d &X, const cv::Point2d obs[2],
+                         const cv::Matx22d W[2], double e2[2])
 {
 	const cv::Matx34d *P[2] = {&t.P0, &t.P1};
-	const cv::Point2d obs[2] = {a, b};
+	for (int v = 0; v < 2; ++v) {
+		cv::Matx23d J;
+		cv::Vec2d r;
+		e2[v] = project_jacobian(*P[v], X, obs[v], &J, &r) ? r.dot(W[v] * r) : INFINITY;
+	}
+}
+
+// Gauss-Newton on the weighted reprojection error in both views (the maximum-likelihood
+// point for Gaussian centroid noise), from the DLT solution; three steps converge to
+// ~1e-9 px.
+static cv::Vec3d refine(const rs_optical_tracker &t, cv::Vec3d X, const cv::Point2d obs[2],
+                        const cv::Matx22d W[2])
+{
+	const cv::Matx34d *P[2] = {&t.P0, &t.P1};
 	for (int it = 0; it < 3; ++it) {
 		cv::Matx33d JtJ = cv::Matx33d::zeros();
 		cv::Vec3d Jtr(0, 0, 0);
 		for (int v = 0; v < 2; ++v) {
-			const cv::Matx34d &M = *P[v];
-			cv::Vec3d x = M * cv::Vec4d(X[0], X[1], X[2], 1.0);
-			if (!(x[2] > 0))
+			cv::Matx23d J;
+			cv::Vec2d r;
+			if (!project_jacobian(*P[v], X, obs[v], &J, &r))
 				return X;
-			double r[2] = {x[0] / x[2] - obs[v].x, x[1] / x[2] - obs[v].y};
-			for (int row = 0; row < 2; ++row) {
-				cv::Vec3d J;
-				for (int k = 0; k < 3; ++k)
-					J[k] =
-					    (M(row, k) * x[2] - M(2, k) * x[row]) / (x[2] * x[2]);
-				JtJ += J * J.t();
-				Jtr += J * r[row];
-			}
+			JtJ += J.t() * W[v] * J;
+			Jtr += J.t() * (W[v] * r);
 		}
 		cv::Vec3d step;
 		if (!cv::solve(JtJ, -Jtr, step, cv::DECOMP_CHOLESKY))
@@ -244,23 +277,108 @@ static void empty_sample(double time_s, rs_marker_sample *out)
 	out->host_time_s = time_s;
 }
 
-// Blobs of both views (t->blobs) to the sample: undistort, match, triangulate, label.
-static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sample *out,
-                             rs_optical_quality &q, rs_error *err)
+// Two or more triples fit the layout (a reflection of the whole display, a second
+// display): side lengths cannot say which is the display. The last reported triple, if
+// recent, settles it when one candidate is near it and every other far; otherwise the
+// frame is ambiguous and gives no markers.
+static bool settle_by_prior(const rs_optical_tracker &t, double time_s, const cv::Vec3d &best)
 {
-	(void)time_s;
+	if (!t.have_last || !(std::fabs(time_s - t.last_time) <= k_prior_max_age_s))
+		return false;
+	double d_best = cv::norm(best - t.last_centroid), d_other = INFINITY;
+	for (const cv::Vec3d &c : t.candidates) {
+		double d = cv::norm(c - t.last_centroid);
+		if (cv::norm(c - best) > 1e-9)
+			d_other = std::min(d_other, d);
+	}
+	return d_best <= k_prior_reach_m && d_other > std::max(3.0 * d_best, k_prior_reach_m);
+}
+
+// The display pose of the labelled markers, and whether it follows the last reported one
+// (constant velocity) within both poses' stated errors and a hand's acceleration.
+static rs_optical_verdict step_gate(const rs_optical_tracker &t, const cv::Vec3d pts[3],
+                                    double time_s, rs_optical_quality &q, rs_pose *pose)
+{
+	double model[3][3], measured[3][3];
+	for (int i = 0; i < 3; ++i)
+		for (int k = 0; k < 3; ++k) {
+			model[i][k] = t.d.layout.markers[i][k];
+			measured[i][k] = pts[i][k];
+		}
+	rs_pose T;
+	if (rs_pose_fit((const double(*)[3])model, (const double(*)[3])measured, 3, &T, nullptr,
+	                nullptr) != RS_OK)
+		return RS_OPTICAL_SIDE_RESIDUAL; // collinear: the side test cannot have passed
+	rs_pose_compose(&T, &t.d.layout.T_markers_display, pose);
+	pose->time_s = time_s;
+	double since = time_s - t.last_time;
+	if (!t.have_last || !(since > 0) || since > k_prior_max_age_s)
+		return RS_OPTICAL_SOLVED;
+	rs_pose predicted;
+	rs_pose_extrapolate(&t.last_pose, t.velocity, t.angular_velocity, since, &predicted);
+	// Variance of the step: this pose's, the last one's, and the velocity's (two poses'
+	// differences over one interval, extrapolated over about one).
+	double lr = t.last_rot_rms, lp = t.last_pos_rms;
+	double rot = std::sqrt(3 * lr * lr + q.rotation_rms_rad * q.rotation_rms_rad);
+	double pos = std::sqrt(3 * lp * lp + q.position_rms_m * q.position_rms_m);
+	q.step_score = rs_pose_step_score(&predicted, pose, rot, pos, since, 0.0);
+	return q.step_score <= RS_POSE_STEP_CHI2 ? RS_OPTICAL_SOLVED : RS_OPTICAL_STEP;
+}
+
+// Blobs from elsewhere (rs_optical_tracker_process_blobs, only x and y read) carry no
+// window: a centroid closer to the edge than the centroid margin plus a pixel of spot
+// radius was taken over a clipped spot.
+static bool near_edge(const rs_optical_camera &c, const rs_optical_blob &b)
+{
+	const double support = k_centroid_margin_px + 1.0;
+	return b.x - support < -0.5 || b.y - support < -0.5 || b.x + support > c.width - 0.5 ||
+	       b.y + support > c.height - 0.5;
+}
+
+// The consistency gate of the chosen triple (gate.cpp, docs/optical.md): each marker's
+// reprojection error, each marker's rigid-fit residual and the side lengths, all against
+// the covariances stated for centroid_sigma_px.
+static rs_optical_verdict gate(const rs_optical_tracker &t, const cv::Vec3d pts[3],
+                               const cv::Matx33d cov[3], rs_optical_quality &q)
+{
+	double mc[3];
+	side_chi2(t.layout_sides, pts, cov, &q.side_chi2, mc);
+	q.marker_chi2 = std::max(mc[0], std::max(mc[1], mc[2]));
+	if (!(q.reprojection_chi2 <= RS_OPTICAL_CHI2_1DOF))
+		return RS_OPTICAL_REPROJECTION;
+	if (!(q.marker_chi2 <= RS_OPTICAL_CHI2_2DOF))
+		return RS_OPTICAL_MARKER_RESIDUAL;
+	if (!(q.side_chi2 <= RS_OPTICAL_CHI2_3DOF))
+		return RS_OPTICAL_SIDE_RESIDUAL;
+	return RS_OPTICAL_SOLVED;
+}
+
+// Blobs of both views (t->blobs) to the sample: undistort, match, triangulate, label, gate.
+static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s,
+                             rs_marker_sample *out, rs_optical_quality &q, rs_error *err)
+{
 	try {
 		for (int v = 0; v < 2; ++v) {
-			q.blobs[v] = (uint32_t)t->blobs[v].size();
-			t->raw[v].clear();
-			for (const rs_optical_blob &b : t->blobs[v])
-				t->raw[v].emplace_back(b.x, b.y);
 			const rs_optical_camera &c = t->d.rig.cam[v];
+			q.blobs_at_edge[v] = t->counts[v].at_edge;
+			q.blobs_crowded[v] = t->counts[v].crowded;
+			t->raw[v].clear();
+			for (const rs_optical_blob &b : t->blobs[v]) {
+				if (external && near_edge(c, b)) {
+					q.blobs_at_edge[v]++;
+					continue;
+				}
+				t->raw[v].emplace_back(b.x, b.y);
+			}
+			q.blobs[v] = (uint32_t)t->raw[v].size();
 			if (t->raw[v].empty())
 				t->und[v].clear();
 			else
 				cv::undistortPoints(t->raw[v], t->und[v], K_of(c), dist_of(c),
 				                    cv::noArray(), K_of(c));
+			t->W[v].clear();
+			for (const cv::Point2d &p : t->und[v])
+				t->W[v].push_back(centroid_weight(c, p));
 		}
 	} catch (const cv::Exception &e) {
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: %.160s",
@@ -285,6 +403,7 @@ static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sam
 	int best[3] = {-1, -1, -1}, order = 0;
 	double best_cost = INFINITY, best_worst = INFINITY;
 	const std::vector<Pair> &P = t->pairs;
+	t->candidates.clear();
 	for (size_t a = 0; a < P.size(); ++a)
 		for (size_t b = a + 1; b < P.size(); ++b) {
 			if (P[a].i == P[b].i || P[a].j == P[b].j)
@@ -296,6 +415,8 @@ static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sam
 				cv::Vec3d pts[3] = {P[a].X, P[b].X, P[c].X};
 				double cost, worst;
 				int o = best_order(t->layout_sides, pts, &cost, &worst);
+				if (worst <= t->d.side_tolerance_m)
+					t->candidates.push_back((pts[0] + pts[1] + pts[2]) / 3.0);
 				if (cost < best_cost) {
 					best_cost = cost;
 					best_worst = worst;
@@ -308,40 +429,60 @@ static rs_status solve_blobs(rs_optical_tracker *t, double time_s, rs_marker_sam
 		}
 	if (best[0] < 0 || !(best_worst <= t->d.side_tolerance_m)) {
 		q.side_error_m = best[0] < 0 ? 0.0 : best_worst;
+		q.verdict = best[0] < 0 ? RS_OPTICAL_TOO_FEW_MATCHES : RS_OPTICAL_NO_LAYOUT;
 		return RS_OK;
 	}
-	double sq = 0, sig = 0;
+	if (t->candidates.size() > 1 &&
+	    !settle_by_prior(*t, time_s, (P[best[0]].X + P[best[1]].X + P[best[2]].X) / 3.0)) {
+		q.side_error_m = best_worst;
+		q.verdict = RS_OPTICAL_AMBIGUOUS;
+		return RS_OK;
+	}
+	double sq = 0, sig = 0, s2 = t->d.centroid_sigma_px * t->d.centroid_sigma_px;
 	cv::Vec3d pts[3];
 	cv::Matx33d cov[3];
-	out->marker_count = 3;
 	for (int k = 0; k < 3; ++k) {
 		const Pair &p = P[best[k]];
-		cv::Point2d a = t->und[0][p.i], b = t->und[1][p.j];
-		cv::Vec3d X = refine(*t, p.X, a, b);
-		cv::Point2d ra, rb;
-		reproject(t->P0, X, &ra);
-		reproject(t->P1, X, &rb);
-		double e2 = (ra.x - a.x) * (ra.x - a.x) + (ra.y - a.y) * (ra.y - a.y) +
-		            (rb.x - b.x) * (rb.x - b.x) + (rb.y - b.y) * (rb.y - b.y);
-		sq += e2 / 2.0;
+		const cv::Point2d obs[2] = {t->und[0][p.i], t->und[1][p.j]};
+		const cv::Matx22d W[2] = {t->W[0][p.i], t->W[1][p.j]};
+		cv::Vec3d X = refine(*t, p.X, obs, W);
+		double e2[2];
+		reprojection(*t, X, obs, W, e2);
+		sq += (e2[0] + e2[1]) / 2.0;
+		// Four image coordinates, three for the point: one degree of freedom.
+		q.reprojection_chi2 = std::max(q.reprojection_chi2, (e2[0] + e2[1]) / s2);
 		int id = k_perms[order][k];
 		pts[id] = X;
-		cov[id] = point_cov(*t, X);
+		cov[id] = point_cov(*t, X, W);
 		sig += cv::trace(cov[id]) / 3.0;
-		rs_marker &m = out->markers[id];
-		m.id = (uint32_t)id;
-		m.flags = RS_MARKER_VALID;
-		// Off its epipolar geometry by more than the gate: seen, but doubtful.
-		if (std::sqrt(e2 / 2.0) > t->d.epipolar_gate_px)
-			m.flags |= RS_MARKER_LOW_QUALITY;
-		for (int c = 0; c < 3; ++c)
-			m.position[c] = X[c];
 	}
-	q.markers = 3;
 	q.reprojection_px = std::sqrt(sq / 3.0);
 	q.side_error_m = best_worst;
 	q.sigma_m = std::sqrt(sig / 3.0);
 	pose_error_law(t->d.layout, pts, cov, &q.rotation_rms_rad, &q.position_rms_m);
+	q.verdict = gate(*t, pts, cov, q);
+	rs_pose pose;
+	if (q.verdict == RS_OPTICAL_SOLVED)
+		q.verdict = step_gate(*t, pts, time_s, q, &pose);
+	if (q.verdict != RS_OPTICAL_SOLVED)
+		return RS_OK; // held by the solver: never a pose the gate refuses
+	rs_pose_velocity_update(t->have_last ? &t->last_pose : nullptr, &pose, k_velocity_tc_s,
+	                        k_prior_max_age_s, t->velocity, t->angular_velocity);
+	t->last_pose = pose;
+	t->last_rot_rms = q.rotation_rms_rad;
+	t->last_pos_rms = q.position_rms_m;
+	t->have_last = true;
+	t->last_time = time_s;
+	t->last_centroid = (pts[0] + pts[1] + pts[2]) / 3.0;
+	out->marker_count = 3;
+	for (int id = 0; id < 3; ++id) {
+		rs_marker &m = out->markers[id];
+		m.id = (uint32_t)id;
+		m.flags = RS_MARKER_VALID;
+		for (int c = 0; c < 3; ++c)
+			m.position[c] = pts[id][c];
+	}
+	q.markers = 3;
 	return RS_OK;
 }
 
@@ -355,8 +496,7 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 	rs_optical_quality qd;
 	rs_optical_quality &q = out_quality ? *out_quality : qd;
 	std::memset(&q, 0, sizeof q);
-	if (!t || !out)
-		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	RS_ASSERT(t && out);
 	empty_sample(time_s, out);
 	const rs_optical_image *img[2] = {img0, img1};
 	for (int v = 0; v < 2; ++v) {
@@ -371,11 +511,13 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 			                    "%dx%d",
 			                    v, img[v]->width, img[v]->height, c.width, c.height);
 	}
-	if (!img0 || !img1)
-		return RS_OK; // one camera alone cannot triangulate: no markers this frame
+	if (!img0 || !img1) {
+		q.verdict = RS_OPTICAL_ONE_VIEW; // one camera alone cannot triangulate
+		return RS_OK;
+	}
 	try {
 		for (int v = 0; v < 2; ++v) {
-			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v]);
+			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v], &t->counts[v]);
 			if (t->blobs[v].size() > k_max_blobs)
 				t->blobs[v].resize(k_max_blobs);
 		}
@@ -383,7 +525,7 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: %.160s",
 		                    e.msg.c_str());
 	}
-	return solve_blobs(t, time_s, out, q, err);
+	return solve_blobs(t, false, time_s, out, q, err);
 }
 
 extern "C" enum rs_status
@@ -395,10 +537,10 @@ rs_optical_tracker_process_blobs(struct rs_optical_tracker *t, const struct rs_o
 	rs_optical_quality qd;
 	rs_optical_quality &q = out_quality ? *out_quality : qd;
 	std::memset(&q, 0, sizeof q);
-	if (!t || !out || (n0 && !blobs0) || (n1 && !blobs1))
-		return rs_error_set(err, RS_ERR_INVALID, "optical tracker: NULL argument");
+	RS_ASSERT(t && out && (!n0 || blobs0) && (!n1 || blobs1));
 	empty_sample(time_s, out);
 	const rs_optical_blob *b[2] = {blobs0, blobs1};
+	t->counts[0] = t->counts[1] = DetectCounts{};
 	size_t n[2] = {std::min(n0, k_max_blobs), std::min(n1, k_max_blobs)};
 	for (int v = 0; v < 2; ++v) {
 		t->blobs[v].assign(b[v], b[v] + n[v]);
@@ -407,5 +549,5 @@ rs_optical_tracker_process_blobs(struct rs_optical_tracker *t, const struct rs_o
 				return rs_error_set(err, RS_ERR_BAD_DATA,
 				                    "optical tracker: non-finite blob centroid");
 	}
-	return solve_blobs(t, time_s, out, q, err);
+	return solve_blobs(t, true, time_s, out, q, err);
 }

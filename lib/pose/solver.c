@@ -30,6 +30,8 @@ struct rs_pose_solver {
  * needs a > 4.5 sigma noise excursion (plus half the orderings' distance) to be reported
  * good; see rs_pose_label() and docs/pose.md. */
 #define LABEL_MIN_SEPARATION 4.5
+/* Residual gate: the 2e-5 tail of chi-square with 3 degrees of freedom (docs/pose.md). */
+#define RS_POSE_RESIDUAL_CHI2 24.4
 
 void rs_pose_solver_desc_resolve(const struct rs_pose_solver_desc *desc,
                                  struct rs_pose_solver_desc *out)
@@ -169,15 +171,8 @@ static void lost(struct rs_pose_solver *s, double t, struct rs_pose *out, struct
 	double h = elapsed < 0.0 ? 0.0 : elapsed;
 	if (h > s->desc.max_prediction_s)
 		h = s->desc.max_prediction_s;
-	double rv[3], dq[4];
-	for (int k = 0; k < 3; ++k) {
-		out->position[k] += s->velocity[k] * h;
-		rv[k] = s->angular_velocity[k] * h;
-	}
-	rs_q_exp(rv, dq);
-	rs_q_mul(dq, s->last_good.orientation, out->orientation);
-	rs_q_normalize(out->orientation, out->orientation);
-	rs_q_canonical(out->orientation);
+	rs_pose_extrapolate(&s->last_good, s->velocity, s->angular_velocity, h, out);
+	out->time_s = t;
 	q->status = RS_POSE_PREDICTED;
 	/* An absurd configuration (max_prediction_s and hold_timeout_s near DBL_MAX) could
 	 * extrapolate past the double range: never hand that out, hold instead. */
@@ -189,29 +184,82 @@ static void lost(struct rs_pose_solver *s, double t, struct rs_pose *out, struct
 	}
 }
 
-/* Exponentially smoothed finite-difference velocities, for PREDICTED only: the smoothing
- * keeps marker noise (sigma / dt per sample) from being extrapolated. */
+/* Smoothed velocities of the solved poses, for PREDICTED and the step gate. */
 static void update_velocity(struct rs_pose_solver *s, const struct rs_pose *p)
 {
-	double dt = p->time_s - s->last_good.time_s;
-	if (!s->have_pose || !(dt > 0.0) || dt > s->desc.hold_timeout_s) {
-		memset(s->velocity, 0, sizeof s->velocity);
-		memset(s->angular_velocity, 0, sizeof s->angular_velocity);
-		return;
+	rs_pose_velocity_update(s->have_pose ? &s->last_good : NULL, p,
+	                        s->desc.velocity_time_constant_s, s->desc.hold_timeout_s,
+	                        s->velocity, s->angular_velocity);
+}
+
+/* One labelling's solution: the display pose, the fit's residual and its chi-square. */
+struct candidate {
+	int ordering;
+	struct rs_pose pose;
+	double rms, chi2_total, chi2_marker;
+	char message[RS_ERROR_MESSAGE_MAX];
+};
+
+/* Fit ordering p (rs_pose_perms) of the measured points; false when the fit fails. */
+static int solve_ordering(const struct rs_pose_solver *s, const double pts[3][3], int p,
+                          struct candidate *c)
+{
+	double model[3][3];
+	for (int j = 0; j < 3; ++j)
+		memcpy(model[j], s->layout.markers[rs_pose_perms[p][j]], sizeof model[j]);
+	struct rs_pose T;
+	struct rs_error e;
+	rs_error_clear(&e);
+	c->ordering = p;
+	c->message[0] = '\0';
+	if (rs_pose_fit((const double(*)[3])model, pts, 3, &T, &c->rms, &e) != RS_OK) {
+		snprintf(c->message, sizeof c->message, "%s", e.message);
+		return 0;
 	}
-	/* v += a (d / dt - v) with a = dt / (dt + tc), written as (1 - a) v + d / (dt + tc):
-	 * the same value, but d / dt would overflow for a (denormal) dt near 0. */
-	double inv = 1.0 / (dt + s->desc.velocity_time_constant_s);
-	double keep = s->desc.velocity_time_constant_s * inv;
-	double qc[4], dq[4], w[3];
-	rs_q_conj(s->last_good.orientation, qc);
-	rs_q_mul(p->orientation, qc, dq);
-	rs_q_log(dq, w);
-	for (int k = 0; k < 3; ++k) {
-		double d = p->position[k] - s->last_good.position[k];
-		s->velocity[k] = keep * s->velocity[k] + d * inv;
-		s->angular_velocity[k] = keep * s->angular_velocity[k] + w[k] * inv;
+	/* Nine coordinates less six pose parameters: sum |r|^2 / sigma^2 is chi-square with 3
+	 * degrees of freedom; one marker's share is at most that (the fit's projection only
+	 * shrinks isotropic noise). */
+	double sig2 = s->desc.noise_sigma_m * s->desc.noise_sigma_m;
+	c->chi2_total = c->chi2_marker = 0.0;
+	for (int j = 0; j < 3; ++j) {
+		double f[3], r[3];
+		rs_pose_transform_point(&T, model[j], f);
+		rs_v3_sub(pts[j], f, r);
+		double z = rs_v3_dot(r, r) / sig2;
+		c->chi2_total += z;
+		c->chi2_marker = z > c->chi2_marker ? z : c->chi2_marker;
 	}
+	rs_pose_compose(&T, &s->layout.T_markers_display, &c->pose);
+	return 1;
+}
+
+/* The step gate of pose against its prediction from the last good pose, `since` seconds
+ * older: both carry the stated error. */
+static double step_score(const struct rs_pose_solver *s, const struct rs_pose *predicted,
+                         const struct rs_pose *pose, double since)
+{
+	return rs_pose_step_score(predicted, pose, sqrt(2.0) * s->rotation_rms,
+	                          sqrt(2.0) * s->position_rms, since,
+	                          s->desc.velocity_time_constant_s);
+}
+
+/* Side lengths leave the ids open: the ordering whose pose is consistent with the
+ * prediction, if exactly one is (every other refused by the step gate). */
+static int settle_by_prior(const struct rs_pose_solver *s, const double pts[3][3],
+                           const struct rs_pose *predicted, double since, struct candidate *out)
+{
+	int found = 0;
+	for (int p = 0; p < 6; ++p) {
+		struct candidate c;
+		if (!solve_ordering(s, pts, p, &c))
+			continue;
+		if (!(step_score(s, predicted, &c.pose, since) <= RS_POSE_STEP_CHI2))
+			continue;
+		if (found++)
+			return 0;
+		*out = c;
+	}
+	return found == 1;
 }
 
 static int marker_usable(const struct rs_marker *m)
@@ -280,34 +328,55 @@ enum rs_status rs_pose_solver_update(struct rs_pose_solver *s,
 		lost(s, t, out, q);
 		return RS_OK;
 	}
+	/* A recent good pose predicts this one (constant velocity): the step gate below, and
+	 * the labelling's tie-breaker where the side lengths cannot decide. */
+	struct rs_pose predicted;
+	double since = t - s->last_good.time_s;
+	int have_prior = !s->desc.independent_samples && s->have_pose && since > 0.0 &&
+	                 since <= s->desc.hold_timeout_s;
+	if (have_prior)
+		rs_pose_extrapolate(&s->last_good, s->velocity, s->angular_velocity, since,
+		                    &predicted);
+	struct candidate c;
 	/* The tracker's ids are no evidence: a swapped pair that noise makes fit almost as
 	 * well as the truth is exactly the case that must not come back as a good pose. */
-	if (!(separation >= LABEL_MIN_SEPARATION)) {
+	if (separation >= LABEL_MIN_SEPARATION) {
+		if (!solve_ordering(s, (const double(*)[3])pts, p, &c)) {
+			note(s, "%s", c.message);
+			lost(s, t, out, q);
+			return RS_OK;
+		}
+	} else if (!have_prior ||
+	           !settle_by_prior(s, (const double(*)[3])pts, &predicted, since, &c)) {
 		note(s,
 		     "marker ids ambiguous: side lengths only %.2f sigma from another ordering "
-		     "(need %.1f)",
-		     separation, LABEL_MIN_SEPARATION);
+		     "(need %.1f)%s",
+		     separation, LABEL_MIN_SEPARATION,
+		     have_prior ? ", and the predicted pose does not settle them" : "");
 		lost(s, t, out, q);
 		return RS_OK;
 	}
-	double model[3][3];
+	/* The consistency gate (issue 19): a pose that fails is held, never reported good. */
+	if (!(c.chi2_total <= RS_POSE_RESIDUAL_CHI2) || !(c.chi2_marker <= RS_POSE_RESIDUAL_CHI2)) {
+		note(s,
+		     "fit residual beyond the stated noise: chi-square %.1f total, %.1f worst "
+		     "marker (bound %.1f)",
+		     c.chi2_total, c.chi2_marker, RS_POSE_RESIDUAL_CHI2);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
+	double step = have_prior ? step_score(s, &predicted, &c.pose, since) : 0.0;
+	if (!(step <= RS_POSE_STEP_CHI2)) {
+		note(s, "step from the predicted pose: %.1f times its variance (bound %.1f)", step,
+		     RS_POSE_STEP_CHI2);
+		lost(s, t, out, q);
+		return RS_OK;
+	}
 	int same = 1;
-	for (int j = 0; j < 3; ++j) {
-		memcpy(model[j], s->layout.markers[rs_pose_perms[p][j]], sizeof model[j]);
-		same &= given[j] == rs_pose_perms[p][j];
-	}
-	struct rs_pose T_tracker_markers;
-	struct rs_error e;
-	rs_error_clear(&e);
-	double rms = 0.0;
-	if (rs_pose_fit((const double(*)[3])model, (const double(*)[3])pts, 3, &T_tracker_markers,
-	                &rms, &e) != RS_OK) {
-		note(s, "%s", e.message);
-		lost(s, t, out, q);
-		return RS_OK;
-	}
-	struct rs_pose pose;
-	rs_pose_compose(&T_tracker_markers, &s->layout.T_markers_display, &pose);
+	for (int j = 0; j < 3; ++j)
+		same &= given[j] == rs_pose_perms[c.ordering][j];
+	struct rs_pose pose = c.pose;
+	double rms = c.rms;
 	pose.time_s = t;
 	update_velocity(s, &pose);
 	s->last_good = pose;

@@ -14,6 +14,9 @@
 #include <unistd.h>
 
 #include "raystream/rs_cli.h"
+#ifdef RS_HAVE_OPTICAL
+#include "raystream/rs_optical.h"
+#endif
 #include "raystream/rs_pose.h"
 #include "raystream/rs_track.h"
 #include "raystream/rs_tracker.h"
@@ -194,15 +197,26 @@ static enum rs_status open_source(const struct options *o, const struct rs_pose_
 	return rs_track_sim_open(&d, src, err);
 }
 
-static void print_pose(const struct rs_marker_sample *s, const struct rs_pose *p,
-                       const struct rs_pose_quality *q)
+static void print_pose(const struct rs_track_source *src, const struct rs_marker_sample *s,
+                       const struct rs_pose *p, const struct rs_pose_quality *q)
 {
 	printf("%.6f seq=%u pos=[%+.5f %+.5f %+.5f] quat=[%+.5f %+.5f %+.5f %+.5f] %s "
-	       "rms=%.3fmm h=%.1fmm markers=%u\n",
+	       "rms=%.3fmm h=%.1fmm markers=%u",
 	       p->time_s, s->sequence, p->position[0], p->position[1], p->position[2],
 	       p->orientation[0], p->orientation[1], p->orientation[2], p->orientation[3],
 	       rs_pose_status_name(q->status), q->residual_rms_m * 1e3, q->min_height_m * 1e3,
 	       q->markers_used);
+#ifdef RS_HAVE_OPTICAL
+	/* An optical sample's own stated error (its triangulation, lens distortion included)
+	 * and, when it gave no markers, why. */
+	struct rs_optical_quality oq;
+	if (rs_optical_source_quality(src, &oq))
+		printf(" stated=%.3fdeg/%.3fmm optical=%s", oq.rotation_rms_rad * 180.0 / RS_PI,
+		       oq.position_rms_m * 1e3, rs_optical_verdict_name(oq.verdict));
+#else
+	(void)src;
+#endif
+	putchar('\n');
 }
 
 static int run(const struct options *o, const struct rs_pose_layout *layout)
@@ -312,7 +326,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 			pose.orientation[k] = -pose.orientation[k];
 		memcpy(prev_q, pose.orientation, sizeof prev_q);
 		if (!o->quiet)
-			print_pose(&s, &pose, &q);
+			print_pose(src, &s, &pose, &q);
 		if (output_failed(&output_error))
 			goto out;
 	}

@@ -109,6 +109,8 @@ struct rs_pose_solver_desc {
 	                            at most RS_POSE_MAX_PREDICTION_S (0.03) */
 	double velocity_time_constant_s; /**< smoothing of the velocity used by PREDICTED, default
 	                                    0.05 */
+	int independent_samples; /**< nonzero: samples are unrelated poses (batch solving, tests):
+	                              no step gate and no labelling by the predicted pose */
 };
 
 /** Copy `desc` (NULL: all zero) to `out` with every zero field replaced by its default. */
@@ -178,6 +180,44 @@ void rs_pose_transform_point(const struct rs_pose *T, const double p[3], double 
 
 /** Angle in radians of the rotation between two poses' orientations (sign-insensitive). */
 double rs_pose_angle_between(const struct rs_pose *a, const struct rs_pose *b);
+
+/** Step gate bound: a solved pose whose squared step from its prediction exceeds this many
+ *  times its variance (rs_pose_step_score()) is held. 18 is the 2e-5 tail of one degree of
+ *  freedom, the worst case of a step dominated by one axis (docs/pose.md). */
+#define RS_POSE_STEP_CHI2 18.0
+/** The motion the step gate allows beyond constant velocity: a handheld display's largest
+ *  angular (rad/s^2; the simulator's hand shake peaks at 48) and linear (m/s^2)
+ *  acceleration. */
+#define RS_POSE_MAX_ANGULAR_ACCEL 50.0
+#define RS_POSE_MAX_ACCEL 20.0
+
+/**
+ * `p` moved on at constant linear and angular velocity (tracker frame, rad/s) for `h`
+ * seconds: position + v h, orientation exp(w h) q. out may alias p.
+ */
+void rs_pose_extrapolate(const struct rs_pose *p, const double velocity[3],
+                         const double angular_velocity[3], double h, struct rs_pose *out);
+
+/**
+ * Exponentially smoothed finite-difference velocities (time constant time_constant_s) of a
+ * sequence of poses: `now` after `prev`. Zeroed when prev is NULL, not older than now, or
+ * more than max_gap_s older. Finite for any dt > 0 (also denormal).
+ */
+void rs_pose_velocity_update(const struct rs_pose *prev, const struct rs_pose *now,
+                             double time_constant_s, double max_gap_s, double velocity[3],
+                             double angular_velocity[3]);
+
+/**
+ * How far `pose` jumped from `predicted` (made from a pose dt seconds older with velocities
+ * that lag the motion by velocity_lag_s): the larger of (angle - A h)^2 / rot_rms^2 and
+ * (distance - a h)^2 / pos_rms^2 (0 where the step is within A h, a h), h = dt (dt / 2 +
+ * lag), with rot_rms, pos_rms the
+ * RMS error of the difference (both poses' stated errors in quadrature) and A, a
+ * RS_POSE_MAX_ANGULAR_ACCEL, RS_POSE_MAX_ACCEL. Consistent when at most RS_POSE_STEP_CHI2;
+ * infinite for non-finite input.
+ */
+double rs_pose_step_score(const struct rs_pose *predicted, const struct rs_pose *pose,
+                          double rot_rms, double pos_rms, double dt, double velocity_lag_s);
 
 /** 1-euro filter options; zero-initialised means defaults (VRPN's vrpn_Tracker_FilterOneEuro). */
 struct rs_pose_filter_desc {

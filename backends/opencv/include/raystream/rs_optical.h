@@ -12,6 +12,7 @@
 #ifndef RS_OPTICAL_H
 #define RS_OPTICAL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -126,6 +127,35 @@ struct rs_optical_tracker_desc {
 	double side_tolerance_m;              /**< worst side-length mismatch of a triple (0.01) */
 };
 
+/** Why a frame pair gave no markers (or RS_OPTICAL_SOLVED when it did). */
+enum rs_optical_verdict {
+	RS_OPTICAL_SOLVED = 0,          /**< three markers in the sample */
+	RS_OPTICAL_ONE_VIEW = 1,        /**< a frame from one camera only */
+	RS_OPTICAL_TOO_FEW_MATCHES = 2, /**< fewer than three usable blob pairs (occluded,
+	                                     merged, at the edge, crowded) */
+	RS_OPTICAL_NO_LAYOUT = 3,       /**< no triple within side_tolerance_m of the layout */
+	RS_OPTICAL_REPROJECTION = 4,    /**< a marker's reprojection error in the two views is
+	                                     beyond its chi-square bound for centroid_sigma_px */
+	RS_OPTICAL_MARKER_RESIDUAL = 5, /**< the two sides meeting at a marker are beyond their
+	                                     chi-square bound (2 degrees of freedom) */
+	RS_OPTICAL_SIDE_RESIDUAL = 6,   /**< the triangle's side lengths are beyond the total
+	                                     chi-square bound (3 degrees of freedom) */
+	RS_OPTICAL_AMBIGUOUS = 7,       /**< two triples fit the layout (a reflection of the
+	                                     display) and the last frame's does not settle it */
+	RS_OPTICAL_STEP = 8,            /**< the pose jumped from its prediction (the last
+	                                     reported pose, constant velocity) beyond both
+	                                     poses' stated errors and a hand's acceleration
+	                                     (rs_pose_step_score()) */
+};
+
+/** Constant name of a verdict ("RS_OPTICAL_REPROJECTION"); never NULL. */
+const char *rs_optical_verdict_name(enum rs_optical_verdict verdict);
+
+/** The chi-square bounds of the consistency gate (false alarm 2e-5 each, docs/optical.md). */
+#define RS_OPTICAL_CHI2_1DOF 18.0
+#define RS_OPTICAL_CHI2_2DOF 21.6
+#define RS_OPTICAL_CHI2_3DOF 24.4
+
 /** What one frame pair gave. */
 struct rs_optical_quality {
 	uint32_t blobs[2];       /**< blobs that passed the gates per view */
@@ -140,6 +170,14 @@ struct rs_optical_quality {
 	                              markers: each marker's triangulation covariance propagated
 	                              through the rigid fit (docs/optical.md) */
 	double position_rms_m;   /**< the same for the 3-D position of the display origin */
+	enum rs_optical_verdict verdict; /**< why there are no markers (SOLVED when there are) */
+	uint32_t blobs_at_edge[2]; /**< blobs not used: centroid window cut by the image edge */
+	uint32_t blobs_crowded[2]; /**< blobs not used: another bright region in the window */
+	double reprojection_chi2;  /**< worst marker's squared reprojection error over its
+	                                variance (1 degree of freedom) */
+	double marker_chi2;        /**< worst marker's chi-square of its two sides (2 degrees) */
+	double side_chi2;          /**< side-length chi-square of the triple (3 degrees) */
+	double step_score;         /**< rs_pose_step_score() from the prediction (0: none) */
 };
 
 struct rs_optical_tracker;
@@ -171,7 +209,8 @@ enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *tracker,
 /**
  * The same from blob centroids found elsewhere (cameras that centroid on board, as PPT
  * cameras do): `blobs0` / `blobs1` in distorted pixel coordinates of each camera (only x
- * and y are read). At most 24 blobs per view are used.
+ * and y are read). At most 24 blobs per view are used; a centroid within 4 px of the image
+ * edge is not (its spot was clipped; counted in blobs_at_edge).
  */
 enum rs_status rs_optical_tracker_process_blobs(struct rs_optical_tracker *tracker,
                                                 const struct rs_optical_blob *blobs0, size_t n0,
@@ -243,7 +282,8 @@ enum rs_status rs_optical_frames_read(struct rs_optical_frames *frames,
 void rs_optical_frames_destroy(struct rs_optical_frames **frames);
 
 /**
- * Open a video: source: `LEFT,RIGHT?calib=FILE[&layout=FILE][&rate=HZ]` where LEFT and
+ * Open a video: source: `LEFT,RIGHT?calib=FILE[&layout=FILE][&rate=HZ][&sigma_px=PX]` (PX:
+ * the tracker's centroid_sigma_px) where LEFT and
  * RIGHT are printf patterns of image sequences ("left_%04d.png", numbered from 0) or
  * video files; or a cam: source: `0,1?calib=FILE` (V4L2 indices or /dev/video paths).
  * `rest` is the URI after the scheme. Frames become marker samples (rs_optical_tracker);
@@ -251,6 +291,14 @@ void rs_optical_frames_destroy(struct rs_optical_frames **frames);
  */
 enum rs_status rs_optical_open_uri(const char *scheme, const char *rest,
                                    struct rs_track_source **out, struct rs_error *err);
+
+/**
+ * The quality of the last frame pair a video: or cam: source (from rs_optical_open_uri or
+ * rs_tracker_open) turned into a sample: its stated pose errors and, for a sample without
+ * markers, the verdict saying why. False (nothing written) for any other source or before
+ * its first sample.
+ */
+bool rs_optical_source_quality(const struct rs_track_source *src, struct rs_optical_quality *out);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,115 @@
+// The consistency gate of a labelled marker triple (issue 19): chi-square tests of the
+// triangle's side lengths, per marker and in total, against the covariances the
+// triangulation states, and the lens-distortion weight of a centroid. With three markers
+// the rigid fit's residual lives wholly in the three side lengths (nine coordinates less
+// six pose parameters), so the sides are the exact test. A triple that
+// fails is not reported: a wrong pose must never come back good.
+#include "optical_internal.hpp"
+
+#include <cmath>
+
+namespace rs_optical
+{
+
+// Pixel (undistorted, camera matrix K) -> pixel with the lens's distortion applied.
+static cv::Point2d distort_px(const rs_optical_camera &c, cv::Point2d p)
+{
+	const double *K = c.K, *d = c.dist;
+	double x = (p.x - K[2]) / K[0], y = (p.y - K[5]) / K[4];
+	double r2 = x * x + y * y, radial = 1 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
+	double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
+	double yd = y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y;
+	return cv::Point2d(xd * K[0] + K[2], yd * K[4] + K[5]);
+}
+
+cv::Matx22d centroid_weight(const rs_optical_camera &c, cv::Point2d undistorted)
+{
+	if (!c.dist[0] && !c.dist[1] && !c.dist[2] && !c.dist[3] && !c.dist[4])
+		return cv::Matx22d::eye();
+	// D = d(distorted)/d(undistorted): centroid noise s^2 I in the image is s^2 D^-1 D^-T
+	// in undistorted pixels, whose inverse is D^T D / s^2.
+	const double h = 1e-3;
+	cv::Point2d px = distort_px(c, undistorted + cv::Point2d(h, 0));
+	cv::Point2d mx = distort_px(c, undistorted - cv::Point2d(h, 0));
+	cv::Point2d py = distort_px(c, undistorted + cv::Point2d(0, h));
+	cv::Point2d my = distort_px(c, undistorted - cv::Point2d(0, h));
+	cv::Matx22d D((px.x - mx.x) / (2 * h), (py.x - my.x) / (2 * h), (px.y - mx.y) / (2 * h),
+	              (py.y - my.y) / (2 * h));
+	return D.t() * D;
+}
+
+// Side k (opposite point k) joins points a and b and moves by u . (n_b - n_a), u the unit
+// vector a -> b, to first order: its deviations from the layout and their covariance
+// C = G blockdiag(S) G^T (G the 3x9 Jacobian). False for coincident points.
+static bool side_deviation(const double layout_sides[3], const cv::Vec3d P[3],
+                           const cv::Matx33d S[3], cv::Vec3d *ds, cv::Matx33d *C)
+{
+	cv::Vec3d G[3][3];
+	for (int k = 0; k < 3; ++k) {
+		int a = (k + 1) % 3, b = (k + 2) % 3;
+		cv::Vec3d d = P[b] - P[a];
+		double n = cv::norm(d);
+		if (!(n > 0))
+			return false;
+		(*ds)[k] = n - layout_sides[k];
+		for (int i = 0; i < 3; ++i)
+			G[k][i] = cv::Vec3d(0, 0, 0);
+		G[k][b] = d / n;
+		G[k][a] = -d / n;
+	}
+	*C = cv::Matx33d::zeros();
+	for (int k = 0; k < 3; ++k)
+		for (int l = 0; l < 3; ++l)
+			for (int i = 0; i < 3; ++i)
+				(*C)(k, l) += G[k][i].dot(S[i] * G[l][i]);
+	return true;
+}
+
+void side_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
+               double *out_total, double out_marker[3])
+{
+	*out_total = out_marker[0] = out_marker[1] = out_marker[2] = INFINITY;
+	cv::Vec3d ds;
+	cv::Matx33d C, Ci;
+	if (!side_deviation(layout_sides, P, S, &ds, &C) || !cv::invert(C, Ci, cv::DECOMP_CHOLESKY))
+		return;
+	*out_total = ds.dot(Ci * ds);
+	// Marker i: the two sides that meet at it (the sides k != i). Its rigid-fit residual
+	// is no test here: the isotropic fit spreads one marker's depth error over the others'
+	// precise lateral directions, so r_i's covariance is not S_i.
+	for (int i = 0; i < 3; ++i) {
+		int a = (i + 1) % 3, b = (i + 2) % 3;
+		cv::Matx22d c(C(a, a), C(a, b), C(b, a), C(b, b)), ci;
+		if (!cv::invert(c, ci, cv::DECOMP_CHOLESKY))
+			continue;
+		cv::Vec2d d(ds[a], ds[b]);
+		out_marker[i] = d.dot(ci * d);
+	}
+}
+
+} // namespace rs_optical
+
+extern "C" const char *rs_optical_verdict_name(enum rs_optical_verdict v)
+{
+	switch (v) {
+	case RS_OPTICAL_SOLVED:
+		return "RS_OPTICAL_SOLVED";
+	case RS_OPTICAL_ONE_VIEW:
+		return "RS_OPTICAL_ONE_VIEW";
+	case RS_OPTICAL_TOO_FEW_MATCHES:
+		return "RS_OPTICAL_TOO_FEW_MATCHES";
+	case RS_OPTICAL_NO_LAYOUT:
+		return "RS_OPTICAL_NO_LAYOUT";
+	case RS_OPTICAL_REPROJECTION:
+		return "RS_OPTICAL_REPROJECTION";
+	case RS_OPTICAL_MARKER_RESIDUAL:
+		return "RS_OPTICAL_MARKER_RESIDUAL";
+	case RS_OPTICAL_SIDE_RESIDUAL:
+		return "RS_OPTICAL_SIDE_RESIDUAL";
+	case RS_OPTICAL_AMBIGUOUS:
+		return "RS_OPTICAL_AMBIGUOUS";
+	case RS_OPTICAL_STEP:
+		return "RS_OPTICAL_STEP";
+	}
+	return "RS_OPTICAL_UNKNOWN";
+}
