@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "private/rs_parse.h"
 #include "cli_internal.h"
@@ -229,4 +230,26 @@ bool rs_cli_parse(struct rs_cli *cli, int argc, char **argv, int *out_exit)
 		}
 	}
 	return true;
+}
+
+enum rs_status rs_cli_check_output(const char *path, struct rs_error *err)
+{
+	RS_ASSERT(path);
+	struct stat sb;
+	if (!path[0])
+		return rs_error_set(err, RS_ERR_INVALID, "empty output file name");
+	if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+		return rs_error_set(err, RS_ERR_IO, "cannot write %s: not a regular file", path);
+	char dir[4096];
+	if ((size_t)snprintf(dir, sizeof dir, "%s", path) >= sizeof dir)
+		return rs_error_set(err, RS_ERR_INVALID, "output path too long");
+	char *slash = strrchr(dir, '/');
+	if (!slash)
+		snprintf(dir, sizeof dir, ".");
+	else
+		slash[slash == dir ? 1 : 0] = '\0';
+	if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode) || access(dir, W_OK) != 0)
+		return rs_error_set(err, RS_ERR_IO, "cannot write %s: %s is not a writable folder",
+		                    path, dir);
+	return RS_OK;
 }

@@ -15,7 +15,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "bench.h"
@@ -143,30 +142,6 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	return 0;
 }
 
-/* Whether `path` can be written as a file (its folder exists and is writable; it is a
- * regular file or nothing), without touching it. */
-static bool writable_target(const char *path, struct rs_error *err)
-{
-	struct stat sb;
-	if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode)) {
-		rs_error_set(err, RS_ERR_IO, "cannot write %s: not a regular file", path);
-		return false;
-	}
-	char dir[4096];
-	snprintf(dir, sizeof dir, "%s", path);
-	char *slash = strrchr(dir, '/');
-	if (!slash)
-		snprintf(dir, sizeof dir, ".");
-	else
-		slash[slash == dir ? 1 : 0] = '\0';
-	if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode) || access(dir, W_OK) != 0) {
-		rs_error_set(err, RS_ERR_IO, "cannot write %s: %s is not a writable folder", path,
-		             dir);
-		return false;
-	}
-	return true;
-}
-
 int main(int argc, char **argv)
 {
 	struct bench_options o;
@@ -177,7 +152,7 @@ int main(int argc, char **argv)
 	const struct rs_cli cli = {.prog = "raystream-bench"};
 	struct rs_error err = {0};
 	/* The JSON target is checked before minutes of work, not after. */
-	if (json_path && !writable_target(json_path, &err))
+	if (json_path && rs_cli_check_output(json_path, &err) != RS_OK)
 		return rs_cli_fail(&cli, &err);
 	if (json_path) {
 		o.json = cJSON_CreateObject();

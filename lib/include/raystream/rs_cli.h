@@ -155,6 +155,14 @@ bool rs_cli_parse_size(const char *text, uint32_t max, uint32_t *out_w, uint32_t
  */
 enum rs_status rs_cli_make_dir(const char *path, struct rs_error *err);
 
+/**
+ * Whether `path` can be written as a file later, checked without touching it: its folder
+ * exists and is writable, and it is a regular file or nothing. Programs check every output
+ * target at start, so a bad path fails before the work and not after it. RS_ERR_IO naming
+ * the problem.
+ */
+enum rs_status rs_cli_check_output(const char *path, struct rs_error *err);
+
 #ifdef __cplusplus
 }
 #endif
