@@ -129,7 +129,7 @@ kill "$server_pid"; wait "$server_pid"
 
 # ---- 4. bad command lines: one line, non-zero exit ----------------------------------
 bin=$server
-fails_cleanly "server bad size" 2 "--size wants WxH" --size 0x5
+fails_cleanly "server bad size" 2 "--size: '0x5' is not WxH" --size 0x5
 fails_cleanly "server unknown option" 2 "unknown option '--bogus'" --bogus
 fails_cleanly "server bad bind" 1 "is not an IPv4 address" --bind nowhere --port 0
 bin=$viewer

@@ -13,6 +13,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "raystream/rs_cli.h"
+#include "raystream/rs_stream.h"
+
 #include "app_net.h"
 
 enum rs_status app_parse_hostport(const char *text, char *host, size_t host_cap, uint16_t *port,
@@ -141,10 +144,11 @@ long app_send_some(int fd, const uint8_t *buf, size_t len, struct rs_error *err)
 	return -1;
 }
 
-int app_usage_error(const char *program, const char *fmt, const char *arg)
+enum rs_status app_parse_size(void *out, const char *value, struct rs_error *err)
 {
-	fprintf(stderr, "%s: ", program);
-	fprintf(stderr, fmt, arg);
-	fputs(" (see --help)\n", stderr);
-	return 2;
+	const struct app_size *size = out;
+	if (!rs_cli_parse_size(value, RS_STREAM_MAX_SIDE, size->width, size->height))
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not WxH with sides 1..%u", value,
+		                    RS_STREAM_MAX_SIDE);
+	return RS_OK;
 }

@@ -32,12 +32,12 @@ void app_peer_name(int fd, char *out, size_t cap);
  * or -1 with a reason in err for a dead connection. */
 long app_send_some(int fd, const uint8_t *buf, size_t len, struct rs_error *err);
 
-/* A usage error: "PROGRAM: <fmt with arg> (see --help)" on stderr; returns 2. */
-int app_usage_error(const char *program, const char *fmt, const char *arg)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 0)))
-#endif
-    ;
+/* --size WxH for the apps: sides 1..RS_STREAM_MAX_SIDE (what a FRAME can carry); an
+ * RS_CLI_CALL option whose `out` is a struct app_size. */
+struct app_size {
+	uint32_t *width, *height;
+};
+enum rs_status app_parse_size(void *out, const char *value, struct rs_error *err);
 
 /* Write `doc` to `path` (a temporary file, then a rename). */
 enum rs_status app_write_json(const char *path, const cJSON *doc, struct rs_error *err);

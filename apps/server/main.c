@@ -43,171 +43,155 @@ void server_log(const struct server *s, const char *fmt, ...)
 	fprintf(stderr, "raystream-server: [%.3f] %s\n", server_now_s() - s->started_s, line);
 }
 
-static void usage(FILE *to)
+static const struct rs_cli prog = {.prog = "raystream-server"}; /* messages after parsing */
+
+/* A macro's value as text, for the ranges --help shows. */
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
+static const char about[] =
+    "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
+    "Backend auto renders on the GPU where a GL context opens, else on cpu with a note.\n"
+    "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n";
+
+static enum rs_status parse_encoding(void *out, const char *v, struct rs_error *err)
 {
-	fputs("usage: raystream-server [--scene box|cowN|FILE] [--size WxH] [--backend "
-	      "auto|cpu|egl|osmesa]\n"
-	      "         [--passes N] [--lights N] [--shadows rays|map] [--threads N]\n"
-	      "         [--render-threads N] [--quality 1..100] [--encoding jpeg|jpeg444|raw]\n"
-	      "         [--bind ADDR] [--port N] [--port-file FILE.json] [--token TEXT]\n"
-	      "         [--max-viewers N] [--link-mbps R] [--link-latency-ms L]\n"
-	      "         [--read-timeout-ms T] [--stale-ms T] [--duration S] [--stats FILE.json]\n"
-	      "Renders each viewer's newest pose and streams it back (docs/stream-protocol.md).\n"
-	      "Defaults: scene box, 256x256, backend auto (GPU, else cpu with a note), 2 passes,\n"
-	      "1 light, quality 85 (4:2:0), bind 127.0.0.1, port 7878, 16 viewers, no link limit,\n"
-	      "read timeout 2000 ms, stale 200 ms.\n"
-	      "--link-mbps 25 --link-latency-ms 5 emulates the paper's 802.11g link.\n",
-	      to);
+	struct server_options *o = out;
+	if (!strcmp(v, "jpeg"))
+		o->raw = 0, o->sub = RS_JPEG_420;
+	else if (!strcmp(v, "jpeg444"))
+		o->raw = 0, o->sub = RS_JPEG_444;
+	else if (!strcmp(v, "raw"))
+		o->raw = 1;
+	else
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not jpeg, jpeg444 or raw", v);
+	return RS_OK;
 }
 
-static int fail_usage(const char *fmt, const char *arg)
-{
-	return app_usage_error("raystream-server", fmt, arg);
-}
-
-static int parse_double(const char *v, double lo, double hi, double *out)
-{
-	char *end = NULL;
-	double d = strtod(v, &end);
-	if (!end || *end || end == v || !isfinite(d) || d < lo || d > hi)
-		return 0;
-	*out = d;
-	return 1;
-}
-
-/* Whether `a` is one of the options that take a value (for the right usage message). */
-static int known_option(const char *a)
-{
-	static const char *const names =
-	    " --backend --bind --duration --encoding --lights --link-latency-ms --link-mbps "
-	    "--max-viewers --passes --port --port-file --quality --read-timeout-ms "
-	    "--render-threads --scene --shadows --size --stale-ms --stats --threads --token ";
-	size_t n = strlen(a);
-	for (const char *p = strstr(names, a); p; p = strstr(p + 1, a))
-		if (p[-1] == ' ' && p[n] == ' ')
-			return 1;
-	return 0;
-}
-
+/* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
 static int parse_args(int argc, char **argv, struct server_options *o)
 {
 	*o = (struct server_options){.scene = "box",
-	                             .backend = "auto",
 	                             .bind = "127.0.0.1",
-	                             .port = 7878,
 	                             .width = 256,
 	                             .height = 256,
-	                             .passes = 2,
 	                             .render_threads = 1,
-	                             .max_viewers = 16,
-	                             .quality = 85,
-	                             .read_timeout_s = 2.0,
-	                             .stale_s = 0.2};
-	for (int i = 1; i < argc; ++i) {
-		const char *a = argv[i];
-		if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-			usage(stdout);
-			exit(0);
-		}
-		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (strncmp(a, "--", 2) != 0)
-			return fail_usage("unexpected argument '%s'", a);
-		if (!v)
-			return fail_usage(
-			    known_option(a) ? "option %s needs a value" : "unknown option '%s'", a);
-		++i;
-		uint32_t u = 0;
-		double d = 0;
-		if (!strcmp(a, "--scene"))
-			o->scene = v;
-		else if (!strcmp(a, "--backend"))
-			o->backend = v;
-		else if (!strcmp(a, "--bind"))
-			o->bind = v;
-		else if (!strcmp(a, "--token"))
-			o->token = v;
-		else if (!strcmp(a, "--port-file"))
-			o->port_file = v;
-		else if (!strcmp(a, "--stats"))
-			o->stats = v;
-		else if (!strcmp(a, "--size")) {
-			if (!rs_cli_parse_size(v, RS_STREAM_MAX_SIDE, &o->width, &o->height) ||
-			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
-				return fail_usage("--size wants WxH within 1..4096, not '%s'", v);
-		} else if (!strcmp(a, "--port")) {
-			if (!rs_cli_parse_u32(v, 0, 65535, &u))
-				return fail_usage("--port wants 0..65535, not '%s'", v);
-			o->port = (uint16_t)u;
-		} else if (!strcmp(a, "--passes")) {
-			if (!rs_cli_parse_u32(v, 1, 64, &o->passes))
-				return fail_usage("--passes wants 1..64, not '%s'", v);
-		} else if (!strcmp(a, "--lights")) {
-			if (!rs_cli_parse_u32(v, 1, 64, &o->lights))
-				return fail_usage("--lights wants 1..64, not '%s'", v);
-		} else if (!strcmp(a, "--threads")) {
-			if (!rs_cli_parse_u32(v, 1, 256, &o->threads))
-				return fail_usage("--threads wants 1..256, not '%s'", v);
-		} else if (!strcmp(a, "--render-threads")) {
-			if (!rs_cli_parse_u32(v, 1, SERVER_MAX_THREADS, &o->render_threads))
-				return fail_usage("--render-threads wants 1..16, not '%s'", v);
-		} else if (!strcmp(a, "--max-viewers")) {
-			if (!rs_cli_parse_u32(v, 1, SERVER_MAX_VIEWERS, &o->max_viewers))
-				return fail_usage("--max-viewers wants 1..64, not '%s'", v);
-		} else if (!strcmp(a, "--quality")) {
-			if (!rs_cli_parse_u32(v, 1, 100, &u))
-				return fail_usage("--quality wants 1..100, not '%s'", v);
-			o->quality = (int)u;
-		} else if (!strcmp(a, "--encoding")) {
-			if (!strcmp(v, "jpeg"))
-				o->raw = 0, o->sub = RS_JPEG_420;
-			else if (!strcmp(v, "jpeg444"))
-				o->raw = 0, o->sub = RS_JPEG_444;
-			else if (!strcmp(v, "raw"))
-				o->raw = 1;
-			else
-				return fail_usage("--encoding wants jpeg, jpeg444 or raw, not '%s'",
-				                  v);
-		} else if (!strcmp(a, "--shadows")) {
-			if (!strcmp(v, "rays"))
-				o->shadows = RS_SHADOW_RAYS;
-			else if (!strcmp(v, "map"))
-				o->shadows = RS_SHADOW_MAP;
-			else
-				return fail_usage("--shadows wants rays or map, not '%s'", v);
-		} else if (!strcmp(a, "--link-mbps")) {
-			if (!parse_double(v, 0, 1e6, &o->link_mbps))
-				return fail_usage("--link-mbps wants 0..1e6, not '%s'", v);
-		} else if (!strcmp(a, "--link-latency-ms")) {
-			if (!parse_double(v, 0, 10000, &o->link_latency_ms))
-				return fail_usage("--link-latency-ms wants 0..10000, not '%s'", v);
-		} else if (!strcmp(a, "--read-timeout-ms")) {
-			if (!parse_double(v, 10, 600000, &d))
-				return fail_usage("--read-timeout-ms wants 10..600000, not '%s'",
-				                  v);
-			o->read_timeout_s = d * 1e-3;
-		} else if (!strcmp(a, "--stale-ms")) {
-			if (!parse_double(v, 0, 600000, &d))
-				return fail_usage("--stale-ms wants 0..600000, not '%s'", v);
-			o->stale_s = d * 1e-3;
-		} else if (!strcmp(a, "--duration")) {
-			if (!parse_double(v, 0.001, 1e7, &o->duration_s))
-				return fail_usage("--duration wants seconds > 0, not '%s'", v);
-		} else
-			return fail_usage("unknown option '%s'", a);
-	}
-	if (!rs_renderer_has_backend(o->backend)) {
-		fprintf(stderr, "raystream-server: unknown backend '%s' (this build has: %s)\n",
-		        o->backend, rs_renderer_backends());
-		return 2;
-	}
+	                             .max_viewers = 16};
+	struct rs_render_desc desc = {.backend = "auto", .passes = 2};
+	uint32_t port = 7878, quality = 85;
+	double read_timeout_ms = 2000, stale_ms = 200;
+	struct app_size size = {&o->width, &o->height};
+	const struct rs_cli_option opts[] = {
+	    {.name = "--scene",
+	     .kind = RS_CLI_STRING,
+	     .out = &o->scene,
+	     .arg = "box|cowN|FILE",
+	     .help = "what to render (at most 128 bytes)"},
+	    {.name = "--size",
+	     .kind = RS_CLI_CALL,
+	     .out = &size,
+	     .call = app_parse_size,
+	     .arg = "WxH",
+	     .help = "image size, sides 1..4096",
+	     .fallback = "256x256"},
+	    {.name = "--lights",
+	     .kind = RS_CLI_U32,
+	     .out = &o->lights,
+	     .arg = "1..64",
+	     .help = "use the scene's first N lights",
+	     .min = 1,
+	     .max = 64,
+	     .fallback = "1"},
+	    {.name = "--render-threads",
+	     .kind = RS_CLI_U32,
+	     .out = &o->render_threads,
+	     .arg = "1.." STR(SERVER_MAX_THREADS),
+	     .help = "render threads, each its own renderer",
+	     .min = 1,
+	     .max = SERVER_MAX_THREADS},
+	    RS_CLI_U32_OPT("--quality", &quality, 1, 100, "JPEG quality unless a viewer asks"),
+	    {.name = "--encoding",
+	     .kind = RS_CLI_CALL,
+	     .out = o,
+	     .call = parse_encoding,
+	     .arg = "jpeg|jpeg444|raw",
+	     .help = "frames as JPEG 4:2:0, JPEG 4:4:4 or raw RGBA8",
+	     .fallback = "jpeg"},
+	    RS_CLI_STRING_OPT("--bind", &o->bind, "ADDR", "the address to listen on"),
+	    RS_CLI_U32_OPT("--port", &port, 0, 65535, "TCP port; 0: any free one"),
+	    RS_CLI_STRING_OPT("--port-file", &o->port_file, "FILE.json",
+	                      "write {\"port\": N} once listening"),
+	    RS_CLI_STRING_OPT("--token", &o->token, "TEXT",
+	                      "viewers must present it (printable, at most 64 bytes)"),
+	    {.name = "--max-viewers",
+	     .kind = RS_CLI_U32,
+	     .out = &o->max_viewers,
+	     .arg = "1.." STR(SERVER_MAX_VIEWERS),
+	     .help = "viewers served at once",
+	     .min = 1,
+	     .max = SERVER_MAX_VIEWERS},
+	    {.name = "--link-mbps",
+	     .kind = RS_CLI_DOUBLE,
+	     .out = &o->link_mbps,
+	     .arg = "0..1e6",
+	     .help = "emulated link rate in Mbit/s; 0: no limit",
+	     .max = 1e6},
+	    RS_CLI_DOUBLE_OPT("--link-latency-ms", &o->link_latency_ms, "0..10000", 0, 10000,
+	                      "emulated one-way link latency"),
+	    RS_CLI_DOUBLE_OPT("--read-timeout-ms", &read_timeout_ms, "10..600000", 10, 600000,
+	                      "a viewer silent mid-message or without hello is dropped"),
+	    RS_CLI_DOUBLE_OPT("--stale-ms", &stale_ms, "0..600000", 0, 600000,
+	                      "a pending frame older than this yields to a newer pose"),
+	    {.name = "--duration",
+	     .kind = RS_CLI_DOUBLE,
+	     .out = &o->duration_s,
+	     .arg = "S",
+	     .help = "stop after S seconds (0.001..1e7)",
+	     .min = 0.001,
+	     .max = 1e7,
+	     .fallback = "until SIGINT/SIGTERM"},
+	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the run rendered, at exit"),
+	};
+	struct rs_cli cli = {.prog = prog.prog,
+	                     .usage = "[options]",
+	                     .about = about,
+	                     .options = opts,
+	                     .option_count = sizeof opts / sizeof opts[0],
+	                     .render = &desc,
+	                     .render_keys = "backend,passes,shadows,threads"};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code ? code : -1;
+	o->backend = desc.backend;
+	o->passes = desc.passes;
+	o->shadows = desc.shadows;
+	o->shadow_map_size = desc.shadow_map_size;
+	o->shadow_filter = desc.shadow_filter;
+	o->threads = desc.threads;
+	o->port = (uint16_t)port;
+	o->quality = (int)quality;
+	o->read_timeout_s = read_timeout_ms * 1e-3;
+	o->stale_s = stale_ms * 1e-3;
+	if (!rs_renderer_has_backend(o->backend))
+		return rs_cli_usage_error(&cli,
+		                          "--backend: '%s' is not part of this build (have: %s)",
+		                          o->backend, rs_renderer_backends());
 	if (o->token && (strlen(o->token) > RS_STREAM_MAX_TOKEN))
-		return fail_usage("--token is longer than 64 bytes: '%s'", o->token);
+		return rs_cli_usage_error(&cli, "--token: longer than 64 bytes");
 	if (strlen(o->scene) > RS_STREAM_MAX_SCENE)
-		return fail_usage("--scene name is longer than 128 bytes: '%s'", o->scene);
+		return rs_cli_usage_error(&cli, "--scene: name longer than 128 bytes");
+	/* Output targets checked now, so a bad path fails before the run and not after it. */
+	const char *outputs[] = {o->stats, o->port_file};
+	for (size_t i = 0; i < 2; ++i) {
+		struct rs_error err = {0};
+		if (outputs[i] && rs_cli_check_output(outputs[i], &err) != RS_OK)
+			return rs_cli_fail(&cli, &err);
+	}
 	return 0;
 }
 
-static void write_stats(const struct server *s, double secs)
+/* 0, or 1 after reporting that the file could not be written. */
+static int write_stats(const struct server *s, double secs)
 {
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddStringToObject(doc, "scene", s->o.scene);
@@ -223,9 +207,9 @@ static void write_stats(const struct server *s, double secs)
 	                                           : 0);
 	cJSON_AddNumberToObject(doc, "disconnects", (double)s->disconnects);
 	struct rs_error err = {0};
-	if (app_write_json(s->o.stats, doc, &err) != RS_OK)
-		fprintf(stderr, "raystream-server: %s\n", err.message);
+	int code = app_write_json(s->o.stats, doc, &err) != RS_OK ? rs_cli_fail(&prog, &err) : 0;
 	cJSON_Delete(doc);
+	return code;
 }
 
 static int run(struct server *s)
@@ -292,8 +276,8 @@ static int run(struct server *s)
 	           (unsigned long long)s->frames_rendered, secs,
 	           secs > 0 ? (double)s->frames_rendered / secs : 0.0,
 	           (unsigned long long)s->disconnects);
-	if (s->o.stats)
-		write_stats(s, secs);
+	if (s->o.stats && write_stats(s, secs) != 0 && code == 0)
+		code = 1;
 done:
 	if (started)
 		server_render_stop(s, threads, s->o.render_threads);
@@ -316,7 +300,7 @@ int main(int argc, char **argv)
 	static struct server s; /* large (viewer slots): not on the stack */
 	int code = parse_args(argc, argv, &s.o);
 	if (code)
-		return code;
+		return code < 0 ? 0 : code;
 	pthread_mutex_init(&s.lock, NULL);
 	pthread_cond_init(&s.work, NULL);
 	struct sigaction sa = {.sa_handler = on_signal};

@@ -24,9 +24,10 @@ struct server_options {
 	uint16_t port;
 	uint32_t width, height, passes, lights, threads, render_threads, max_viewers;
 	enum rs_shadow_mode shadows;
-	int quality;                  /* default JPEG quality */
-	int raw;                      /* send raw RGBA8 instead of JPEG */
-	enum rs_jpeg_subsampling sub; /* 4:2:0 or 4:4:4 */
+	uint32_t shadow_map_size, shadow_filter; /* --shadows map:RES:FILTER (0: default) */
+	int quality;                             /* default JPEG quality */
+	int raw;                                 /* send raw RGBA8 instead of JPEG */
+	enum rs_jpeg_subsampling sub;            /* 4:2:0 or 4:4:4 */
 	double link_mbps, link_latency_ms;
 	double read_timeout_s; /* slow drip / no hello */
 	double stale_s;        /* a pending frame older than this is dropped for a newer pose */

@@ -11,43 +11,21 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "raystream/rs_cli.h"
 
 #include "app_net.h"
 #include "viewer.h"
 
-static void usage(FILE *to)
-{
-	fputs(
-	    "usage: raystream-viewer [--tracker URI] [--server HOST:PORT] [--scene box|cowN|FILE]\n"
-	    "         [--size WxH] [--view camera|window] [--eye X,Y,Z] [--eye-frame "
-	    "screen|tracker]\n"
-	    "         [--screen WxH_METRES] [--fov DEG] [--scale UNITS_PER_M] [--layout "
-	    "FILE.json]\n"
-	    "         [--local] [--backend auto|cpu|egl|osmesa] [--present direct|readback]\n"
-	    "         [--passes N] [--threads N] [--quality N] [--token TEXT] [--headless]\n"
-	    "         [--out DIR] [--every N] [--frames N] [--duration S] [--stats FILE.json]\n"
-	    "         [--verify-local] [--pose-id-base N] [--last FILE.png] [--linger S]\n"
-	    "         [--target-fps N] [--render-scale 1|0.71|0.5|0.35|0.25] [--predict on|off]\n"
-	    "Defaults: tracker sim:realtime=1, scene box, 256x256, camera view (the scene's own\n"
-	    "camera at the first pose, then moving with the handheld; --view window: "
-	    "head-coupled,\n"
-	    "the eye 0.35 m in front of a 58 mm square screen); backend auto (the GPU: in a "
-	    "window\n"
-	    "frames are drawn straight into it; cpu with one line when no GL context opens);\n"
-	    "remote when --server is given. Key r recentres onto the scene's camera.\n"
-	    "--target-fps 30 (0: off): local frames in the window render at a smaller scale,\n"
-	    "upscaled, while they miss the budget (files and --headless stay full size).\n"
-	    "--predict on: each pose is moved ahead by the measured latency (at most 30 ms).\n",
-	    to);
-}
-
-static int fail_usage(const char *fmt, const char *arg)
-{
-	return app_usage_error("raystream-viewer", fmt, arg);
-}
+static const char about[] =
+    "Shows the scene from a tracked handheld: frames rendered here, or by raystream-server\n"
+    "(remote when --server is given, unless --local). --view camera starts at the scene's\n"
+    "own camera and moves with the handheld; --view window is head-coupled, the eye in\n"
+    "front of the screen. Backend auto: the GPU (in a window frames are drawn straight\n"
+    "into it), cpu with one line when no GL context opens. --target-fps: local frames in\n"
+    "the window render at a smaller scale, upscaled, while they miss the budget (files and\n"
+    "--headless stay full size). --predict on moves each pose ahead by the measured\n"
+    "latency (at most 30 ms). Keys: q/Esc quit, space or m local/remote, r recentre.\n";
 
 /* "a,b,c" (n numbers) or "AxB" (n = 2, sep 'x'). */
 static int parse_numbers(const char *v, char sep, int n, double *out)
@@ -67,189 +45,205 @@ static int parse_numbers(const char *v, char sep, int n, double *out)
 	return 1;
 }
 
-/* Whether `a` is one of the options that take a value (for the right usage message). */
-static int known_option(const char *a)
+/* `value` as the index of one of names[0..n), or RS_ERR_INVALID naming them. */
+static enum rs_status pick(const char *value, const char *const *names, int n, int *out,
+                           struct rs_error *err)
 {
-	static const char *const names =
-	    " --backend --duration --every --eye --eye-frame --fov --frames --last --layout "
-	    "--linger --out "
-	    "--passes --pose-id-base --predict --present --quality --render-scale --target-fps "
-	    "--scale "
-	    "--scene --screen --server --size "
-	    "--stats "
-	    "--threads --token --tracker --view ";
-	size_t n = strlen(a);
-	for (const char *p = strstr(names, a); p; p = strstr(p + 1, a))
-		if (p[-1] == ' ' && p[n] == ' ')
-			return 1;
-	return 0;
+	for (int i = 0; i < n; ++i)
+		if (!strcmp(value, names[i])) {
+			*out = i;
+			return RS_OK;
+		}
+	return rs_error_set(err, RS_ERR_INVALID, "'%s' is not %s or %s", value, names[0],
+	                    names[n - 1]);
 }
 
+static enum rs_status parse_view(void *out, const char *v, struct rs_error *err)
+{
+	static const char *const names[] = {"camera", "window"};
+	int i = 0;
+	enum rs_status st = pick(v, names, 2, &i, err);
+	*(enum rs_view_mode *)out = i ? RS_VIEW_HEAD_COUPLED : RS_VIEW_CAMERA;
+	return st;
+}
+
+static enum rs_status parse_eye_frame(void *out, const char *v, struct rs_error *err)
+{
+	static const char *const names[] = {"screen", "tracker"};
+	int i = 0;
+	enum rs_status st = pick(v, names, 2, &i, err);
+	*(enum rs_view_eye_frame *)out = i ? RS_VIEW_EYE_IN_TRACKER : RS_VIEW_EYE_IN_SCREEN;
+	return st;
+}
+
+static enum rs_status parse_present(void *out, const char *v, struct rs_error *err)
+{
+	static const char *const names[] = {"direct", "readback"};
+	return pick(v, names, 2, out, err);
+}
+
+static enum rs_status parse_predict(void *out, const char *v, struct rs_error *err)
+{
+	static const char *const names[] = {"on", "off"};
+	return pick(v, names, 2, out, err);
+}
+
+static enum rs_status parse_render_scale(void *out, const char *v, struct rs_error *err)
+{
+	double d;
+	for (int k = 0; k < APP_PACE_LEVELS && parse_numbers(v, ',', 1, &d); ++k)
+		if (d == app_pace_scales[k]) {
+			*(int *)out = k;
+			return RS_OK;
+		}
+	return rs_error_set(err, RS_ERR_INVALID, "'%s' is not 1, 0.71, 0.5, 0.35 or 0.25", v);
+}
+
+static enum rs_status parse_eye(void *out, const char *v, struct rs_error *err)
+{
+	if (!parse_numbers(v, ',', 3, out))
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not X,Y,Z in metres", v);
+	return RS_OK;
+}
+
+static enum rs_status parse_screen(void *out, const char *v, struct rs_error *err)
+{
+	double d[2];
+	struct rs_view_calibration *cal = out;
+	if (!parse_numbers(v, 'x', 2, d) || !(d[0] > 0) || !(d[1] > 0))
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not WxH in metres > 0", v);
+	cal->screen_width_m = d[0];
+	cal->screen_height_m = d[1];
+	return RS_OK;
+}
+
+/* A number > 0 (and below 180 for --fov): open ranges RS_CLI_DOUBLE cannot state. */
+static enum rs_status parse_positive(void *out, const char *v, struct rs_error *err)
+{
+	if (!parse_numbers(v, ',', 1, out) || !(*(double *)out > 0))
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not a number > 0", v);
+	return RS_OK;
+}
+
+static enum rs_status parse_fov(void *out, const char *v, struct rs_error *err)
+{
+	if (!parse_numbers(v, ',', 1, out) || !(*(double *)out > 0 && *(double *)out < 180))
+		return rs_error_set(err, RS_ERR_INVALID, "'%s' is not degrees in (0, 180)", v);
+	return RS_OK;
+}
+
+#define CALL(NAME, OUT, FN, ARG, HELP, DEF)                                                        \
+	{                                                                                          \
+		.name = (NAME), .kind = RS_CLI_CALL, .out = (OUT), .call = (FN), .arg = (ARG),     \
+		.help = (HELP), .fallback = (DEF)                                                  \
+	}
+
+/* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
 static int parse_args(int argc, char **argv, struct viewer_options *o)
 {
 	*o = (struct viewer_options){.tracker = "sim:realtime=1",
 	                             .scene = "box",
-	                             .backend = "auto",
 	                             .width = 256,
 	                             .height = 256,
-	                             .passes = 2,
 	                             .every = 1,
 	                             .target_fps = 30.0,
 	                             .fixed_level = -1,
 	                             /* the paper's mode: the start frame is the scene's own
 	                              * camera (a head-coupled window's frustum is narrower) */
 	                             .cal = {.mode = RS_VIEW_CAMERA}};
-	int local = 0;
-	for (int i = 1; i < argc; ++i) {
-		const char *a = argv[i];
-		if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-			usage(stdout);
-			exit(0);
-		}
-		if (!strcmp(a, "--headless")) {
-			o->headless = 1;
-			continue;
-		}
-		if (!strcmp(a, "--local")) {
-			local = 1;
-			continue;
-		}
-		if (!strcmp(a, "--verify-local")) {
-			o->verify_local = 1;
-			continue;
-		}
-		if (strncmp(a, "--", 2) != 0)
-			return fail_usage("unexpected argument '%s'", a);
-		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (!v)
-			return fail_usage(
-			    known_option(a) ? "option %s needs a value" : "unknown option '%s'", a);
-		++i;
-		uint32_t u = 0;
-		double d[3];
-		if (!strcmp(a, "--tracker"))
-			o->tracker = v;
-		else if (!strcmp(a, "--server"))
-			o->server = v;
-		else if (!strcmp(a, "--scene"))
-			o->scene = v;
-		else if (!strcmp(a, "--backend"))
-			o->backend = v;
-		else if (!strcmp(a, "--token"))
-			o->token = v;
-		else if (!strcmp(a, "--out"))
-			o->out_dir = v;
-		else if (!strcmp(a, "--stats"))
-			o->stats = v;
-		else if (!strcmp(a, "--layout"))
-			o->layout = v;
-		else if (!strcmp(a, "--last"))
-			o->last = v;
-		else if (!strcmp(a, "--size")) {
-			if (!rs_cli_parse_size(v, RS_STREAM_MAX_SIDE, &o->width, &o->height) ||
-			    o->width > RS_STREAM_MAX_SIDE || o->height > RS_STREAM_MAX_SIDE)
-				return fail_usage("--size wants WxH within 1..4096, not '%s'", v);
-		} else if (!strcmp(a, "--target-fps")) {
-			if (!parse_numbers(v, ',', 1, d) || !(d[0] >= 0 && d[0] <= 1000))
-				return fail_usage("--target-fps wants 0..1000 (0: off), not '%s'",
-				                  v);
-			o->target_fps = d[0];
-		} else if (!strcmp(a, "--render-scale")) {
-			o->fixed_level = -1;
-			for (int k = 0; k < APP_PACE_LEVELS && parse_numbers(v, ',', 1, d); ++k)
-				if (d[0] == app_pace_scales[k])
-					o->fixed_level = k;
-			if (o->fixed_level < 0)
-				return fail_usage(
-				    "--render-scale wants 1, 0.71, 0.5, 0.35 or 0.25, "
-				    "not '%s'",
-				    v);
-		} else if (!strcmp(a, "--predict")) {
-			if (strcmp(v, "on") != 0 && strcmp(v, "off") != 0)
-				return fail_usage("--predict wants on or off, not '%s'", v);
-			o->no_predict = !strcmp(v, "off");
-		} else if (!strcmp(a, "--present")) {
-			if (!strcmp(v, "direct") || !strcmp(v, "readback"))
-				o->readback = !strcmp(v, "readback");
-			else
-				return fail_usage("--present wants direct or readback, not '%s'",
-				                  v);
-		} else if (!strcmp(a, "--view")) {
-			if (!strcmp(v, "window"))
-				o->cal.mode = RS_VIEW_HEAD_COUPLED;
-			else if (!strcmp(v, "camera"))
-				o->cal.mode = RS_VIEW_CAMERA;
-			else
-				return fail_usage("--view wants window or camera, not '%s'", v);
-		} else if (!strcmp(a, "--eye")) {
-			if (!parse_numbers(v, ',', 3, d))
-				return fail_usage("--eye wants X,Y,Z in metres, not '%s'", v);
-			memcpy(o->cal.eye, d, sizeof d);
-		} else if (!strcmp(a, "--eye-frame")) {
-			if (!strcmp(v, "screen"))
-				o->cal.eye_frame = RS_VIEW_EYE_IN_SCREEN;
-			else if (!strcmp(v, "tracker"))
-				o->cal.eye_frame = RS_VIEW_EYE_IN_TRACKER;
-			else
-				return fail_usage("--eye-frame wants screen or tracker, not '%s'",
-				                  v);
-		} else if (!strcmp(a, "--screen")) {
-			if (!parse_numbers(v, 'x', 2, d) || !(d[0] > 0) || !(d[1] > 0))
-				return fail_usage("--screen wants WxH in metres, not '%s'", v);
-			o->cal.screen_width_m = d[0];
-			o->cal.screen_height_m = d[1];
-		} else if (!strcmp(a, "--fov")) {
-			if (!parse_numbers(v, ',', 1, d) || !(d[0] > 0 && d[0] < 180))
-				return fail_usage("--fov wants degrees in (0, 180), not '%s'", v);
-			o->cal.fov_y_deg = d[0];
-		} else if (!strcmp(a, "--scale")) {
-			if (!parse_numbers(v, ',', 1, d) || !(d[0] > 0))
-				return fail_usage(
-				    "--scale wants scene units per metre > 0, not '%s'", v);
-			o->cal.scene_units_per_m = d[0];
-		} else if (!strcmp(a, "--duration")) {
-			if (!parse_numbers(v, ',', 1, d) || !(d[0] > 0))
-				return fail_usage("--duration wants seconds > 0, not '%s'", v);
-			o->duration_s = d[0];
-		} else if (!strcmp(a, "--linger")) {
-			if (!parse_numbers(v, ',', 1, d) || !(d[0] >= 0 && d[0] <= 3600))
-				return fail_usage("--linger wants seconds 0..3600, not '%s'", v);
-			o->linger_s = d[0];
-		} else if (!strcmp(a, "--passes")) {
-			if (!rs_cli_parse_u32(v, 1, 64, &o->passes))
-				return fail_usage("--passes wants 1..64, not '%s'", v);
-		} else if (!strcmp(a, "--threads")) {
-			if (!rs_cli_parse_u32(v, 1, 256, &o->threads))
-				return fail_usage("--threads wants 1..256, not '%s'", v);
-		} else if (!strcmp(a, "--every")) {
-			if (!rs_cli_parse_u32(v, 1, 1000000, &o->every))
-				return fail_usage("--every wants 1..1000000, not '%s'", v);
-		} else if (!strcmp(a, "--frames")) {
-			if (!rs_cli_parse_u32(v, 1, 100000000, &o->frames))
-				return fail_usage("--frames wants 1..1e8, not '%s'", v);
-		} else if (!strcmp(a, "--pose-id-base")) {
-			if (!rs_cli_parse_u32(v, 0, 4000000000u, &o->pose_id_base))
-				return fail_usage("--pose-id-base wants 0..4e9, not '%s'", v);
-		} else if (!strcmp(a, "--quality")) {
-			if (!rs_cli_parse_u32(v, 1, 100, &u))
-				return fail_usage("--quality wants 1..100, not '%s'", v);
-			o->quality = (int)u;
-		} else
-			return fail_usage("unknown option '%s'", a);
-	}
+	struct rs_render_desc desc = {.backend = "auto", .passes = 2};
+	struct app_size size = {&o->width, &o->height};
+	bool local = false, headless = false, verify = false;
+	uint32_t quality = 0;
+	const struct rs_cli_option opts[] = {
+	    RS_CLI_STRING_OPT("--tracker", &o->tracker, "URI", "pose source (rs_tracker.h)"),
+	    RS_CLI_STRING_OPT("--server", &o->server, "HOST:PORT", "raystream-server to use"),
+	    RS_CLI_STRING_OPT("--scene", &o->scene, "box|cowN|FILE", "what to show"),
+	    CALL("--size", &size, app_parse_size, "WxH", "image size, sides 1..4096", "256x256"),
+	    CALL("--view", &o->cal.mode, parse_view, "camera|window",
+	         "scene camera moved by the handheld, or head-coupled", "camera"),
+	    CALL("--eye", o->cal.eye, parse_eye, "X,Y,Z", "eye position in metres",
+	         "0.35 m in front"),
+	    CALL("--eye-frame", &o->cal.eye_frame, parse_eye_frame, "screen|tracker",
+	         "the frame --eye is given in", "screen"),
+	    CALL("--screen", &o->cal, parse_screen, "WxH_METRES", "the display's size",
+	         "58 mm square"),
+	    CALL("--fov", &o->cal.fov_y_deg, parse_fov, "DEG", "vertical field of view (0, 180)",
+	         "the scene's"),
+	    CALL("--scale", &o->cal.scene_units_per_m, parse_positive, "UNITS_PER_M",
+	         "scene units per metre > 0", "the scene's"),
+	    RS_CLI_STRING_OPT("--layout", &o->layout, "FILE.json", "marker layout for the tracker"),
+	    RS_CLI_FLAG_OPT("--local", &local, "render here even with --server"),
+	    CALL("--present", &o->readback, parse_present, "direct|readback",
+	         "GPU frames drawn straight, or read back and uploaded", "direct"),
+	    {.name = "--quality",
+	     .kind = RS_CLI_U32,
+	     .out = &quality,
+	     .arg = "1..100",
+	     .help = "JPEG quality asked of the server",
+	     .min = 1,
+	     .max = 100,
+	     .fallback = "the server's"},
+	    RS_CLI_STRING_OPT("--token", &o->token, "TEXT", "the server's token"),
+	    RS_CLI_FLAG_OPT("--headless", &headless, "no window: frames to files"),
+	    RS_CLI_STRING_OPT("--out", &o->out_dir, "DIR", "frames as PNG (created)"),
+	    RS_CLI_U32_OPT("--every", &o->every, 1, 1000000, "write every Nth frame to --out"),
+	    {.name = "--frames",
+	     .kind = RS_CLI_U32,
+	     .out = &o->frames,
+	     .arg = "1..1e8",
+	     .help = "stop after N frames",
+	     .min = 1,
+	     .max = 100000000,
+	     .fallback = "no limit"},
+	    CALL("--duration", &o->duration_s, parse_positive, "S", "stop after S seconds > 0",
+	         "no limit"),
+	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the run measured, at exit"),
+	    RS_CLI_FLAG_OPT("--verify-local", &verify, "compare remote frames with local ones"),
+	    {.name = "--pose-id-base",
+	     .kind = RS_CLI_U32,
+	     .out = &o->pose_id_base,
+	     .arg = "0..4000000000",
+	     .help = "the first pose id",
+	     .max = 4000000000u},
+	    RS_CLI_STRING_OPT("--last", &o->last, "FILE.png", "the last frame, at exit"),
+	    RS_CLI_DOUBLE_OPT("--linger", &o->linger_s, "0..3600", 0, 3600,
+	                      "seconds the window stays after the run"),
+	    RS_CLI_DOUBLE_OPT("--target-fps", &o->target_fps, "0..1000", 0, 1000,
+	                      "dynamic resolution budget; 0: off"),
+	    CALL("--render-scale", &o->fixed_level, parse_render_scale, "1|0.71|0.5|0.35|0.25",
+	         "a fixed scale instead", "dynamic"),
+	    CALL("--predict", &o->no_predict, parse_predict, "on|off",
+	         "poses moved ahead by the latency", "on"),
+	};
+	struct rs_cli cli = {.prog = "raystream-viewer",
+	                     .usage = "[options]",
+	                     .about = about,
+	                     .options = opts,
+	                     .option_count = sizeof opts / sizeof opts[0],
+	                     .render = &desc,
+	                     .render_keys = "backend,passes,threads"};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code ? code : -1;
+	o->backend = desc.backend;
+	o->passes = desc.passes;
+	o->threads = desc.threads;
+	o->quality = (int)quality;
+	o->headless = headless;
+	o->verify_local = verify;
 	o->start_remote = o->server && !local;
 	if (o->verify_local && !o->server)
-		return fail_usage("%s", "--verify-local needs --server");
+		return rs_cli_usage_error(&cli, "--verify-local needs --server");
 	if (o->headless && !o->out_dir && !o->stats && !o->frames && !o->duration_s)
-		return fail_usage("%s", "--headless needs --out, --stats, --frames or --duration");
-	if (o->out_dir) {
-		struct stat st;
-		if (stat(o->out_dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-			fprintf(stderr, "raystream-viewer: --out '%s' is not a directory\n",
-			        o->out_dir);
-			return 2;
-		}
-	}
+		return rs_cli_usage_error(
+		    &cli, "--headless needs --out, --stats, --frames or --duration");
+	/* Output targets checked (the folder made) now, so a bad path fails before the run. */
+	struct rs_error err = {0};
+	if ((o->out_dir && rs_cli_make_dir(o->out_dir, &err) != RS_OK) ||
+	    (o->stats && rs_cli_check_output(o->stats, &err) != RS_OK) ||
+	    (o->last && rs_cli_check_output(o->last, &err) != RS_OK))
+		return rs_cli_fail(&cli, &err);
 	return 0;
 }
 
@@ -259,5 +253,5 @@ int main(int argc, char **argv)
 {
 	struct viewer_options o;
 	int code = parse_args(argc, argv, &o);
-	return code ? code : viewer_main(&o);
+	return code ? (code < 0 ? 0 : code) : viewer_main(&o);
 }

@@ -2,13 +2,13 @@
  * several runs), and a Monte Carlo table of pose error versus marker noise, printed as
  * markdown. A benchmark, not a test: nothing here is asserted. */
 #define _POSIX_C_SOURCE 200809L
-#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "raystream/rs_cli.h"
 #include "raystream/rs_pose.h"
 
 #define POOL 1024
@@ -231,59 +231,29 @@ static void error_table(long trials)
 	}
 }
 
-static void usage(void)
-{
-	fprintf(stderr, "usage: raystream-posebench [--iters N] [--runs N] [--trials N]\n"
-	                "  --iters   updates per timed run (default 1000000)\n"
-	                "  --runs    timed runs, the median is reported (default 7, max 64)\n"
-	                "  --trials  Monte Carlo trials per noise level (default 20000)\n");
-}
-
-/* A whole decimal number in [lo, hi], or 0 (strtol, unlike atol, reports overflow). */
-static int parse_count(const char *s, long lo, long hi, long *out)
-{
-	char *end = NULL;
-	errno = 0;
-	long v = strtol(s, &end, 10);
-	if (!s[0] || *end || errno || v < lo || v > hi)
-		return 0;
-	*out = v;
-	return 1;
-}
-
 int main(int argc, char **argv)
 {
-	long iters = 1000000, trials = 20000, runs = 7;
-	for (int i = 1; i < argc; ++i) {
-		const char *a = argv[i];
-		long *dst = !strcmp(a, "--iters")    ? &iters
-		            : !strcmp(a, "--runs")   ? &runs
-		            : !strcmp(a, "--trials") ? &trials
-		                                     : NULL;
-		if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-			usage();
-			return 0;
-		}
-		if (!dst) {
-			fprintf(stderr,
-			        "raystream-posebench: error: unknown option: %s (try --help)\n", a);
-			return 2;
-		}
-		long hi = dst == &runs ? 64 : 1000000000L;
-		if (i + 1 >= argc || !parse_count(argv[i + 1], 1, hi, dst)) {
-			fprintf(
-			    stderr,
-			    "raystream-posebench: error: %s needs a whole number in [1, %ld]%s%s\n",
-			    a, hi, i + 1 < argc ? ", got " : "", i + 1 < argc ? argv[i + 1] : "");
-			return 2;
-		}
-		++i;
-	}
+	uint32_t iters = 1000000, trials = 20000, runs = 7;
+	const struct rs_cli_option opts[] = {
+	    RS_CLI_U32_OPT("--iters", &iters, 1, 1000000000, "updates per timed run"),
+	    RS_CLI_U32_OPT("--runs", &runs, 1, 64, "timed runs, the median is reported"),
+	    RS_CLI_U32_OPT("--trials", &trials, 1, 1000000000,
+	                   "Monte Carlo trials per noise level"),
+	};
+	struct rs_cli cli = {.prog = "raystream-posebench",
+	                     .usage = "[options]",
+	                     .about = "Pose solver and filter throughput, then pose error versus "
+	                              "marker noise, as markdown on stdout.\n",
+	                     .options = opts,
+	                     .option_count = sizeof opts / sizeof opts[0]};
+	int code;
+	if (!rs_cli_parse(&cli, argc, argv, &code))
+		return code;
 	double solver_rate, filter_rate;
 	if (bench_solver(iters, (int)runs, &solver_rate) ||
 	    bench_filter(iters, (int)runs, &filter_rate))
 		return 1;
-	printf("### rs_pose throughput (median of %ld runs x %ld updates, one thread)\n\n", runs,
+	printf("### rs_pose throughput (median of %u runs x %u updates, one thread)\n\n", runs,
 	       iters);
 	printf("| stage | poses/s | ns/pose |\n|---|---:|---:|\n");
 	printf("| solver (validate, gate, relabel check, Horn fit, calibration) | %.3g | %.0f |\n",
