@@ -27,7 +27,8 @@ else
   grep -q "test_gl_chain" err.txt && ! grep -q "test_core" err.txt &&
     ok "a skipped GL test fails the CI gate, named" || bad "gate message: $(cat err.txt)"
 fi
-if bash "$gate" skip.xml >out.txt 2>err.txt; then
+# the run itself may be under .ci/run, which exports RS_REQUIRE_ALL_TESTS=1
+if env -u RS_REQUIRE_ALL_TESTS bash "$gate" skip.xml >out.txt 2>err.txt; then
   grep -q "warning: .*test_gl_chain" err.txt && ok "outside CI a skip is a warning" ||
     bad "no warning: $(cat err.txt)"
 else
@@ -36,6 +37,6 @@ fi
 RS_REQUIRE_ALL_TESTS=1 bash "$gate" none.xml >out.txt 2>err.txt &&
   grep -q "2 tests, none skipped" out.txt && ok "no skip passes" ||
   bad "no skip: $(cat out.txt err.txt)"
-if bash "$gate" missing.xml >out.txt 2>err.txt; then bad "a missing report passed"
+if env -u RS_REQUIRE_ALL_TESTS bash "$gate" missing.xml >out.txt 2>err.txt; then bad "a missing report passed"
 else ok "a missing report fails"; fi
 finish
