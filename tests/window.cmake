@@ -23,3 +23,14 @@ if(TARGET rs_window AND TARGET raystream-viewer AND TARGET raystream-server AND
   set_tests_properties(viewer_window_local_xvfb PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77
     ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
 endif()
+
+# The viewer on its own backend without a window (--local --headless): egl, osmesa and cpu
+# frames against the CPU reference (no Xvfb needed).
+if(TARGET raystream-viewer AND TARGET raystream-render AND TARGET xwd_compare)
+  add_test(NAME viewer_headless_local
+           COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/viewer_headless_local.sh
+           $<TARGET_FILE:raystream-viewer> ${CMAKE_CURRENT_BINARY_DIR}/viewer_headless_local
+           $<TARGET_FILE:raystream-render> $<TARGET_FILE:xwd_compare>)
+  set_tests_properties(viewer_headless_local PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77
+    ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+endif()
