@@ -133,6 +133,18 @@ static void thread_counts_give_identical_images(void **state)
 	fx_free(&fx);
 }
 
+static void bvh_build_uses_the_renderer_threads(void **state)
+{
+	struct rs_render_desc d = {.threads = 3};
+	assert_int_equal(rs_render_bvh_desc(&d).threads, 3);
+	d.bvh.threads = 5; /* asked for explicitly: kept */
+	assert_int_equal(rs_render_bvh_desc(&d).threads, 5);
+	d = (struct rs_render_desc){.bvh.builder = RS_BVH_PAPER, .threads = 2};
+	assert_int_equal(rs_render_bvh_desc(&d).builder, RS_BVH_PAPER);
+	d.threads = 0; /* the machine's cores, as for rendering */
+	assert_true(rs_render_bvh_desc(&d).threads >= 1);
+}
+
 static void descriptor_defaults_are_resolved_in_one_place(void **state)
 {
 	struct rs_render_desc d;
@@ -264,6 +276,7 @@ int main(void)
 	    cmocka_unit_test(failed_set_scene_leaves_no_scene_behind),
 	    cmocka_unit_test(bad_cameras_are_refused_per_frame),
 	    cmocka_unit_test(destroy_accepts_null),
+	    cmocka_unit_test(bvh_build_uses_the_renderer_threads),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

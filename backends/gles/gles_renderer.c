@@ -166,8 +166,9 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	g->scene = scene;
 	struct rs_pack_desc pack;
 	st = pack_desc(g, desc, &pack, err);
+	struct rs_bvh_desc bvh = rs_render_bvh_desc(desc);
 	if (st == RS_OK)
-		st = rs_render_accel_build(scene, &desc->bvh, &pack, &g->accel, err);
+		st = rs_render_accel_build(scene, &bvh, &pack, &g->accel, err);
 	struct rs_trace_desc td = rs_render_trace_desc(desc);
 	if (st == RS_OK)
 		st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);

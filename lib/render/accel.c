@@ -3,6 +3,7 @@
  * descriptor from which each resolves its frame (rs_trace_frame_init()). */
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "render_internal.h"
 
@@ -62,4 +63,19 @@ struct rs_trace_desc rs_render_trace_desc(const struct rs_render_desc *desc)
 	                              .lights = desc->lights,
 	                              .triangle_test = desc->triangle_test,
 	                              .ray_epsilon = desc->ray_epsilon};
+}
+
+struct rs_bvh_desc rs_render_bvh_desc(const struct rs_render_desc *desc)
+{
+	RS_ASSERT(desc);
+	struct rs_bvh_desc bvh = desc->bvh;
+	/* The build shares the renderer's threads (the tree is the same for any count, so
+	 * images and hit numbers do not change); 0 -> the machine's cores, as for rendering. */
+	if (bvh.threads == 0) {
+		long cores = sysconf(_SC_NPROCESSORS_ONLN);
+		bvh.threads = desc->threads ? desc->threads : cores > 0 ? (uint32_t)cores : 1u;
+		if (bvh.threads > RS_BVH_MAX_THREADS)
+			bvh.threads = RS_BVH_MAX_THREADS;
+	}
+	return bvh;
 }

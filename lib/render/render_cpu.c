@@ -110,8 +110,8 @@ static enum rs_status cpu_set_scene(void *impl, const struct rs_scene *scene,
 	struct cpu_renderer *cpu = impl;
 	rs_render_accel_free(&cpu->accel);
 	cpu->scene = NULL;
-	enum rs_status status =
-	    rs_render_accel_build(scene, &desc->bvh, &desc->pack, &cpu->accel, err);
+	struct rs_bvh_desc bvh = rs_render_bvh_desc(desc);
+	enum rs_status status = rs_render_accel_build(scene, &bvh, &desc->pack, &cpu->accel, err);
 	if (status == RS_OK && cpu->intersector && cpu->intersector->prepare)
 		status = cpu->intersector->prepare(cpu->intersector->user, &cpu->accel.packed, err);
 	if (status != RS_OK) {

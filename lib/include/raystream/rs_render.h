@@ -324,6 +324,11 @@ void rs_render_accel_free(struct rs_render_accel *accel);
  * (rs_trace_frame_init()), so the kernels and the reference read the same numbers. */
 struct rs_trace_desc rs_render_trace_desc(const struct rs_render_desc *desc);
 
+/** The BVH builder's descriptor of `desc`: desc->bvh, with bvh.threads 0 taken from
+ * desc->threads (0 there: the machine's cores), so a renderer's set_scene builds on the
+ * threads it was given. The tree does not depend on the thread count (docs/bvh.md). */
+struct rs_bvh_desc rs_render_bvh_desc(const struct rs_render_desc *desc);
+
 /** Recompute the per-pixel means of `stats` from its counts. */
 void rs_render_stats_finish(struct rs_render_stats *stats);
 
