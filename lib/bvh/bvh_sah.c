@@ -16,6 +16,7 @@
  * same whatever the thread count (and the same as the one-thread builder's before the
  * threads came, docs/bvh.md). */
 #include <float.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,6 +29,12 @@
 /* Nodes of at least this many records bin in chunks of CHUNK on the pool. */
 #define PAR_BIN_MIN 16384u
 #define CHUNK 4096u
+
+static inline struct rs_bvh__item *task_items(const struct rs_bvh__sah *s,
+                                              const struct rs_bvh__task *t)
+{
+	return t->buf ? s->tmp : s->items;
+}
 
 static inline void grow(float lo[4], float hi[4], const float plo[4], const float phi[4])
 {
@@ -148,27 +155,54 @@ static void binning_clear(struct rs_bvh__binning *b, uint32_t nb)
 	b->large = 0;
 }
 
-/* One pass over records [begin, end): the bins of all three axes (a flat axis, k = 0,
- * fills bin 0, which the sweep skips) and both sides of the size split. */
+/* Nodes of at least this many records bin into two sets of bins, even records into one and
+ * odd ones into the other, merged at the end (bin_range()). */
+#define TWO_SETS_MIN 64u
+
+/* One record into the bins of all three axes (a flat axis, k = 0, fills bin 0, which the
+ * sweep skips). */
+static inline void bin_one(struct rs_bvh__bin *bins, uint32_t *counts, rs_v4 lo, rs_v4 hi,
+                           const struct node_scale *sc, uint32_t nb)
+{
+	int32_t bin[4];
+	rs_v4_bins(rs_v4_centroid(lo, hi), sc->clo, sc->kv, sc->top, bin);
+	for (uint32_t a = 0; a < 3; a++) {
+		uint32_t j = a * nb + (uint32_t)bin[a];
+		rs_v4_store(bins[j].lo, rs_v4_min(rs_v4_load(bins[j].lo), lo));
+		rs_v4_store(bins[j].hi, rs_v4_max(rs_v4_load(bins[j].hi), hi));
+		counts[j]++;
+	}
+}
+
+/* One pass over records [begin, end): the bins of all three axes and both sides of the
+ * size split. Neighbouring records (the partition keeps them near each other in space)
+ * often fall in the same bin, and each update of a bin waits for the previous one's store:
+ * with two sets of bins, alternate records update independent bins. Min, max and counts
+ * merge exactly, so the bins are the same bits either way. */
 static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t end,
                       const struct node_scale *sc, uint32_t nb, struct rs_bvh__binning *b)
 {
 	binning_clear(b, nb);
 	struct rs_bvh__bin *bins = b->bins;
 	uint32_t *counts = b->counts, large = 0;
+	struct rs_bvh__bin bins2[3 * RS_BVH_MAX_BINS];
+	uint32_t counts2[3 * RS_BVH_MAX_BINS];
+	int two = end - begin >= TWO_SETS_MIN;
+	if (two) {
+		for (uint32_t j = 0; j < 3 * nb; j++) {
+			box_empty4(bins2[j].lo, bins2[j].hi);
+			counts2[j] = 0;
+		}
+	}
 	/* The size split's sides stay in registers (the bins' stores could alias them). */
 	rs_v4 blo = rs_v4_load(b->blo), bhi = rs_v4_load(b->bhi);
 	rs_v4 slo = rs_v4_load(b->slo), shi = rs_v4_load(b->shi);
 	for (uint32_t i = begin; i < end; i++) {
 		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
-		int32_t bin[4];
-		rs_v4_bins(rs_v4_centroid(lo, hi), sc->clo, sc->kv, sc->top, bin);
-		for (uint32_t a = 0; a < 3; a++) {
-			uint32_t j = a * nb + (uint32_t)bin[a];
-			rs_v4_store(bins[j].lo, rs_v4_min(rs_v4_load(bins[j].lo), lo));
-			rs_v4_store(bins[j].hi, rs_v4_max(rs_v4_load(bins[j].hi), hi));
-			counts[j]++;
-		}
+		if (two && ((i - begin) & 1u))
+			bin_one(bins2, counts2, lo, hi, sc, nb);
+		else
+			bin_one(bins, counts, lo, hi, sc, nb);
 		if (spans_half(lo, hi, sc)) {
 			blo = rs_v4_min(blo, lo);
 			bhi = rs_v4_max(bhi, hi);
@@ -176,6 +210,12 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 		} else {
 			slo = rs_v4_min(slo, lo);
 			shi = rs_v4_max(shi, hi);
+		}
+	}
+	if (two) {
+		for (uint32_t j = 0; j < 3 * nb; j++) {
+			grow(bins[j].lo, bins[j].hi, bins2[j].lo, bins2[j].hi);
+			counts[j] += counts2[j];
 		}
 	}
 	rs_v4_store(b->blo, blo);
@@ -201,8 +241,8 @@ static void bin_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	const struct chunk_job *j = ctx;
-	bin_range(j->s->items, chunk_edge(j->t, c, j->chunks), chunk_edge(j->t, c + 1, j->chunks),
-	          j->sc, j->s->nbins, &j->s->chunk_bins[c]);
+	bin_range(task_items(j->s, j->t), chunk_edge(j->t, c, j->chunks),
+	          chunk_edge(j->t, c + 1, j->chunks), j->sc, j->s->nbins, &j->s->chunk_bins[c]);
 }
 
 /* Bin a node, in chunks on the pool when it is big; min, max and counts merge exactly, so
@@ -216,7 +256,7 @@ static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
 	uint32_t chunks = s->pool && n >= PAR_BIN_MIN ? n / CHUNK : 1;
 	chunks = chunks < s->max_chunks ? chunks : s->max_chunks;
 	if (chunks < 2) {
-		bin_range(s->items, t->begin, t->end, sc, nb, &w->binning);
+		bin_range(task_items(s, t), t->begin, t->end, sc, nb, &w->binning);
 		return &w->binning;
 	}
 	struct chunk_job job = {s, t, sc, chunks};
@@ -236,10 +276,11 @@ static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
 }
 
 /* Price every plane between the non-empty bins ne[0..m) of axis a (ascending); keep the
- * cheapest in *out. */
-static void sweep_bins(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
-                       const struct rs_bvh__binning *b, int a, const uint32_t *ne, uint32_t m,
-                       double area, struct split *out)
+ * cheapest in *out. The sweeps keep only costs; the winner's two boxes are grown again
+ * afterwards, in the same order, so they are the same bits without storing a box per
+ * plane. */
+static void sweep_bins(const struct rs_bvh__sah *s, const struct rs_bvh__binning *b, int a,
+                       const uint32_t *ne, uint32_t m, double area, struct split *out)
 {
 	const struct rs_bvh__bin *bins = &b->bins[a * s->nbins];
 	const uint32_t *counts = &b->counts[a * s->nbins];
@@ -252,26 +293,35 @@ static void sweep_bins(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		grow(rlo, rhi, bn->lo, bn->hi);
 		rn += counts[ne[i]];
 		right_cost[i] = box_area(rlo, rhi) * rn;
-		rs_v4_store(w->right[i].lo, rs_v4_load(rlo));
-		rs_v4_store(w->right[i].hi, rs_v4_load(rhi));
 	}
 	float llo[4], lhi[4];
 	box_empty4(llo, lhi);
-	uint32_t ln = 0;
+	uint32_t ln = 0, best = 0;
+	double best_cost = out->cost, split = 2.0 * s->ct * area;
 	for (uint32_t i = 1; i < m; i++) {
 		const struct rs_bvh__bin *bn = &bins[ne[i - 1]];
 		grow(llo, lhi, bn->lo, bn->hi);
 		ln += counts[ne[i - 1]];
-		double c = 2.0 * s->ct * area + box_area(llo, lhi) * ln + right_cost[i];
-		if (c < out->cost)
-			take(out, SPLIT_PLANE, a, ne[i], c, llo, lhi, w->right[i].lo,
-			     w->right[i].hi);
+		double c = split + box_area(llo, lhi) * ln + right_cost[i];
+		if (c < best_cost) {
+			best_cost = c;
+			best = i;
+		}
 	}
+	if (best == 0)
+		return;
+	box_empty4(llo, lhi);
+	box_empty4(rlo, rhi);
+	for (uint32_t i = 0; i < best; i++)
+		grow(llo, lhi, bins[ne[i]].lo, bins[ne[i]].hi);
+	for (uint32_t i = m; i-- > best;)
+		grow(rlo, rhi, bins[ne[i]].lo, bins[ne[i]].hi);
+	take(out, SPLIT_PLANE, a, ne[best], best_cost, llo, lhi, rlo, rhi);
 }
 
 /* All bins of axis a were filled: sweep the non-empty ones. */
-static void sweep_axis(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
-                       const struct rs_bvh__binning *b, int a, double area, struct split *out)
+static void sweep_axis(const struct rs_bvh__sah *s, const struct rs_bvh__binning *b, int a,
+                       double area, struct split *out)
 {
 	const uint32_t *counts = &b->counts[a * s->nbins];
 	uint32_t ne[RS_BVH_MAX_BINS], m = 0;
@@ -279,7 +329,7 @@ static void sweep_axis(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		ne[m] = j;
 		m += counts[j] != 0;
 	}
-	sweep_bins(s, w, b, a, ne, m, area, out);
+	sweep_bins(s, b, a, ne, m, area, out);
 }
 
 enum { BIN_WORDS = RS_BVH_MAX_BINS / 64 };
@@ -291,7 +341,7 @@ static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
                         const struct rs_bvh__task *t, const struct node_scale *sc, double area,
                         struct split *out)
 {
-	const struct rs_bvh__item *items = s->items + t->begin;
+	const struct rs_bvh__item *items = task_items(s, t) + t->begin;
 	uint32_t n = t->end - t->begin, nb = s->nbins, words = (nb + 63) / 64;
 	int32_t bins[SMALL_NODE][4];
 	uint64_t used[3][BIN_WORDS] = {{0}};
@@ -330,7 +380,7 @@ static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 	}
 	for (int a = 0; a < 3; a++)
 		if (sc->k[a] != 0.0f)
-			sweep_bins(s, w, b, a, ne[a], m[a], area, out);
+			sweep_bins(s, b, a, ne[a], m[a], area, out);
 }
 
 /* Size split: the few large triangles (floor, walls) against the rest. Centroid planes
@@ -356,9 +406,10 @@ static void price_size_split(const struct rs_bvh__sah *s, const struct rs_bvh__b
  * half the nodes of at most leaf_size triangles on the Cow scenes. */
 static int leaf_is_cheapest(const struct rs_bvh__sah *s, const struct rs_bvh__task *t, double area)
 {
+	const struct rs_bvh__item *items = task_items(s, t);
 	double bound = 2.0 * s->ct * area;
 	for (uint32_t i = t->begin; i < t->end; i++)
-		bound += box_area(s->items[i].lo, s->items[i].hi);
+		bound += box_area(items[i].lo, items[i].hi);
 	return (double)(t->end - t->begin) * area <= bound * (1.0 - 1e-9);
 }
 
@@ -393,33 +444,128 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		const struct rs_bvh__binning *b = bin_node(s, w, t, sc);
 		for (int a = 0; a < 3; a++)
 			if (sc->k[a] != 0.0f)
-				sweep_axis(s, w, b, a, area, out);
+				sweep_axis(s, b, a, area, out);
 		price_size_split(s, b, n, area, out);
 	}
 	if (n <= s->leaf_size && (double)n * area <= out->cost)
 		out->kind = SPLIT_LEAF;
 }
 
-/* Partition t's records by the split (the swap order of the original builder, so the
- * triangle order is unchanged); fills the two child tasks, whose centroid bounds are
- * gathered on the way. */
+/* How part_range() runs: count (and bound) only, scatter only, or both in one pass. */
+enum part_mode { PART_COUNT, PART_SCATTER, PART_BOTH };
+
+/* Records [begin, end) of src by the split: left ones to dst ascending from *l, right ones
+ * descending from *r (the next goes to dst[*r - 1]), so the children's records are the
+ * left ones in list order and then the right ones in reverse list order, whatever chunks
+ * the range was cut into. Counts and centroid bounds go to *p. The one-pass form writes
+ * every record to both ends and advances one (no branch to mispredict); it may only run
+ * over a whole node, where both ends stay inside the node's range. */
+static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__item *dst,
+                              uint32_t begin, uint32_t end, uint32_t *l, uint32_t *r,
+                              const struct node_scale *sc, const struct split *sp,
+                              struct rs_bvh__part *p, enum part_mode mode)
+{
+	const rs_v4 pad[2] = {rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f),
+	                      rs_v4_set(INFINITY, INFINITY, INFINITY, INFINITY)};
+	float lo[4], hi[4];
+	box_empty4(lo, hi);
+	rs_v4 lclo = rs_v4_load(lo), lchi = rs_v4_load(hi), rclo = lclo, rchi = lchi;
+	uint32_t li = *l, ri = *r, left = 0;
+	int a = sp->axis, size = sp->kind == SPLIT_SIZE;
+	/* bin < B exactly when the clamped (c - clo) k < B (B >= 1 an integer, truncation
+	 * and clamping to [0, top] keep the order; NaN goes to bin 0 and compares false), so
+	 * the plane test needs neither the clamp nor the conversion. */
+	float fb = (float)sp->bin;
+	rs_v4 plane = rs_v4_set(fb, fb, fb, fb);
+	for (uint32_t i = begin; i < end; i++) {
+		const struct rs_bvh__item *it = &src[i];
+		rs_v4 c = rs_v4_centroid(rs_v4_load(it->lo), rs_v4_load(it->hi));
+		int go_left;
+		if (size) {
+			go_left = is_large(it, sc);
+		} else {
+			rs_v4 f = rs_v4_mul(rs_v4_sub(c, sc->clo), sc->kv);
+			go_left = !((rs_v4_ge_mask(f, plane) >> a) & 1);
+		}
+		left += (uint32_t)go_left;
+		if (mode != PART_SCATTER) {
+			/* Without a branch: c + 0 = c (a zero's sign aside), and c + inf = inf,
+			 * c - inf = -inf leave the other side's bounds as they are. */
+			lclo = rs_v4_min(lclo, rs_v4_add(c, pad[!go_left]));
+			lchi = rs_v4_max(lchi, rs_v4_sub(c, pad[!go_left]));
+			rclo = rs_v4_min(rclo, rs_v4_add(c, pad[go_left]));
+			rchi = rs_v4_max(rchi, rs_v4_sub(c, pad[go_left]));
+		}
+		if (mode == PART_BOTH) {
+			dst[li] = *it;
+			dst[ri - 1] = *it;
+			li += (uint32_t)go_left;
+			ri -= (uint32_t)!go_left;
+		} else if (mode == PART_SCATTER) {
+			if (go_left)
+				dst[li++] = *it;
+			else
+				dst[--ri] = *it;
+		}
+	}
+	*l = li;
+	*r = ri;
+	p->left = left;
+	p->right = (end - begin) - left;
+	rs_v4_store(p->lclo, lclo);
+	rs_v4_store(p->lchi, lchi);
+	rs_v4_store(p->rclo, rclo);
+	rs_v4_store(p->rchi, rchi);
+}
+
+struct part_job {
+	const struct rs_bvh__sah *s;
+	const struct rs_bvh__task *t;
+	const struct node_scale *sc;
+	const struct split *sp;
+	uint32_t chunks;
+	enum part_mode mode;
+};
+
+static void part_chunk(void *ctx, uint32_t c, uint32_t worker)
+{
+	(void)worker;
+	const struct part_job *j = ctx;
+	const struct rs_bvh__sah *s = j->s;
+	struct rs_bvh__part *p = &s->chunk_part[c];
+	uint32_t l = 0, r = 0;
+	if (j->mode == PART_SCATTER) {
+		/* Where this chunk's records go: after the left ones of the chunks before it,
+		 * and below their right ones. */
+		l = j->t->begin;
+		r = j->t->end;
+		for (uint32_t k = 0; k < c; k++) {
+			l += s->chunk_part[k].left;
+			r -= s->chunk_part[k].right;
+		}
+	}
+	struct rs_bvh__part scratch;
+	part_range(task_items(s, j->t), j->t->buf ? s->items : s->tmp,
+	           chunk_edge(j->t, c, j->chunks), chunk_edge(j->t, c + 1, j->chunks), &l, &r,
+	           j->sc, j->sp, j->mode == PART_SCATTER ? &scratch : p, j->mode);
+}
+
+/* Partition t's records by the split into the other buffer (big nodes in two passes over
+ * chunks on the pool: count, then scatter; the records land in the same places either
+ * way); fills the two child tasks, whose centroid bounds are gathered on the way. */
 static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
                       const struct node_scale *sc, const struct split *sp,
                       struct rs_bvh__task *left, struct rs_bvh__task *right)
 {
-	struct rs_bvh__item *items = s->items;
-	*left = (struct rs_bvh__task){.begin = t->begin};
-	*right = (struct rs_bvh__task){.end = t->end};
-	rs_v4 lclo, lchi, rclo, rchi;
-	{
+	*left = (struct rs_bvh__task){.begin = t->begin, .buf = t->buf};
+	*right = (struct rs_bvh__task){.end = t->end, .buf = t->buf};
+	if (sp->kind == SPLIT_MEDIAN) {
+		/* Halves of the list, in place. */
+		const struct rs_bvh__item *items = task_items(s, t);
+		uint32_t i = t->begin + (t->end - t->begin) / 2;
 		float lo[4], hi[4];
 		box_empty4(lo, hi);
-		lclo = rclo = rs_v4_load(lo);
-		lchi = rchi = rs_v4_load(hi);
-	}
-	uint32_t i = t->begin, j = t->end;
-	if (sp->kind == SPLIT_MEDIAN) {
-		i = t->begin + (t->end - t->begin) / 2;
+		rs_v4 lclo = rs_v4_load(lo), lchi = rs_v4_load(hi), rclo = lclo, rchi = lchi;
 		box_empty4(left->lo, left->hi);
 		box_empty4(right->lo, right->hi);
 		for (uint32_t m = t->begin; m < t->end; m++) {
@@ -434,41 +580,45 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 				grow(right->lo, right->hi, items[m].lo, items[m].hi);
 			}
 		}
-	} else {
-		int a = sp->axis, size = sp->kind == SPLIT_SIZE;
-		while (i < j) {
-			struct rs_bvh__item *it = &items[i];
-			rs_v4 c = rs_v4_centroid(rs_v4_load(it->lo), rs_v4_load(it->hi));
-			int go_left;
-			if (size) {
-				go_left = is_large(it, sc);
-			} else {
-				int32_t bin[4];
-				rs_v4_bins(c, sc->clo, sc->kv, sc->top, bin);
-				go_left = (uint32_t)bin[a] < sp->bin;
-			}
-			if (go_left) {
-				lclo = rs_v4_min(lclo, c);
-				lchi = rs_v4_max(lchi, c);
-				i++;
-			} else {
-				struct rs_bvh__item tmp = *it;
-				*it = items[--j];
-				items[j] = tmp;
-				rclo = rs_v4_min(rclo, c);
-				rchi = rs_v4_max(rchi, c);
-			}
-		}
-		memcpy(left->lo, sp->llo, sizeof left->lo);
-		memcpy(left->hi, sp->lhi, sizeof left->hi);
-		memcpy(right->lo, sp->rlo, sizeof right->lo);
-		memcpy(right->hi, sp->rhi, sizeof right->hi);
+		left->end = right->begin = i;
+		rs_v4_store(left->clo, lclo);
+		rs_v4_store(left->chi, lchi);
+		rs_v4_store(right->clo, rclo);
+		rs_v4_store(right->chi, rchi);
+		return;
 	}
-	left->end = right->begin = i;
-	rs_v4_store(left->clo, lclo);
-	rs_v4_store(left->chi, lchi);
-	rs_v4_store(right->clo, rclo);
-	rs_v4_store(right->chi, rchi);
+	uint32_t n = t->end - t->begin;
+	uint32_t chunks = s->pool && n >= PAR_BIN_MIN ? n / CHUNK : 1;
+	chunks = chunks < s->max_chunks ? chunks : s->max_chunks;
+	struct rs_bvh__part p;
+	if (chunks < 2) {
+		uint32_t l = t->begin, r = t->end;
+		part_range(task_items(s, t), t->buf ? s->items : s->tmp, t->begin, t->end, &l, &r,
+		           sc, sp, &p, PART_BOTH);
+	} else {
+		struct part_job job = {s, t, sc, sp, chunks, PART_COUNT};
+		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
+		job.mode = PART_SCATTER;
+		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
+		/* min, max and counts merge exactly, in any grouping. */
+		p = s->chunk_part[0];
+		for (uint32_t c = 1; c < chunks; c++) {
+			const struct rs_bvh__part *o = &s->chunk_part[c];
+			p.left += o->left;
+			grow(p.lclo, p.lchi, o->lclo, o->lchi);
+			grow(p.rclo, p.rchi, o->rclo, o->rchi);
+		}
+	}
+	left->buf = right->buf = !t->buf;
+	left->end = right->begin = t->begin + p.left;
+	memcpy(left->clo, p.lclo, sizeof left->clo);
+	memcpy(left->chi, p.lchi, sizeof left->chi);
+	memcpy(right->clo, p.rclo, sizeof right->clo);
+	memcpy(right->chi, p.rchi, sizeof right->chi);
+	memcpy(left->lo, sp->llo, sizeof left->lo);
+	memcpy(left->hi, sp->lhi, sizeof left->hi);
+	memcpy(right->lo, sp->rlo, sizeof right->lo);
+	memcpy(right->hi, sp->rhi, sizeof right->hi);
 }
 
 /* Which child comes first in the pre-order (the walk meets it first: for closest hit its
@@ -504,6 +654,10 @@ void rs_bvh__build_subtree(const struct rs_bvh__sah *s, struct rs_bvh__scratch *
 		struct split sp;
 		find_split(s, w, &t, &sc, &sp);
 		if (sp.kind == SPLIT_LEAF) {
+			/* A leaf's records end where the triangle order is read from. */
+			if (t.buf)
+				memcpy(s->items + t.begin, s->tmp + t.begin,
+				       (t.end - t.begin) * sizeof *s->items);
 			memcpy(node->lo, t.lo, sizeof node->lo);
 			memcpy(node->hi, t.hi, sizeof node->hi);
 			node->first = t.begin;
@@ -591,7 +745,7 @@ uint32_t rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, 
 int rs_bvh__scratch_init(struct rs_bvh__scratch *w, uint32_t nbins, size_t max_items)
 {
 	memset(w, 0, sizeof *w);
-	w->binning.bins = malloc(4 * (size_t)nbins * sizeof *w->binning.bins);
+	w->binning.bins = malloc(3 * (size_t)nbins * sizeof *w->binning.bins);
 	w->binning.counts = malloc(3 * (size_t)nbins * sizeof *w->binning.counts);
 	/* Each pop pushes at most two tasks, so the stack never holds more than the depth
 	 * plus one, and the depth is below the record count. */
@@ -601,7 +755,6 @@ int rs_bvh__scratch_init(struct rs_bvh__scratch *w, uint32_t nbins, size_t max_i
 		rs_bvh__scratch_free(w);
 		return 0;
 	}
-	w->right = w->binning.bins + 3 * (size_t)nbins;
 	return 1;
 }
 

@@ -43,6 +43,7 @@ static inline uint32_t rs_bvh__item_id(const struct rs_bvh__item *it)
  * (lane 3 unused). */
 struct rs_bvh__task {
 	uint32_t begin, end, parent;
+	uint32_t buf; /* where its records are: 0 items, 1 tmp (the partition moves them) */
 	float lo[4], hi[4];
 	float clo[4], chi[4];
 };
@@ -61,22 +62,32 @@ struct rs_bvh__binning {
 	uint32_t large;
 };
 
+/* What one chunk of a big node's partition found: its records going left and right and
+ * their centroid bounds. */
+struct rs_bvh__part {
+	uint32_t left, right;
+	float lclo[4], lchi[4], rclo[4], rchi[4];
+};
+
 /* Shared, read-only while subtrees are built (apart from disjoint record ranges). */
 struct rs_bvh__sah {
-	struct rs_bvh__item *items;
+	/* Records, in two buffers of the same size: a node's partition reads its range of one
+	 * and writes the children's into the same range of the other (buf[task.buf]); a leaf's
+	 * records end in buf[0] (items). */
+	struct rs_bvh__item *items, *tmp;
 	uint32_t nbins, leaf_size;
 	double ct;
 	/* Parallel binning of the nodes above the subtrees (NULL: serial): chunk c of a big
 	 * node bins into chunk_bins[c]. */
 	struct rs_bvh__pool *pool;
 	struct rs_bvh__binning *chunk_bins;
+	struct rs_bvh__part *chunk_part;
 	uint32_t max_chunks;
 };
 
 /* One thread's scratch: the bins of the node at hand and the task stack. */
 struct rs_bvh__scratch {
 	struct rs_bvh__binning binning;
-	struct rs_bvh__bin *right; /* nbins */
 	struct rs_bvh__task *stack;
 	size_t stack_cap;
 };

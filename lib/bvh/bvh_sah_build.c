@@ -152,6 +152,8 @@ static void free_build(struct build *b)
 	}
 	free(b->s.chunk_bins);
 	free(b->s.items);
+	free(b->s.tmp);
+	free(b->s.chunk_part);
 	free(b->fill_bounds);
 	free(b->fill_stop);
 	free(b->top.nodes);
@@ -170,9 +172,10 @@ static int alloc_parallel(struct build *b, uint32_t nbins)
 	size_t n = b->n, cap = 2 * n;
 	b->s.max_chunks = MAX_CHUNKS;
 	b->s.chunk_bins = calloc(MAX_CHUNKS, sizeof *b->s.chunk_bins);
+	b->s.chunk_part = malloc(MAX_CHUNKS * sizeof *b->s.chunk_part);
 	struct rs_bvh__bin *bins = malloc((size_t)MAX_CHUNKS * 3 * nbins * sizeof *bins);
 	uint32_t *counts = malloc((size_t)MAX_CHUNKS * 3 * nbins * sizeof *counts);
-	if (!b->s.chunk_bins || !bins || !counts) {
+	if (!b->s.chunk_bins || !b->s.chunk_part || !bins || !counts) {
 		free(bins);
 		free(counts);
 		return 0;
@@ -220,12 +223,13 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	 * 141 M. */
 	uint32_t defer = b.workers > 1 ? b.n / (4 * b.workers) : 0;
 	b.s.items = malloc(triangle_count * sizeof *b.s.items);
+	b.s.tmp = malloc(triangle_count * sizeof *b.s.tmp);
 	b.parent = malloc((2 * triangle_count - 1) * sizeof *b.parent);
 	b.scratch = calloc(b.workers, sizeof *b.scratch);
 	b.fill_chunks = (b.n + FILL_CHUNK - 1) / FILL_CHUNK;
 	b.fill_bounds = malloc(b.fill_chunks * sizeof *b.fill_bounds);
 	b.fill_stop = malloc(b.fill_chunks * sizeof *b.fill_stop);
-	ok = ok && b.s.items && b.parent && b.scratch && b.fill_bounds && b.fill_stop;
+	ok = ok && b.s.items && b.s.tmp && b.parent && b.scratch && b.fill_bounds && b.fill_stop;
 	for (uint32_t w = 0; ok && w < b.workers; w++)
 		ok = rs_bvh__scratch_init(&b.scratch[w], b.s.nbins, w == 0 ? b.n : defer);
 	if (ok && b.workers > 1)
@@ -257,6 +261,7 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	}
 	root.begin = 0;
 	root.end = b.n;
+	root.buf = 0;
 	size_t count;
 	if (b.workers > 1) {
 		b.top.defer = defer;
