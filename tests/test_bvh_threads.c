@@ -1,6 +1,6 @@
 /* rs_bvh's SAH builder on several threads: the tree (nodes and triangle order, to the byte)
  * is the one-thread tree for every thread count, on meshes big enough for the threaded
- * paths (subtrees on the threads, big nodes binned in chunks), including signed zeros and
+ * paths (subtrees on the threads, big nodes binned and partitioned in chunks), including signed zeros and
  * coincident centroids, whose min/max and list-order splits would show any dependence on
  * how the work was divided. */
 #include <setjmp.h>
@@ -125,12 +125,15 @@ static void assert_same_for_every_thread_count(const struct mesh *m)
 	built_free(&one);
 }
 
-/* 40,000 triangles: past the threaded build's floor and the chunked binning's. */
+/* 40,000 triangles: past the threaded build's floor and the chunked binning and partition's
+ * (the root only); 70,000: the root, its children and some grandchildren are binned and
+ * partitioned in chunks on the threads (two passes, count then scatter) where one thread
+ * partitions in one pass, and each must put every record in the same place. */
 static void random_mesh_tree_is_independent_of_threads(void **state)
 {
 	(void)state;
-	const size_t sizes[] = {9000, 40000};
-	for (size_t k = 0; k < 2; k++) {
+	const size_t sizes[] = {9000, 40000, 70000};
+	for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
 		struct mesh m = random_mesh(sizes[k]);
 		assert_same_for_every_thread_count(&m);
 		free(m.pos);
