@@ -16,9 +16,11 @@ struct rs_bvh__pool {
 	rs_bvh__job_fn fn;
 	void *ctx;
 	uint32_t jobs;
-	atomic_uint next;
-	uint32_t busy; /* helpers still inside the current loop */
 	uint64_t generation;
+	/* The next job and its loop's generation (high 32 bits) in one word: a helper that
+	 * woke late for a loop already over cannot take a job of the next one. */
+	_Atomic uint64_t ticket;
+	atomic_uint completed; /* jobs of the current loop finished */
 	int quit;
 };
 
@@ -27,14 +29,26 @@ struct worker_arg {
 	uint32_t worker;
 };
 
+/* Jobs of loop `gen` until none is left. The caller waits for the jobs to be finished, not
+ * for every helper to have looked: on a loaded machine a helper may not run for a while,
+ * and a loop it never joined no longer waits for it. */
 static void run_jobs(struct rs_bvh__pool *p, rs_bvh__job_fn fn, void *ctx, uint32_t jobs,
-                     uint32_t worker)
+                     uint64_t gen, uint32_t worker)
 {
+	uint64_t t = atomic_load_explicit(&p->ticket, memory_order_acquire);
 	for (;;) {
-		uint32_t j = atomic_fetch_add_explicit(&p->next, 1, memory_order_relaxed);
-		if (j >= jobs)
+		if (t >> 32 != (gen & 0xffffffffu) || (uint32_t)t >= jobs)
 			return;
-		fn(ctx, j, worker);
+		if (!atomic_compare_exchange_weak_explicit(
+		        &p->ticket, &t, t + 1, memory_order_acq_rel, memory_order_acquire))
+			continue;
+		fn(ctx, (uint32_t)t, worker);
+		if (atomic_fetch_add_explicit(&p->completed, 1, memory_order_acq_rel) + 1 == jobs) {
+			pthread_mutex_lock(&p->lock);
+			pthread_cond_signal(&p->done);
+			pthread_mutex_unlock(&p->lock);
+		}
+		t = atomic_load_explicit(&p->ticket, memory_order_acquire);
 	}
 }
 
@@ -54,10 +68,8 @@ static void *worker_main(void *arg)
 		void *ctx = p->ctx;
 		uint32_t jobs = p->jobs;
 		pthread_mutex_unlock(&p->lock);
-		run_jobs(p, fn, ctx, jobs, a->worker);
+		run_jobs(p, fn, ctx, jobs, seen, a->worker);
 		pthread_mutex_lock(&p->lock);
-		if (--p->busy == 0)
-			pthread_cond_signal(&p->done);
 	}
 	pthread_mutex_unlock(&p->lock);
 	free(a);
@@ -77,7 +89,8 @@ struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads)
 	}
 	pthread_cond_init(&p->wake, NULL);
 	pthread_cond_init(&p->done, NULL);
-	atomic_init(&p->next, 0);
+	atomic_init(&p->ticket, 0);
+	atomic_init(&p->completed, 0);
 	/* A helper that cannot be started only means fewer hands: the work is the same. */
 	for (uint32_t t = 1; t < threads; t++) {
 		struct worker_arg *a = malloc(sizeof *a);
@@ -109,14 +122,14 @@ void rs_bvh__pool_run(struct rs_bvh__pool *p, uint32_t jobs, rs_bvh__job_fn fn, 
 	p->fn = fn;
 	p->ctx = ctx;
 	p->jobs = jobs;
-	atomic_store(&p->next, 0);
-	p->busy = p->started;
-	p->generation++;
+	uint64_t gen = ++p->generation;
+	atomic_store(&p->completed, 0);
+	atomic_store(&p->ticket, (gen & 0xffffffffu) << 32);
 	pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
-	run_jobs(p, fn, ctx, jobs, 0);
+	run_jobs(p, fn, ctx, jobs, gen, 0);
 	pthread_mutex_lock(&p->lock);
-	while (p->busy > 0)
+	while (atomic_load(&p->completed) < jobs)
 		pthread_cond_wait(&p->done, &p->lock);
 	pthread_mutex_unlock(&p->lock);
 }
