@@ -1,7 +1,7 @@
 /* rs_bvh's SAH builder on several threads: the tree (nodes and triangle order, to the byte)
  * is the one-thread tree for every thread count, on meshes big enough for the threaded
- * paths (subtrees on the threads, big nodes binned and partitioned in chunks), including signed zeros and
- * coincident centroids, whose min/max and list-order splits would show any dependence on
+ * paths (subtrees on the threads, big nodes binned and partitioned in chunks), including signed
+ * zeros and coincident centroids, whose min/max and list-order splits would show any dependence on
  * how the work was divided. */
 #include <setjmp.h>
 #include <stdarg.h>
