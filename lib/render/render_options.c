@@ -24,7 +24,7 @@ static const struct rs_render_option options[] = {
     {"nodes", "compact|paper[:directional|single]", "compact:directional",
      "node texels:orders; paper:single is the paper's"},
     {"scene-storage", "auto|2d|buffer", "auto", "GL: buffer textures where the context has them"},
-    {"threads", "1..256", "cores", "CPU backend threads; cores: the machine's"},
+    {"threads", "1..256", "cores", "CPU backend and BVH build threads; cores: the machine's"},
     {"triangle-test", "watertight|mt", "watertight", "mt: the paper's Moller-Trumbore"},
     {"chain", "fused|separate|paper", "fused", "GL: how kernels are chained"},
 };

@@ -115,7 +115,9 @@ struct rs_render_desc {
 	 * the CPU; GL backends refuse a value above their device's. A scene that does not fit
 	 * is refused at set_scene with RS_ERR_LIMIT naming the limit. */
 	struct rs_pack_desc pack;
-	uint32_t threads; /**< CPU backend threads; 0 -> the machine's cores */
+	/** CPU backend threads, and every backend's BVH build threads (rs_render_bvh_desc());
+	 * 0 -> the machine's cores. */
+	uint32_t threads;
 	enum rs_kernel_chain chain;
 	enum rs_reflection_mode reflections;
 	/** RS_REFLECT_INTERREFLECT: cube-map captures per frame, 1..8; 0 -> 1. */
