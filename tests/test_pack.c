@@ -498,6 +498,41 @@ static void wide_nodes_hold_every_triangle(void **state)
 	wide_matches(RS_BVH_SAH, 1, shapes[0]);
 }
 
+/* A tree whose wide walk could need more stack entries than the kernels hold (a caterpillar:
+ * every interior node has a leaf child) is refused at packing, naming the stack, never
+ * walked with an overflowing stack. */
+static void wide_refuses_a_tree_deeper_than_the_stack(void **state)
+{
+	const uint32_t leaves = 3 * RS_PACK_WIDE_STACK;
+	struct fixture f = make_shaped(leaves, RS_BVH_SAH, 0, (struct rs_pack_desc){0},
+	                               (struct shape){1.0, 0.0, false});
+	uint32_t n = 2 * leaves - 1;
+	struct rs_bvh_node *cat = calloc(n, sizeof *cat);
+	for (uint32_t i = 0; i < leaves; i++) {
+		uint32_t leaf = i + 1 < leaves ? 2 * i + 1 : 2 * i;
+		cat[leaf] = (struct rs_bvh_node){.escape = leaf + 1, .first = i, .count = 1};
+		if (i + 1 < leaves)
+			cat[2 * i] = (struct rs_bvh_node){.level = 1, .escape = n};
+		f.order[i] = i;
+	}
+	struct rs_packed wide;
+	struct rs_error err;
+	struct rs_pack_desc pd = {.nodes = RS_PACK_NODES_WIDE4};
+	assert_int_equal(rs_pack_layout(&pd, n, leaves, 2, &wide, &err), RS_OK);
+	assert_int_equal(rs_pack_alloc(&wide, &err), RS_OK);
+	assert_int_equal(rs_pack_scene(f.scene, cat, n, f.order, &wide, &err), RS_ERR_LIMIT);
+	assert_non_null(strstr(err.message, "stack"));
+	/* compact nodes take the same tree */
+	rs_pack_free(&wide);
+	pd.nodes = RS_PACK_NODES_COMPACT;
+	assert_int_equal(rs_pack_layout(&pd, n, leaves, 2, &wide, &err), RS_OK);
+	assert_int_equal(rs_pack_alloc(&wide, &err), RS_OK);
+	assert_int_equal(rs_pack_scene(f.scene, cat, n, f.order, &wide, &err), RS_OK);
+	rs_pack_free(&wide);
+	free(cat);
+	release(&f);
+}
+
 /* The compact format keeps no escape for a leaf: a tree whose leaf escapes elsewhere cannot
  * be stored and is refused, naming the leaf. */
 static void compact_refuses_a_leaf_that_escapes_far(void **state)
@@ -649,6 +684,7 @@ int main(void)
 	    cmocka_unit_test(compact_nodes_hold_the_tight_boxes),
 	    cmocka_unit_test(compact_nodes_survive_hard_scales),
 	    cmocka_unit_test(wide_nodes_hold_every_triangle),
+	    cmocka_unit_test(wide_refuses_a_tree_deeper_than_the_stack),
 	    cmocka_unit_test(compact_refuses_a_leaf_that_escapes_far),
 	    cmocka_unit_test(directional_orders_are_preorders_near_child_first),
 	    cmocka_unit_test(materials_resolve_defaults),
