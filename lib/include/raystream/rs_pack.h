@@ -8,8 +8,8 @@
  * with fewer items than row_items is one row of exactly its items, so every texture is
  * `width / texels_per_item` items wide, without padding at row ends.
  *
- * nodes, two formats (rs_pack_desc.nodes), both the paper's threaded pre-order array with
- * escape indices (a leaf's escape is always the next node, k + 1):
+ * nodes, three formats (rs_pack_desc.nodes); the first two are the paper's threaded pre-order
+ * array with escape indices (a leaf's escape is always the next node, k + 1):
  *   RS_PACK_NODES_COMPACT (default), 1 RGBA32UI texel per node, bounds on a 16-bit grid:
  *                                          x = qlo.x | qlo.y << 16, y = qlo.z | qhi.x << 16,
  *                                          z = qhi.y | qhi.z << 16,
@@ -93,14 +93,15 @@ enum rs_texel_format {
 	RS_TEXEL_RGBA32UI = 1, /**< four 32-bit unsigned integers a texel: `words` */
 };
 
-/** Node formats (rs_pack_desc.nodes); both are the paper's threaded pre-order BVH. */
+/** Node formats (rs_pack_desc.nodes): two threaded pre-order layouts and a wide one. */
 enum rs_pack_nodes {
 	/** One RGBA32UI texel a node: one texture fetch per box instead of two or three. */
 	RS_PACK_NODES_COMPACT = 0,
 	/** The paper's three RGBA32F texels a node, exact float bounds. */
 	RS_PACK_NODES_PAPER = 1,
 	/** 4-wide nodes of quantised child boxes, 3 RGBA32UI texels testing four boxes, walked
-	 * with a stack in the ray's octant order (one node order). */
+	 * with a stack in the ray's octant order (one node order). Exact, and 20-25 % slower
+	 * than compact on llvmpipe (docs/benchmarks.md), so not the default. */
 	RS_PACK_NODES_WIDE4 = 2,
 };
 
@@ -166,7 +167,7 @@ struct rs_packed {
 	float node_grid_step[3];
 };
 
-/** One node as both formats decode it (bounds in the packed frame). */
+/** One node as both threaded formats decode it (bounds in the packed frame). */
 struct rs_pack_node {
 	float lo[3];
 	float hi[3];
@@ -227,7 +228,8 @@ enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err);
 void rs_pack_free(struct rs_packed *packed);
 
 /**
- * Decode node k (< node_count) of a packed BVH in either format, as the kernels read it.
+ * Decode node k (< node_count) of a packed BVH in either threaded format (not wide4: see
+ * rs_pack_read_wide), as the kernels read it.
  * Corrupt data never reads outside the textures: an escape is at least k + 1 and a leaf's
  * slots end at triangle_count.
  */
