@@ -420,6 +420,119 @@ static void compact_nodes_survive_hard_scales(void **state)
 		compact_matches(RS_BVH_SAH, 400, shapes[i]);
 }
 
+/* Wide nodes: walking the tree from the root reaches every triangle slot exactly once, each
+ * leaf's vertices lie inside every child box on its path (conservative), every bound is
+ * exactly grid_origin + Q * step with Q an integer below 2^18, and a child's index is above
+ * its parent's. */
+static void wide_matches(enum rs_bvh_builder builder, size_t tris, struct shape sh)
+{
+	struct fixture f =
+	    make_shaped(tris, builder, 0, (struct rs_pack_desc){.nodes = RS_PACK_NODES_WIDE4}, sh);
+	assert_int_equal(f.packed.node_orders, 1);
+	assert_int_equal(f.packed.nodes.format, RS_TEXEL_RGBA32UI);
+	assert_int_equal(rs_pack_check(&f.packed, NULL), RS_OK);
+	const float *origin = f.packed.node_grid_origin, *step = f.packed.node_grid_step;
+	struct item {
+		uint32_t node;
+		float lo[3], hi[3];
+	} *stack = malloc((f.packed.node_count + 1) * sizeof *stack);
+	unsigned char *seen = calloc(tris + 1, 1);
+	size_t sp = 0;
+	stack[sp++] = (struct item){0, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, {FLT_MAX, FLT_MAX, FLT_MAX}};
+	while (sp) {
+		struct item it = stack[--sp];
+		struct rs_pack_wide w;
+		rs_pack_read_wide(&f.packed, it.node, &w);
+		assert_true(w.children >= 1 && w.children <= RS_PACK_WIDE_CHILDREN);
+		for (uint32_t c = 0; c < w.children; c++) {
+			struct item in = it;
+			for (int a = 0; a < 3; a++) {
+				assert_true(w.qlo[c][a] >= 0 && w.qhi[c][a] < (1 << 18));
+				assert_true(w.lo[c][a] == (float)((double)origin[a] +
+				                                  (double)w.qlo[c][a] * step[a]));
+				assert_true(w.hi[c][a] == (float)((double)origin[a] +
+				                                  (double)w.qhi[c][a] * step[a]));
+				in.lo[a] = fmaxf(in.lo[a], w.lo[c][a]);
+				in.hi[a] = fminf(in.hi[a], w.hi[c][a]);
+			}
+			uint32_t child = w.child[c];
+			if (!(child & RS_PACK_LEAF_BIT)) {
+				assert_true(child > it.node && child < f.packed.node_count);
+				in.node = child;
+				stack[sp++] = in;
+				continue;
+			}
+			for (uint32_t s = child & ~RS_PACK_LEAF_BIT; s < tris; s++) {
+				assert_int_equal(seen[s], 0);
+				seen[s] = 1;
+				for (uint32_t j = 0; j < 3; j++) {
+					const float *v = rs_pack_texel(
+					    &f.packed.triangles, RS_PACK_TRIANGLE_TEXELS, s, j);
+					for (int a = 0; a < 3; a++)
+						assert_true(v[a] >= in.lo[a] && v[a] <= in.hi[a]);
+				}
+				if (rs_pack_texel(&f.packed.triangles, RS_PACK_TRIANGLE_TEXELS, s,
+				                  2)[3] != 0.0f)
+					break;
+			}
+		}
+	}
+	for (size_t s = 0; s < tris; s++)
+		assert_int_equal(seen[s], 1);
+	free(stack);
+	free(seen);
+	release(&f);
+}
+
+static void wide_nodes_hold_every_triangle(void **state)
+{
+	const struct shape shapes[] = {{1.0, 0.0, false},        {1.0, 1.0e6, false},
+	                               {1.0e-30, 0.0, false},    {1.0e-30, 1.0e-25, false},
+	                               {1.0e30, -1.0e33, false}, {1.0, 0.0, true},
+	                               {1.0, 123.456, true}};
+	for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
+		wide_matches(RS_BVH_SAH, 3000, shapes[i]); /* > 512 items: crosses texture rows */
+	wide_matches(RS_BVH_PAPER, 1500, shapes[0]);
+	wide_matches(RS_BVH_LINEAR, 900, shapes[0]);
+	wide_matches(RS_BVH_NONE, 5, shapes[0]);
+	wide_matches(RS_BVH_SAH, 1, shapes[0]);
+}
+
+/* A tree whose wide walk could need more stack entries than the kernels hold (a caterpillar:
+ * every interior node has a leaf child) is refused at packing, naming the stack, never
+ * walked with an overflowing stack. */
+static void wide_refuses_a_tree_deeper_than_the_stack(void **state)
+{
+	const uint32_t leaves = 3 * RS_PACK_WIDE_STACK;
+	struct fixture f = make_shaped(leaves, RS_BVH_SAH, 0, (struct rs_pack_desc){0},
+	                               (struct shape){1.0, 0.0, false});
+	uint32_t n = 2 * leaves - 1;
+	struct rs_bvh_node *cat = calloc(n, sizeof *cat);
+	for (uint32_t i = 0; i < leaves; i++) {
+		uint32_t leaf = i + 1 < leaves ? 2 * i + 1 : 2 * i;
+		cat[leaf] = (struct rs_bvh_node){.escape = leaf + 1, .first = i, .count = 1};
+		if (i + 1 < leaves)
+			cat[2 * i] = (struct rs_bvh_node){.level = 1, .escape = n};
+		f.order[i] = i;
+	}
+	struct rs_packed wide;
+	struct rs_error err;
+	struct rs_pack_desc pd = {.nodes = RS_PACK_NODES_WIDE4};
+	assert_int_equal(rs_pack_layout(&pd, n, leaves, 2, &wide, &err), RS_OK);
+	assert_int_equal(rs_pack_alloc(&wide, &err), RS_OK);
+	assert_int_equal(rs_pack_scene(f.scene, cat, n, f.order, &wide, &err), RS_ERR_LIMIT);
+	assert_non_null(strstr(err.message, "stack"));
+	/* compact nodes take the same tree */
+	rs_pack_free(&wide);
+	pd.nodes = RS_PACK_NODES_COMPACT;
+	assert_int_equal(rs_pack_layout(&pd, n, leaves, 2, &wide, &err), RS_OK);
+	assert_int_equal(rs_pack_alloc(&wide, &err), RS_OK);
+	assert_int_equal(rs_pack_scene(f.scene, cat, n, f.order, &wide, &err), RS_OK);
+	rs_pack_free(&wide);
+	free(cat);
+	release(&f);
+}
+
 /* The compact format keeps no escape for a leaf: a tree whose leaf escapes elsewhere cannot
  * be stored and is refused, naming the leaf. */
 static void compact_refuses_a_leaf_that_escapes_far(void **state)
@@ -570,6 +683,8 @@ int main(void)
 	    cmocka_unit_test(round_trip_linear_and_none),
 	    cmocka_unit_test(compact_nodes_hold_the_tight_boxes),
 	    cmocka_unit_test(compact_nodes_survive_hard_scales),
+	    cmocka_unit_test(wide_nodes_hold_every_triangle),
+	    cmocka_unit_test(wide_refuses_a_tree_deeper_than_the_stack),
 	    cmocka_unit_test(compact_refuses_a_leaf_that_escapes_far),
 	    cmocka_unit_test(directional_orders_are_preorders_near_child_first),
 	    cmocka_unit_test(materials_resolve_defaults),

@@ -21,6 +21,7 @@ static void every_option_round_trips(void **state)
 	    {"bvh", "paper"},          {"nodes", "paper:single"},
 	    {"scene-storage", "2d"},   {"threads", "7"},
 	    {"triangle-test", "mt"},   {"chain", "separate"},
+	    {"nodes", "wide4"},        {"nodes", "wide4"},
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
 		struct rs_render_desc d = {0};
@@ -87,6 +88,7 @@ static void bad_values_name_the_option_and_its_range(void **state)
 	    {"reflections", "interreflect:9", "interreflect[:1..8]"},
 	    {"backend", "vulkan", "auto|cpu|egl|osmesa"},
 	    {"nodes", "compact:sideways", "compact|paper[:directional|single]"},
+	    {"nodes", "wide4:single", "wide4"},
 	    {"threads", "257", "1..256"},
 	    {"frobnicate", "1", "unknown render option 'frobnicate'"},
 	};

@@ -708,6 +708,84 @@ static size_t count_misses(const struct closed *c, enum rs_triangle_test test, s
 	return misses;
 }
 
+/* Wide nodes find exactly the compact nodes' hits (the same triangle at the same t, R4) for
+ * every builder, and on scenes far from the origin, tiny, huge and flat; on the SAH tree
+ * they test about as many child boxes as the binary walk tests boxes (in a quarter of the
+ * node fetches). */
+static void wide_nodes_find_the_compact_hits(void **state)
+{
+	const struct {
+		double scale, offset;
+		bool flat;
+	} shapes[] = {{1.0, 0.0, false},    {1.0, 1.0e6, false}, {1.0e-30, 0.0, false},
+	              {1.0e30, 0.0, false}, {1.0, 0.0, true},    {1.0e-3, 55.5, true}};
+	for (size_t k = 0; k < sizeof shapes / sizeof shapes[0]; k++)
+		for (int b = 0; b < 4; b++) {
+			if (k > 0 && builders[b] != RS_BVH_SAH)
+				continue;
+			struct mesh m = random_mesh(700, 1.0, 0.0);
+			struct mesh g = random_mesh(700, 1.0, 0.0);
+			for (size_t i = 0; i < 9 * m.tris; i++)
+				g.pos[i] =
+				    shapes[k].flat && i % 3 == 2
+				        ? (float)shapes[k].offset
+				        : (float)(m.pos[i] * shapes[k].scale + shapes[k].offset);
+			struct world c = make_world(g.pos, g.verts, g.idx, g.tris, builders[b]);
+			struct world w =
+			    make_world_packed(g.pos, g.verts, g.idx, g.tris, builders[b],
+			                      (struct rs_pack_desc){.nodes = RS_PACK_NODES_WIDE4});
+			struct world one = make_world_packed(
+			    g.pos, g.verts, g.idx, g.tris, builders[b],
+			    (struct rs_pack_desc){.orders = RS_PACK_ORDERS_SINGLE});
+			struct rs_trace_counters cc = {0}, cw = {0}, c1 = {0};
+			int hits = 0;
+			for (int i = 0; i < 1500; i++) {
+				struct rs_ray r = random_ray_at(&m);
+				for (int a = 0; a < 3; a++) {
+					r.origin[a] =
+					    r.origin[a] * shapes[k].scale + shapes[k].offset;
+					if (shapes[k].flat && a == 2)
+						r.origin[a] = shapes[k].offset +
+						              (rnd() - 0.5) * 100 * shapes[k].scale;
+				}
+				if (shapes[k].flat && i % 2) { /* at a flat triangle's centre */
+					const float *p =
+					    &g.pos[9 * (size_t)(rnd() * (double)g.tris)];
+					for (int a = 0; a < 3; a++)
+						r.dir[a] =
+						    ((double)p[a] + p[3 + a] + p[6 + a]) / 3 -
+						    r.origin[a];
+				}
+				struct rs_hit hc, hw;
+				bool fc = rs_trace_closest(&c.packed, RS_TRIANGLE_WATERTIGHT, &r,
+				                           &hc, &cc);
+				bool fw = rs_trace_closest(&w.packed, RS_TRIANGLE_WATERTIGHT, &r,
+				                           &hw, &cw);
+				rs_trace_closest(&one.packed, RS_TRIANGLE_WATERTIGHT, &r, NULL,
+				                 &c1);
+				assert_int_equal(fc, fw);
+				if (fc) {
+					assert_true(hc.t == hw.t);
+					assert_int_equal(hc.triangle, hw.triangle);
+					hits++;
+				}
+				r.tmax = fc ? hc.t * rnd() * 1.5 : r.tmax;
+				assert_int_equal(
+				    rs_trace_occluded(&c.packed, RS_TRIANGLE_WATERTIGHT, &r, NULL),
+				    rs_trace_occluded(&w.packed, RS_TRIANGLE_WATERTIGHT, &r, NULL));
+			}
+			assert_true(hits > 200);
+			/* as many child-box tests as the binary walk's box tests, give or take */
+			if (builders[b] == RS_BVH_SAH)
+				assert_true(cw.box_tests < c1.box_tests * 11 / 10);
+			free_world(&c);
+			free_world(&w);
+			free_world(&one);
+			mesh_free(&m);
+			mesh_free(&g);
+		}
+}
+
 static void watertight_icosphere_has_no_misses(void **state)
 {
 	struct closed c = icosphere(3); /* 1280 triangles */
@@ -741,6 +819,7 @@ int main(void)
 	    cmocka_unit_test(tree_miss_costs_one_box),
 	    cmocka_unit_test(counters_match_a_recursive_walk),
 	    cmocka_unit_test(directional_orders_find_the_same_hits),
+	    cmocka_unit_test(wide_nodes_find_the_compact_hits),
 	    cmocka_unit_test(skip_slot_ignores_the_origin_triangle),
 	    cmocka_unit_test(interval_bounds_the_hit),
 	    cmocka_unit_test(axis_parallel_rays_match_brute_force),

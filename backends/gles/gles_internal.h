@@ -261,7 +261,7 @@ struct rs_gles_spec {
 	uint32_t lights;      /* lights the kernels loop over */
 	uint32_t node_orders; /* direction-ordered node copies */
 	bool watertight, counters, optics, geometry, shadow_map, envmap, interreflect;
-	bool compact_nodes, scene_buffers;
+	bool compact_nodes, wide_nodes, scene_buffers;
 	bool first_pass, raster_first; /* the fused chain's first pass (over raster hits) */
 };
 

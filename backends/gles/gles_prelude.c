@@ -41,6 +41,8 @@ enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_
 	    {"RS_ENVMAP", false, spec->envmap},
 	    {"RS_INTERREFLECT", false, spec->interreflect},
 	    {"RS_COMPACT_NODES", false, spec->compact_nodes},
+	    {"RS_WIDE_NODES", false, spec->wide_nodes},
+	    {"RS_WIDE_STACK", false, RS_PACK_WIDE_STACK},
 	    {"RS_NODE_ORDERS", false, spec->node_orders},
 	    {"RS_SCENE_BUFFERS", false, spec->scene_buffers},
 	    {"RS_FIRST_PASS", false, spec->first_pass},

@@ -93,6 +93,7 @@ static enum rs_status build_programs(struct gles *g, struct rs_error *err)
 	    .envmap = g->desc.reflections != RS_REFLECT_TRACE,
 	    .interreflect = g->desc.reflections == RS_REFLECT_INTERREFLECT,
 	    .compact_nodes = p->node_format == RS_PACK_NODES_COMPACT,
+	    .wide_nodes = p->node_format == RS_PACK_NODES_WIDE4,
 	    .scene_buffers = g->storage == RS_SCENE_STORAGE_BUFFER,
 	};
 	char preludes[3][1024];

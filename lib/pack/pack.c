@@ -26,6 +26,8 @@ static uint32_t texture_texels(int i, enum rs_pack_nodes nodes)
 {
 	static const uint32_t texels[4] = {RS_PACK_NODE_TEXELS, RS_PACK_TRIANGLE_TEXELS,
 	                                   RS_PACK_NORMAL_TEXELS, RS_PACK_MATERIAL_TEXELS};
+	if (i == 0 && nodes == RS_PACK_NODES_WIDE4)
+		return RS_PACK_WIDE_NODE_TEXELS;
 	return i == 0 && nodes == RS_PACK_NODES_COMPACT ? RS_PACK_COMPACT_NODE_TEXELS : texels[i];
 }
 
@@ -56,7 +58,8 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 	uint32_t row_items =
 	    desc && desc->row_items ? desc->row_items : widest_power_of_two(max_side);
 	enum rs_pack_nodes nodes = desc ? desc->nodes : RS_PACK_NODES_COMPACT;
-	if (nodes != RS_PACK_NODES_COMPACT && nodes != RS_PACK_NODES_PAPER)
+	if (nodes != RS_PACK_NODES_COMPACT && nodes != RS_PACK_NODES_PAPER &&
+	    nodes != RS_PACK_NODES_WIDE4)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: unknown node format %d",
 		                    (int)nodes);
 	enum rs_pack_orders orders = desc ? desc->orders : RS_PACK_ORDERS_DIRECTIONAL;
@@ -77,7 +80,10 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 		                    node_count, triangle_count, material_count);
 	/* Six orders where they fit the limits, else the one (directional orders are a speed-up,
 	 * never a reason to refuse a scene). */
-	uint32_t node_orders = orders == RS_PACK_ORDERS_SINGLE ? 1u : 6u, w, h;
+	/* Wide nodes are ordered per ray at each node (octant order), never copied. */
+	uint32_t node_orders =
+	             orders == RS_PACK_ORDERS_SINGLE || nodes == RS_PACK_NODES_WIDE4 ? 1u : 6u,
+	         w, h;
 	rs_pack_texture_size(node_count * 6u, texture_texels(0, nodes), row_items, &w, &h);
 	if (node_count * 6u >= RS_PACK_MAX_ITEMS || h > max_side)
 		node_orders = 1u;
@@ -104,7 +110,7 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 	out->max_texture_size = max_side;
 	out->node_format = nodes;
 	out->node_orders = node_orders;
-	out->nodes.format = nodes == RS_PACK_NODES_COMPACT ? RS_TEXEL_RGBA32UI : RS_TEXEL_RGBA32F;
+	out->nodes.format = nodes == RS_PACK_NODES_PAPER ? RS_TEXEL_RGBA32F : RS_TEXEL_RGBA32UI;
 	return RS_OK;
 }
 
@@ -121,7 +127,7 @@ enum rs_status rs_pack_check(const struct rs_packed *packed, struct rs_error *er
 		uint32_t w, h;
 		rs_pack_texture_size(items[i], texture_texels(i, packed->node_format),
 		                     packed->row_items, &w, &h);
-		enum rs_texel_format f = i == 0 && packed->node_format == RS_PACK_NODES_COMPACT
+		enum rs_texel_format f = i == 0 && packed->node_format != RS_PACK_NODES_PAPER
 		                             ? RS_TEXEL_RGBA32UI
 		                             : RS_TEXEL_RGBA32F;
 		if (!tex[i]->texels || tex[i]->width != w || tex[i]->height != h ||
@@ -206,8 +212,8 @@ static enum rs_status check_packed(const struct rs_scene *scene, const struct rs
 	for (size_t i = 0; i < node_count; i++) {
 		if (nodes[i].escape > node_count || (size_t)nodes[i].first + nodes[i].count > tris)
 			return rs_error_set(err, RS_ERR_BAD_DATA, "pack: node %zu out of range", i);
-		/* the compact format stores no escape for a leaf: it must be the next node */
-		if (p->node_format == RS_PACK_NODES_COMPACT && nodes[i].level == 0 &&
+		/* compact and wide nodes store no escape for a leaf: it must be the next node */
+		if (p->node_format != RS_PACK_NODES_PAPER && nodes[i].level == 0 &&
 		    nodes[i].escape != i + 1)
 			return rs_error_set(err, RS_ERR_BAD_DATA,
 			                    "pack: leaf %zu escapes to %u, not to the next node", i,

@@ -155,6 +155,191 @@ static void directional_order(const struct rs_bvh_node *nodes, size_t node_count
 	}
 }
 
+/* Wide nodes (RS_PACK_NODES_WIDE4): the binary tree, made one tree (a forest's tops are
+ * paired under virtual nodes), collapsed greedily: a wide node starts with its binary
+ * node's two children and opens the one of largest surface area until it has four or only
+ * leaves (Wald et al. 2008's collapse; Ylitie et al. 2017's SAH collapse is the refinement
+ * docs/bvh.md names). Subtrees without triangles are dropped. Nodes are numbered in
+ * pre-order, so a child's index is always above its parent's. */
+struct binary {
+	uint32_t *left, *right; /* UINT32_MAX for a leaf */
+	float (*box)[6];
+	const struct rs_bvh_node *nodes;
+	uint32_t count; /* real nodes; virtual ones follow */
+};
+
+static bool box_empty(const float b[6])
+{
+	return b[0] > b[3] || b[1] > b[4] || b[2] > b[5];
+}
+
+static double half_area(const float b[6])
+{
+	double d[3] = {(double)b[3] - b[0], (double)b[4] - b[1], (double)b[5] - b[2]};
+	return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+/* The compact grid position of a bound (quantise() as integers). */
+static int32_t grid_q(float v, int a, bool up, const struct rs_packed *p)
+{
+	return (int32_t)quantise(v, a, up, p);
+}
+
+struct wide_writer {
+	const struct binary *bin;
+	struct rs_packed *packed;
+	uint32_t next;      /* next free wide node */
+	uint32_t max_stack; /* entries the walk can need */
+};
+
+/* Write the wide node for binary interior node b at index k; returns the stack entries the
+ * walk of its subtree can need (docs/bvh.md): children - 1 + max(1, the deepest child's). */
+static uint32_t write_wide(struct wide_writer *w, uint32_t b, uint32_t k)
+{
+	const struct binary *bin = w->bin;
+	uint32_t kids[RS_PACK_WIDE_CHILDREN], n = 0;
+	uint32_t open[2] = {bin->left[b], bin->right[b]};
+	if (open[0] == UINT32_MAX) /* a root that is a leaf: its own only child */
+		kids[n++] = b;
+	else
+		for (int c = 0; c < 2; c++)
+			if (!box_empty(bin->box[open[c]]))
+				kids[n++] = open[c];
+	while (n < RS_PACK_WIDE_CHILDREN) {
+		int best = -1;
+		double area = -1.0;
+		for (uint32_t c = 0; c < n; c++)
+			if (bin->left[kids[c]] != UINT32_MAX &&
+			    half_area(bin->box[kids[c]]) > area) {
+				area = half_area(bin->box[kids[c]]);
+				best = (int)c;
+			}
+		if (best < 0)
+			break;
+		uint32_t x = kids[best], l = bin->left[x], r = bin->right[x];
+		kids[best] = kids[--n];
+		if (!box_empty(bin->box[l]))
+			kids[n++] = l;
+		if (!box_empty(bin->box[r]))
+			kids[n++] = r;
+	}
+	/* The node's own grid: origin at its compact lo, per-axis step 2^e grid steps with
+	 * the extent within 255 of them. */
+	const struct rs_packed *p = w->packed;
+	int32_t o[3], top[3];
+	uint32_t e[3];
+	for (int a = 0; a < 3; a++) {
+		o[a] = INT32_MAX;
+		top[a] = 0;
+		for (uint32_t c = 0; c < n; c++) {
+			int32_t lo = grid_q(bin->box[kids[c]][a], a, false, p);
+			int32_t hi = grid_q(bin->box[kids[c]][3 + a], a, true, p);
+			o[a] = lo < o[a] ? lo : o[a];
+			top[a] = hi > top[a] ? hi : top[a];
+		}
+		if (n == 0)
+			o[a] = 0;
+		e[a] = 0;
+		while (top[a] - o[a] > (int32_t)(255u << e[a]))
+			e[a]++;
+	}
+	uint32_t word[12] = {0};
+	for (uint32_t c = 0; c < RS_PACK_WIDE_CHILDREN; c++)
+		for (int a = 0; a < 3; a++) {
+			uint32_t qlo = 255, qhi = 0; /* an unused slot: an empty box */
+			if (c < n) {
+				int32_t lo = grid_q(bin->box[kids[c]][a], a, false, p) - o[a];
+				int32_t hi = grid_q(bin->box[kids[c]][3 + a], a, true, p) - o[a];
+				qlo = (uint32_t)lo >> e[a];
+				qhi = ((uint32_t)hi + (1u << e[a]) - 1u) >> e[a];
+			}
+			word[a] |= qlo << (8 * c);
+			word[3 + a] |= qhi << (8 * c);
+		}
+	word[6] = (uint32_t)o[0] | (uint32_t)o[1] << 16;
+	word[7] = (uint32_t)o[2] | e[0] << 16 | e[1] << 20 | e[2] << 24 | n << 28;
+	uint32_t deepest = 0;
+	for (uint32_t c = 0; c < n; c++) {
+		uint32_t x = kids[c];
+		if (bin->left[x] == UINT32_MAX) {
+			word[8 + c] = RS_PACK_LEAF_BIT | bin->nodes[x].first;
+			continue;
+		}
+		uint32_t child = w->next++;
+		word[8 + c] = child;
+		uint32_t need = write_wide(w, x, child);
+		deepest = need > deepest ? need : deepest;
+	}
+	memcpy(w->packed->nodes.words + (size_t)k * RS_PACK_WIDE_NODE_TEXELS * 4u, word,
+	       sizeof word);
+	return (n ? n - 1u : 0u) + (deepest > 1u ? deepest : 1u);
+}
+
+static enum rs_status pack_wide(const struct rs_bvh_node *nodes, size_t node_count,
+                                const float (*box)[6], struct rs_packed *packed,
+                                struct rs_error *err)
+{
+	if (node_count == 0)
+		return RS_OK;
+	if (!well_formed(nodes, node_count))
+		return rs_error_set(
+		    err, RS_ERR_BAD_DATA,
+		    "pack: the BVH's escapes do not nest, so it cannot be made wide");
+	size_t cap = 2 * node_count;
+	struct binary bin = {malloc(cap * sizeof *bin.left), malloc(cap * sizeof *bin.right),
+	                     malloc(cap * sizeof *bin.box), nodes, (uint32_t)node_count};
+	uint32_t *tops = malloc(node_count * sizeof *tops);
+	enum rs_status s = RS_OK;
+	if (!bin.left || !bin.right || !bin.box || !tops) {
+		s = rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for wide nodes");
+		goto out;
+	}
+	uint32_t count = (uint32_t)node_count, ntops = 0;
+	for (uint32_t k = 0; k < count; k++) {
+		memcpy(bin.box[k], box[k], sizeof box[k]);
+		bool leaf = nodes[k].level == 0;
+		bin.left[k] = leaf ? UINT32_MAX : k + 1;
+		bin.right[k] = leaf ? UINT32_MAX : nodes[k + 1].escape;
+	}
+	for (uint32_t k = 0; k < count; k = nodes[k].escape)
+		tops[ntops++] = k;
+	/* A forest becomes one tree: neighbours paired level by level (the escape chain's
+	 * order, which is the builder's). Virtual nodes are interior nodes past count. */
+	while (ntops > 1) {
+		uint32_t m = 0;
+		for (uint32_t t = 0; t + 1 < ntops; t += 2) {
+			uint32_t v = count++;
+			bin.left[v] = tops[t];
+			bin.right[v] = tops[t + 1];
+			for (int a = 0; a < 3; a++) {
+				bin.box[v][a] = fminf(bin.box[tops[t]][a], bin.box[tops[t + 1]][a]);
+				bin.box[v][3 + a] =
+				    fmaxf(bin.box[tops[t]][3 + a], bin.box[tops[t + 1]][3 + a]);
+			}
+			tops[m++] = v;
+		}
+		if (ntops % 2)
+			tops[m++] = tops[ntops - 1];
+		ntops = m;
+	}
+	struct wide_writer w = {&bin, packed, 1u, 0u};
+	if (!box_empty(bin.box[tops[0]]) || bin.left[tops[0]] != UINT32_MAX) {
+		uint32_t need = write_wide(&w, tops[0], 0);
+		if (need > RS_PACK_WIDE_STACK)
+			s = rs_error_set(
+			    err, RS_ERR_LIMIT,
+			    "pack: this tree's wide walk can need %u stack entries, over "
+			    "the kernels' %u; pack compact nodes instead",
+			    need, RS_PACK_WIDE_STACK);
+	}
+out:
+	free(bin.left);
+	free(bin.right);
+	free(bin.box);
+	free(tops);
+	return s;
+}
+
 static enum rs_status write_nodes(const struct rs_bvh_node *nodes, size_t node_count,
                                   const float (*box)[6], struct rs_packed *packed,
                                   struct rs_error *err)
@@ -195,9 +380,12 @@ enum rs_status rs__pack_nodes(const struct rs_bvh_node *nodes, size_t node_count
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for %zu node boxes",
 		                    node_count);
 	node_bounds(nodes, node_count, packed, box);
-	if (packed->node_format == RS_PACK_NODES_COMPACT)
+	if (packed->node_format != RS_PACK_NODES_PAPER)
 		grid((const float(*)[6])box, node_count, packed);
-	enum rs_status s = write_nodes(nodes, node_count, (const float(*)[6])box, packed, err);
+	enum rs_status s =
+	    packed->node_format == RS_PACK_NODES_WIDE4
+	        ? pack_wide(nodes, node_count, (const float(*)[6])box, packed, err)
+	        : write_nodes(nodes, node_count, (const float(*)[6])box, packed, err);
 	free(box);
 	if (s != RS_OK)
 		return s;
@@ -218,7 +406,8 @@ static uint32_t escape_after(uint32_t escape, uint32_t k)
 
 void rs_pack_read_node(const struct rs_packed *p, uint32_t k, struct rs_pack_node *out)
 {
-	RS_ASSERT(p && out && k < (uint64_t)p->node_count * p->node_orders);
+	RS_ASSERT(p && out && k < (uint64_t)p->node_count * p->node_orders &&
+	          p->node_format != RS_PACK_NODES_WIDE4);
 	uint32_t tris = p->triangle_count;
 	if (p->node_format == RS_PACK_NODES_PAPER) {
 		const float *t = rs_pack_texel(&p->nodes, RS_PACK_NODE_TEXELS, k, 0);
@@ -251,4 +440,34 @@ void rs_pack_read_node(const struct rs_packed *p, uint32_t k, struct rs_pack_nod
 	}
 	out->first = first < tris ? first : tris;
 	out->count = s - out->first;
+}
+
+void rs_pack_read_wide(const struct rs_packed *p, uint32_t k, struct rs_pack_wide *out)
+{
+	RS_ASSERT(p && out && k < p->node_count && p->node_format == RS_PACK_NODES_WIDE4);
+	const uint32_t *w = p->nodes.words + (size_t)k * RS_PACK_WIDE_NODE_TEXELS * 4u;
+	uint32_t o[3] = {w[6] & 0xffffu, w[6] >> 16, w[7] & 0xffffu};
+	uint32_t n = w[7] >> 28, kept = 0;
+	for (uint32_t c = 0; c < n && c < RS_PACK_WIDE_CHILDREN; c++) {
+		uint32_t child = w[8 + c];
+		bool leaf = (child & RS_PACK_LEAF_BIT) != 0;
+		if (leaf ? (child & ~RS_PACK_LEAF_BIT) >= p->triangle_count
+		         : child <= k || child >= p->node_count)
+			continue; /* corrupt: the kernels drop the slot too */
+		for (int a = 0; a < 3; a++) {
+			uint32_t e = (w[7] >> (16 + 4 * a)) & 0xfu;
+			uint32_t qlo = (w[a] >> (8 * c)) & 0xffu,
+			         qhi = (w[3 + a] >> (8 * c)) & 0xffu;
+			int32_t lo = (int32_t)(o[a] + (qlo << e)),
+			        hi = (int32_t)(o[a] + (qhi << e));
+			out->qlo[kept][a] = lo;
+			out->qhi[kept][a] = hi;
+			out->lo[kept][a] =
+			    p->node_grid_origin[a] + (float)lo * p->node_grid_step[a];
+			out->hi[kept][a] =
+			    p->node_grid_origin[a] + (float)hi * p->node_grid_step[a];
+		}
+		out->child[kept++] = child;
+	}
+	out->children = kept;
 }

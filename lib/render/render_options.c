@@ -21,8 +21,8 @@ static const struct rs_render_option options[] = {
     {"reflections", "trace|envmap|interreflect[:1..8]", "trace",
      "traced, or environment maps (GL)"},
     {"bvh", "sah|none|linear|paper", "sah", "BVH builder (docs/bvh.md)"},
-    {"nodes", "compact|paper[:directional|single]", "compact:directional",
-     "node texels:orders; paper:single is the paper's"},
+    {"nodes", "compact|paper[:directional|single]|wide4", "compact:directional",
+     "node texels:orders; paper:single is the paper's; wide4: 4-wide quantised"},
     {"scene-storage", "auto|2d|buffer", "auto", "GL: buffer textures where the context has them"},
     {"threads", "1..256", "cores", "CPU backend and BVH build threads; cores: the machine's"},
     {"triangle-test", "watertight|mt", "watertight", "mt: the paper's Moller-Trumbore"},
@@ -117,6 +117,8 @@ static bool set_nodes(struct rs_render_desc *d, const char *v)
 		nodes = RS_PACK_NODES_COMPACT;
 	else if (n == 5 && strncmp(v, "paper", n) == 0)
 		nodes = RS_PACK_NODES_PAPER;
+	else if (n == 5 && strncmp(v, "wide4", n) == 0 && !colon)
+		nodes = RS_PACK_NODES_WIDE4; /* one order: children are ordered per ray */
 	else
 		return false;
 	if (colon && strcmp(colon + 1, "single") == 0)
@@ -249,6 +251,8 @@ enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char 
 		                   d->reflections == RS_REFLECT_ENVMAP ? "envmap" : "trace");
 	else if (!strcmp(key, "bvh"))
 		n = snprintf(out, cap, "%s", rs_bvh_builder_name(d->bvh.builder));
+	else if (!strcmp(key, "nodes") && d->pack.nodes == RS_PACK_NODES_WIDE4)
+		n = snprintf(out, cap, "wide4");
 	else if (!strcmp(key, "nodes"))
 		n = snprintf(out, cap, "%s:%s",
 		             d->pack.nodes == RS_PACK_NODES_PAPER ? "paper" : "compact",

@@ -57,6 +57,92 @@ static void clear(struct rs_hit *out_hit)
 	record(out_hit, INFINITY, 0.0, 0.0, RS_NO_SLOT, RS_NO_SLOT);
 }
 
+/* Tests a leaf's triangles from `first` to the slot with the last flag: the closest-hit
+ * rule, r->tmax shrinks to the best t. Returns true when `any` may stop. */
+static bool test_leaf(const struct rs_packed *packed, enum rs_triangle_test test,
+                      const struct rs__ray_pre *pre, struct rs_ray *r, bool any, uint32_t first,
+                      bool *found, uint32_t *best_id, struct rs_hit *out_hit, uint64_t *tris)
+{
+	for (uint32_t slot = first; slot < packed->triangle_count; slot++) {
+		const float *t2 =
+		    rs_pack_texel(&packed->triangles, RS_PACK_TRIANGLE_TEXELS, slot, 2);
+		bool last = t2[3] != 0.0f;
+		if (slot != r->skip_slot) {
+			double v[3][3], t, u, w;
+			uint32_t id;
+			load_triangle(packed, slot, v, &id);
+			(*tris)++;
+			if (rs__intersect_triangle_pre(test, v[0], v[1], v[2], pre, &t, &u, &w) &&
+			    better(*found, t, id, r, *best_id)) {
+				*found = true;
+				*best_id = id;
+				record(out_hit, t, u, w, slot, id);
+				if (any)
+					return true;
+				r->tmax = t;
+			}
+		}
+		if (last)
+			break;
+	}
+	return false;
+}
+
+/* The wide walk (RS_PACK_NODES_WIDE4, docs/bvh.md "Wide nodes"), as the kernel's: a stack of
+ * child words; at an interior node every child box is tested (one box test each) and the
+ * children hit are pushed farthest first in the ray's octant order, the integer key
+ * sum_a sign(d_a) (qlo_a + qhi_a) with ties to the lower slot popped first, so the order
+ * is the same in double and fp32. Packing guarantees RS_PACK_WIDE_STACK entries suffice. */
+static bool traverse_wide(const struct rs_packed *packed, enum rs_triangle_test test,
+                          struct rs_ray *r, const struct rs__ray_pre *pre, const double inv[3],
+                          bool any, struct rs_hit *out_hit, uint64_t *boxes, uint64_t *tris)
+{
+	bool found = false;
+	uint32_t best_id = RS_NO_SLOT, stack[RS_PACK_WIDE_STACK], sp = 0, entry = 0;
+	if (packed->node_count == 0)
+		return false;
+	int32_t sign[3];
+	for (int a = 0; a < 3; a++)
+		sign[a] = r->dir[a] < 0.0 ? -1 : 1;
+	for (;;) {
+		if (entry & RS_PACK_LEAF_BIT) {
+			if (test_leaf(packed, test, pre, r, any, entry & ~RS_PACK_LEAF_BIT, &found,
+			              &best_id, out_hit, tris))
+				return true;
+		} else {
+			struct rs_pack_wide node;
+			rs_pack_read_wide(packed, entry, &node);
+			int32_t key[RS_PACK_WIDE_CHILDREN];
+			bool hit[RS_PACK_WIDE_CHILDREN];
+			for (uint32_t c = 0; c < node.children; c++) {
+				(*boxes)++;
+				hit[c] = rs_intersect_box(node.lo[c], node.hi[c], r->origin, inv,
+				                          r->tmin, r->tmax);
+				key[c] = 0;
+				for (int a = 0; a < 3; a++)
+					key[c] += sign[a] * (node.qlo[c][a] + node.qhi[c][a]);
+			}
+			/* push farthest first: c goes below every d that comes before it */
+			for (uint32_t c = 0; c < node.children; c++) {
+				if (!hit[c])
+					continue;
+				uint32_t below = 0;
+				for (uint32_t d = 0; d < node.children; d++)
+					if (hit[d] &&
+					    (key[d] > key[c] || (key[d] == key[c] && d > c)))
+						below++;
+				if (sp + below < RS_PACK_WIDE_STACK)
+					stack[sp + below] = node.child[c];
+			}
+			for (uint32_t c = 0; c < node.children; c++)
+				sp += hit[c] && sp < RS_PACK_WIDE_STACK ? 1u : 0u;
+		}
+		if (sp == 0)
+			return found;
+		entry = stack[--sp];
+	}
+}
+
 /* One walk for both queries: `any` stops at the first hit. The ray is in the packed frame. */
 static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
                      const struct rs_ray *ray, bool any, struct rs_hit *out_hit,
@@ -74,6 +160,10 @@ static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
 	uint64_t boxes = 0, tris = 0;
 	bool found = false;
 	uint32_t best_id = RS_NO_SLOT;
+	if (packed->node_format == RS_PACK_NODES_WIDE4) {
+		found = traverse_wide(packed, test, &r, &pre, inv, any, out_hit, &boxes, &tris);
+		goto done;
+	}
 	/* the node order of the ray's major direction (rs_pack.h), whose escapes are absolute */
 	uint32_t i =
 	    packed->node_orders > 1 ? rs_pack_node_order(ray->dir) * packed->node_count : 0;

@@ -1,7 +1,7 @@
 // common.glsl: the ray rules every kernel shares, in fp32, copied from the CPU reference
 // (lib/trace, docs/tracer.md): packed-texture access, slab and triangle tests, the
 // stackless walk of the threaded BVH, surface data, environment cube, spawn rule.
-// Inputs:  u_nodes (RGBA32UI compact nodes or RGBA32F paper nodes), u_tris, u_normals,
+// Inputs:  u_nodes (RGBA32UI compact or wide nodes, RGBA32F paper nodes), u_tris, u_normals,
 //          u_materials (RGBA32F; layouts in rs_pack.h), u_node_count, u_tri_count,
 //          u_material_count, u_spawn_scale (R5's S), u_grid_origin, u_grid_step (compact).
 // Every position is in the packed frame (docs/tracer.md R1): the CPU moved the camera,
@@ -11,7 +11,8 @@
 // or levels to work out, cheaper on llvmpipe (docs/gles.md), same values bit for bit.
 // Defines (gles_prelude.c, one table): RS_ROW_ITEMS, RS_ROW_SHIFT (log2 of it, -1 if not a
 //          power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY,
-//          RS_COMPACT_NODES, RS_NODE_ORDERS, RS_SCENE_BUFFERS; the rules' constants
+//          RS_COMPACT_NODES, RS_WIDE_NODES, RS_WIDE_STACK, RS_NODE_ORDERS,
+//          RS_SCENE_BUFFERS; the rules' constants
 //          RS_BOX_K (R3), RS_PARALLEL_EPS (R2), RS_SPAWN_PULL_HEIGHT, RS_SPAWN_PULL (R5);
 //          the paper's ray states RS_STATE_ACTIVE, _MISSED, _ENVIRONMENT, _DIFFUSE.
 #if RS_SCENE_BUFFERS
@@ -21,7 +22,7 @@
 #define RS_SCENE_SAMPLER highp sampler2D
 #define RS_SCENE_USAMPLER highp usampler2D
 #endif
-#if RS_COMPACT_NODES
+#if RS_COMPACT_NODES || RS_WIDE_NODES
 uniform RS_SCENE_USAMPLER u_nodes;
 uniform vec3 u_grid_origin;
 uniform vec3 u_grid_step;
@@ -202,6 +203,7 @@ bool rs_better(float t, float id, Hit best, bool found, float tmax)
 	return found ? t < best.t || (t == best.t && id < best.id) : t < tmax;
 }
 
+#if !RS_WIDE_NODES
 // Node i as both formats decode it (rs_pack_read_node): bounds, and `next` = the escape
 // (the node after a miss, at least i + 1); `first` >= 0 for a leaf's first slot, else -1.
 struct Node {
@@ -233,6 +235,7 @@ Node rs_node(int i)
 #endif
 	return n;
 }
+#endif
 
 // The last closest hit's triangle texels as the walk read them, so shading does not fetch
 // them again (a slot's texels never change, so a match by slot is always right; the
@@ -240,6 +243,121 @@ Node rs_node(int i)
 int g_hit_slot = -1;
 vec4 g_hit_v0, g_hit_v1, g_hit_v2;
 
+// A leaf's triangles from slot `first` to the one with the last flag, the closest-hit rule
+// (R4) shrinking h.t; true when `stop` (a shadow feeler) may stop at the hit found.
+bool rs_leaf(int first, Ray r, Pre p, bool stop, inout Hit h, inout bool found,
+             inout vec2 counts)
+{
+	for (int s = first; s < u_tri_count; s++) {
+		vec4 v0 = rs_tri(s, 0), v2 = rs_tri(s, 2);
+		if (s != r.skip) {
+			counts.y += 1.0;
+			vec4 v1 = rs_tri(s, 1);
+			vec3 tuv;
+			if (rs_triangle(v0.xyz, v1.xyz, v2.xyz, r, p, h.t, tuv) &&
+			    rs_better(tuv.x, v0.w, h, found, r.tmax)) {
+				found = true;
+				h = Hit(tuv.x, tuv.y, tuv.z, s, v0.w);
+				if (stop)
+					return true;
+				g_hit_slot = s;
+				g_hit_v0 = v0;
+				g_hit_v1 = v1;
+				g_hit_v2 = v2;
+			}
+		}
+		if (v2.w != 0.0)
+			break;
+	}
+	return false;
+}
+
+#if RS_WIDE_NODES
+// Child c's bound in a wide node (rs_pack_read_wide): Q = o + (q << e) on the compact grid,
+// bound = origin + Q * step, exact in fp32 (Q < 2^18) however the GPU rounds.
+vec3 rs_wide_bound(uvec3 o, uvec3 e, uvec3 words, uint c, out ivec3 q)
+{
+	uvec3 qq = o + (((words >> (8u * c)) & 0xffu) << e);
+	q = ivec3(qq);
+	return u_grid_origin + vec3(qq) * u_grid_step;
+}
+
+// The wide walk (RS_PACK_NODES_WIDE4), step for step lib/trace/traverse.c traverse_wide: a
+// stack of child words (a node index, or 0x80000000 | a leaf's first slot); at a node
+// every child box is tested (one box test each, two texel fetches for four boxes) and the
+// children hit are pushed farthest first in the ray's octant order, the integer key
+// sum_a sign(d_a) (qlo_a + qhi_a), ties to the lower slot on top; the third texel (the
+// child words) is fetched only when a box is hit. Packing refused any tree whose walk
+// could need more than RS_WIDE_STACK entries. Two loops as the binary walk's: interior
+// nodes until a leaf comes up, then its triangles.
+bool rs_traverse(Ray r, bool stop, out Hit h, inout vec2 counts)
+{
+	Pre p = rs_prepare(r);
+	h = Hit(r.tmax, 0.0, 0.0, -1, -1.0);
+	bool found = false;
+	if (u_node_count <= 0)
+		return false;
+	ivec3 sgn = ivec3(1) - 2 * ivec3(lessThan(r.d, vec3(0.0)));
+	uint stack[RS_WIDE_STACK];
+	int sp = 0;
+	uint entry = 0u;
+	while (true) {
+		while (entry < 0x80000000u) {
+			int k = int(entry);
+			uvec4 t0 = rs_fetch(u_nodes, rs_item(k, 3, 0));
+			uvec4 t1 = rs_fetch(u_nodes, rs_item(k, 3, 1));
+			uint n = t1.w >> 28;
+			uvec3 o = uvec3(t1.z & 0xffffu, t1.z >> 16, t1.w & 0xffffu);
+			uvec3 e = (uvec3(t1.w) >> uvec3(16u, 20u, 24u)) & 0xfu;
+			uvec3 wlo = t0.xyz, whi = uvec3(t0.w, t1.xy);
+			ivec4 key = ivec4(0);
+			bvec4 hit = bvec4(false);
+			for (uint c = 0u; c < 4u; c++)
+				if (c < n) {
+					ivec3 qlo, qhi;
+					vec3 lo = rs_wide_bound(o, e, wlo, c, qlo);
+					vec3 hi = rs_wide_bound(o, e, whi, c, qhi);
+					counts.x += 1.0;
+					hit[c] = rs_box(lo, hi, r, p, h.t);
+					ivec3 sk = sgn * (qlo + qhi);
+					key[c] = sk.x + sk.y + sk.z;
+				}
+			if (hit.x || hit.y || hit.z || hit.w) {
+				uvec4 words = rs_fetch(u_nodes, rs_item(k, 3, 2));
+				for (int c = 0; c < 4; c++) {
+					uint w = words[c];
+					// corrupt data never reads outside: a child node above this one,
+					// a leaf's slot below the triangle count
+					bool ok = w >= 0x80000000u ? int(w & 0x7fffffffu) < u_tri_count
+					                            : int(w) > k && int(w) < u_node_count;
+					hit[c] = hit[c] && ok;
+				}
+				int pushed = 0;
+				for (int c = 0; c < 4; c++)
+					if (hit[c]) {
+						int below = 0;
+						for (int d = 0; d < 4; d++)
+							if (hit[d] && (key[d] > key[c] || (key[d] == key[c] && d > c)))
+								below++;
+						if (sp + below < RS_WIDE_STACK)
+							stack[sp + below] = words[c];
+						pushed++;
+					}
+				sp = min(sp + pushed, RS_WIDE_STACK);
+			}
+			if (sp == 0)
+				return found;
+			entry = stack[--sp];
+		}
+		if (rs_leaf(int(entry & 0x7fffffffu), r, p, stop, h, found, counts))
+			return true;
+		if (sp == 0)
+			return found;
+		entry = stack[--sp];
+	}
+	return found;
+}
+#else
 // Stackless walk of the threaded BVH (pre-order, escape indices). `any`: stop at the first
 // hit (shadow feelers). counts += (box tests, triangle tests), as the CPU counts them.
 // Two loops, "while-while" (Aila & Laine 2009): the inner one walks boxes until this ray
@@ -282,27 +400,9 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 		}
 		if (first < 0)
 			break;
-		for (int s = first; s < u_tri_count; s++) {
-			vec4 v0 = rs_tri(s, 0), v2 = rs_tri(s, 2);
-			if (s != r.skip) {
-				counts.y += 1.0;
-				vec4 v1 = rs_tri(s, 1);
-				vec3 tuv;
-				if (rs_triangle(v0.xyz, v1.xyz, v2.xyz, r, p, h.t, tuv) &&
-				    rs_better(tuv.x, v0.w, h, found, r.tmax)) {
-					found = true;
-					h = Hit(tuv.x, tuv.y, tuv.z, s, v0.w);
-					if (any)
-						return true;
-					g_hit_slot = s;
-					g_hit_v0 = v0;
-					g_hit_v1 = v1;
-					g_hit_v2 = v2;
-				}
-			}
-			if (v2.w != 0.0)
-				break;
-		}
+		if (rs_leaf(first, r, p, any, h, found, counts))
+			return true;
 	}
 	return found;
 }
+#endif

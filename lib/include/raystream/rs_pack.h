@@ -8,8 +8,8 @@
  * with fewer items than row_items is one row of exactly its items, so every texture is
  * `width / texels_per_item` items wide, without padding at row ends.
  *
- * nodes, two formats (rs_pack_desc.nodes), both the paper's threaded pre-order array with
- * escape indices (a leaf's escape is always the next node, k + 1):
+ * nodes, three formats (rs_pack_desc.nodes); the first two are the paper's threaded pre-order
+ * array with escape indices (a leaf's escape is always the next node, k + 1):
  *   RS_PACK_NODES_COMPACT (default), 1 RGBA32UI texel per node, bounds on a 16-bit grid:
  *                                          x = qlo.x | qlo.y << 16, y = qlo.z | qhi.x << 16,
  *                                          z = qhi.y | qhi.z << 16,
@@ -21,6 +21,20 @@
  *   RS_PACK_NODES_PAPER, 3 RGBA32F texels per node: t0 = (lo.xyz, escape)
  *                                          t1 = (hi.xyz, level)       level 0 = leaf
  *                                          t2 = (first, count, order, 0)
+ *   RS_PACK_NODES_WIDE4, not threaded: a 4-wide tree collapsed from the binary one, walked
+ *     with a short stack (docs/bvh.md "Wide nodes"). 3 RGBA32UI texels per node, holding its
+ *     up to four children's boxes, child c's byte at bits 8c of each word:
+ *                                          t0 = (qlo.x, qlo.y, qlo.z, qhi.x)
+ *                                          t1 = (qhi.y, qhi.z, o.x | o.y << 16,
+ *                                                o.z | e.x << 16 | e.y << 20 | e.z << 24
+ *                                                    | children << 28)
+ *                                          t2 = (child 0, 1, 2, 3)
+ *     child bound on the compact grid: Q = o + (q << e), bound = node_grid_origin + Q *
+ *     node_grid_step (Q < 2^18, exact in fp32 as compact bounds are); lo rounded down, hi
+ *     up, so a child's box holds its compact box. Children fill slots 0 .. children - 1; a
+ *     child word is RS_PACK_LEAF_BIT | first slot for a leaf (ended by the last flag), else
+ *     the child node's index (always above its parent's). Node 0 is the root; node_count
+ *     items are reserved (the binary tree's count), the tree uses the first ones.
  * triangles (3 texels, BVH slot order):   t0 = (v0.xyz, scene triangle id)
  *                                          t1 = (v1.xyz, material id)
  *                                          t2 = (v2.xyz, last)  last = 1 on a leaf's last slot
@@ -61,6 +75,12 @@ extern "C" {
 #define RS_PACK_LEAF_BIT 0x80000000u
 /** Compact node bounds: grid positions per axis (16 bits). */
 #define RS_PACK_GRID_STEPS 65535u
+/** Wide nodes: texels a node, children a node, and the walk's stack entries. Packing
+ * refuses a tree whose walk could ever need more entries (RS_ERR_LIMIT), so the kernels'
+ * fixed stack never overflows (docs/bvh.md "Wide nodes"). */
+#define RS_PACK_WIDE_NODE_TEXELS 3u
+#define RS_PACK_WIDE_CHILDREN 4u
+#define RS_PACK_WIDE_STACK 48u
 #define RS_PACK_TRIANGLE_TEXELS 3u
 #define RS_PACK_NORMAL_TEXELS 3u
 #define RS_PACK_MATERIAL_TEXELS 3u
@@ -73,12 +93,16 @@ enum rs_texel_format {
 	RS_TEXEL_RGBA32UI = 1, /**< four 32-bit unsigned integers a texel: `words` */
 };
 
-/** Node formats (rs_pack_desc.nodes); both are the paper's threaded pre-order BVH. */
+/** Node formats (rs_pack_desc.nodes): two threaded pre-order layouts and a wide one. */
 enum rs_pack_nodes {
 	/** One RGBA32UI texel a node: one texture fetch per box instead of two or three. */
 	RS_PACK_NODES_COMPACT = 0,
 	/** The paper's three RGBA32F texels a node, exact float bounds. */
 	RS_PACK_NODES_PAPER = 1,
+	/** 4-wide nodes of quantised child boxes, 3 RGBA32UI texels testing four boxes, walked
+	 * with a stack in the ray's octant order (one node order). Exact, and 20-25 % slower
+	 * than compact on llvmpipe (docs/benchmarks.md), so not the default. */
+	RS_PACK_NODES_WIDE4 = 2,
 };
 
 /** How many pre-orders of the tree the node texture holds (rs_pack_desc.orders). */
@@ -113,7 +137,8 @@ struct rs_pack_desc {
 	/** Items per texture row; 0 -> the largest power of two that fits (max_texture_size / 3
 	 * rounded down: 512 at 2048), so kernels address items by mask and shift. */
 	uint32_t row_items;
-	/** Node format; 0 -> RS_PACK_NODES_COMPACT. */
+	/** Node format; 0 -> RS_PACK_NODES_COMPACT. Wide nodes pack one order (orders is
+	 * ignored). */
 	enum rs_pack_nodes nodes;
 	/** Node orders; 0 -> RS_PACK_ORDERS_DIRECTIONAL. */
 	enum rs_pack_orders orders;
@@ -142,7 +167,7 @@ struct rs_packed {
 	float node_grid_step[3];
 };
 
-/** One node as both formats decode it (bounds in the packed frame). */
+/** One node as both threaded formats decode it (bounds in the packed frame). */
 struct rs_pack_node {
 	float lo[3];
 	float hi[3];
@@ -150,6 +175,18 @@ struct rs_pack_node {
 	bool leaf;
 	uint32_t first; /**< leaf: first triangle slot */
 	uint32_t count; /**< leaf: triangle slots (compact: up to the slot with the last flag) */
+};
+
+/** One wide node as it decodes (RS_PACK_NODES_WIDE4; bounds in the packed frame). */
+struct rs_pack_wide {
+	uint32_t children; /**< valid slots, 0..4 */
+	float lo[RS_PACK_WIDE_CHILDREN][3];
+	float hi[RS_PACK_WIDE_CHILDREN][3];
+	/** Child bounds on the compact grid (node_grid_origin + q * node_grid_step): integers
+	 * the walk orders children by, exactly as the kernels do. */
+	int32_t qlo[RS_PACK_WIDE_CHILDREN][3];
+	int32_t qhi[RS_PACK_WIDE_CHILDREN][3];
+	uint32_t child[RS_PACK_WIDE_CHILDREN]; /**< RS_PACK_LEAF_BIT | first slot, or a node */
 };
 
 /** Texture size for `items` items of `texels_per_item` texels each, `row_items` (> 0) per row:
@@ -191,11 +228,18 @@ enum rs_status rs_pack_alloc(struct rs_packed *packed, struct rs_error *err);
 void rs_pack_free(struct rs_packed *packed);
 
 /**
- * Decode node k (< node_count) of a packed BVH in either format, as the kernels read it.
+ * Decode node k (< node_count) of a packed BVH in either threaded format (not wide4: see
+ * rs_pack_read_wide), as the kernels read it.
  * Corrupt data never reads outside the textures: an escape is at least k + 1 and a leaf's
  * slots end at triangle_count.
  */
 void rs_pack_read_node(const struct rs_packed *packed, uint32_t k, struct rs_pack_node *out);
+
+/** Decode wide node k (< node_count) of a RS_PACK_NODES_WIDE4 texture, as the kernels read
+ * it. Corrupt data never reads outside the textures: a child node index that is not above k
+ * and below node_count, or a leaf's first slot at or past triangle_count, drops the slot
+ * (the kernels drop the same). */
+void rs_pack_read_wide(const struct rs_packed *packed, uint32_t k, struct rs_pack_wide *out);
 
 /** The node order a ray with direction d walks when packed->node_orders is 6: the major axis
  * (largest |d|, ties to the lower axis) times two, plus one when that component is negative.
