@@ -1,7 +1,8 @@
 /* Per-frame vertex updates: the topology rule (what may not change between frames: counts,
  * indices, materials; lights, ambient and a bounds-derived environment follow the new scene,
- * as every backend reads them from it again) and the refit-or-rebuild step every backend runs before it repacks and
- * uploads. The rule on when to rebuild is measured in docs/bvh.md ("Refit"). */
+ * as every backend reads them from it again) and the refit-or-rebuild step every backend runs
+ * before it repacks and uploads. The rule on when to rebuild is measured in docs/bvh.md ("Refit").
+ */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -108,7 +108,7 @@ enum rs_status rs_bvh_refit(struct rs_bvh_node *nodes, size_t node_count, const 
 
 /** The refitted tree's SAH cost over the cost at its last build past which the renderers
  * rebuild instead (rs_render_desc.rebuild_ratio's default; measured in docs/bvh.md). */
-#define RS_BVH_REBUILD_RATIO 1.5
+#define RS_BVH_REBUILD_RATIO 1.15
 
 /**
  * Check every invariant listed at struct rs_bvh_node (escape against its definition,
