@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Usage: animate_cli.sh RENDER_BINARY WORK_DIR. raystream-render --animate COUNT renders
+# Usage: animate_cli.sh RENDER_BINARY WORK_DIR VIEWER_BINARY. raystream-render --animate COUNT renders
 # frames through rs_renderer_update_vertices() and names each image FILE-NNNN.png; each must
 # equal a single render of that --frame (a fresh set_scene), bit for bit on the CPU backend
 # (PNG bytes) and on EGL where a context opens. Static scenes refuse --frame in one line.
@@ -38,4 +38,25 @@ fi
 if fails_cleanly "static scene refuses --animate" 2 "does not move" --scene mirrors --backend cpu --animate 4; then
   ok "static scene refuses --animate"
 fi
+
+viewer=$3
+for mode in animate still; do
+  extra=()
+  [ "$mode" = animate ] && extra=(--animate 30 --frame 35)
+  if ! "$viewer" --scene animated --local --headless --frames 2 --backend cpu --size 32x32 \
+      --out "v_$mode" "${extra[@]}" >stdout.txt 2>stderr.txt; then
+    bad "viewer --local $mode: $(cat stderr.txt)"
+    continue
+  fi
+  if cmp -s "v_$mode/frame_000000.png" "v_$mode/frame_000001.png"; then moved=no; else moved=yes; fi
+  want=no
+  [ "$mode" = animate ] && want=yes
+  if [ $moved = $want ]; then
+    ok "viewer --local $mode: frames moved: $moved"
+  else
+    bad "viewer --local $mode: frames moved: $moved"
+  fi
+done
+"$viewer" --scene box --local --headless --frames 1 --animate 30 >stdout.txt 2>stderr.txt
+if [ $? -eq 2 ] && grep -q "does not move" stderr.txt; then ok "viewer refuses a static scene"; else bad "viewer static: $(cat stderr.txt)"; fi
 finish

@@ -88,12 +88,14 @@ static void report(const struct bench_options *o, const char *name, const char *
 	double pack = bench_summarize(f->pack_ms, n).median;
 	double upload = bench_summarize(f->upload_ms, n).median;
 	printf("%-8s %-6s %u frames: update %.2f ms (%.2f-%.2f; refit/build %.2f + pack %.2f + "
-	       "upload %.2f), %u rebuilt; set_scene %.2f ms (%.2f-%.2f): %.1fx; uploaded %.0f of "
-	       "%llu bytes (median, %.1f%%)\n  renderer: %s\n",
+	       "upload %.2f), %u rebuilt; set_scene %.2f ms (%.2f-%.2f): %.1fx",
 	       name, o->backend, n, up.median, up.min, up.max, refit, pack, upload, f->rebuilds,
-	       set.median, set.min, set.max, set.median / up.median, bytes.median,
-	       (unsigned long long)f->full_bytes, 100.0 * bytes.median / (double)f->full_bytes,
-	       renderer);
+	       set.median, set.min, set.max, set.median / up.median);
+	if (f->full_bytes) /* the CPU backend uploads nothing */
+		printf("; uploaded %.0f of %llu bytes (median, %.1f%%)", bytes.median,
+		       (unsigned long long)f->full_bytes,
+		       100.0 * bytes.median / (double)f->full_bytes);
+	printf("\n  renderer: %s\n", renderer);
 	fflush(stdout);
 	if (!o->json)
 		return;
