@@ -118,8 +118,10 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 		return code ? code : -1;
 	for (int i = 1; i < argc; ++i)
 		o->pack_set |= !strncmp(argv[i], "--nodes", 7);
-	if ((o->times || o->animate) && !cli.positional_count)
-		return rs_cli_usage_error(&cli, "--times and --animate need at least one SCENE");
+	if (o->times && !cli.positional_count)
+		return rs_cli_usage_error(&cli, "--times needs at least one SCENE");
+	if (o->animate && !cli.positional_count)
+		return rs_cli_usage_error(&cli, "--animate needs at least one SCENE");
 	if (o->times && o->animate)
 		return rs_cli_usage_error(&cli, "--times and --animate are two runs");
 	if (!o->times && !o->animate && cli.positional_count)

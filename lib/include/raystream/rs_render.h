@@ -218,7 +218,8 @@ struct rs_renderer_ops {
 	/** Optional (NULL: RS_ERR_UNSUPPORTED): move to `scene`, whose topology the caller
 	 * checked against the current one (rs_render_scene_same_topology()); refit or rebuild,
 	 * repack and upload what changed; fill the update fields of `stats`. On failure the
-	 * backend keeps no scene (the renderer then refuses to render). */
+	 * backend keeps no scene (the renderer then refuses to render), except for
+	 * RS_ERR_UNSUPPORTED, which it returns before changing anything. */
 	enum rs_status (*update_vertices)(void *impl, const struct rs_scene *scene,
 	                                  struct rs_render_stats *stats, struct rs_error *err);
 };
