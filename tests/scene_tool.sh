@@ -39,7 +39,7 @@ expect_fail "no output asked" 2 "--out-obj" --scene box
 printf 'v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n' >nan.obj
 expect_fail "nan vertex" 1 "non-finite" --scene nan.obj --info
 
-expect_fail "cow0 is no scene" 1 "cow0.*neither box, mirrors, cowN" --scene cow0 --info
+expect_fail "cow0 is no scene" 1 "cow0.*neither box, mirrors, animated, cowN" --scene cow0 --info
 # rename() over a FIFO or device replaced the node itself (--out-obj /dev/null as root).
 mkfifo fifo.obj
 expect_fail "export onto a fifo" 1 "fifo\.obj: not a regular file" --scene box --out-obj fifo.obj

@@ -151,6 +151,10 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	     .max = 1e7,
 	     .fallback = "until SIGINT/SIGTERM"},
 	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the run rendered, at exit"),
+	    RS_CLI_U32_OPT("--frame", &o->frame, 0, 10000000,
+	                   "the frame of a scene that moves (animated, cowN)"),
+	    RS_CLI_U32_OPT("--animate", &o->animate, 0, 1000,
+	                   "play a scene that moves at FPS frames a second from --frame; 0: still"),
 	};
 	struct rs_cli cli = {.prog = prog.prog,
 	                     .usage = "[options]",
@@ -180,6 +184,12 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 		return rs_cli_usage_error(&cli, "--token: longer than 64 bytes");
 	if (strlen(o->scene) > RS_STREAM_MAX_SCENE)
 		return rs_cli_usage_error(&cli, "--scene: name longer than 128 bytes");
+	if ((o->frame || o->animate) && !rs_scenegen_moves(o->scene))
+		return rs_cli_usage_error(
+		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN)", o->scene);
+	if (o->animate && o->shadows == RS_SHADOW_MAP)
+		return rs_cli_usage_error(&cli, "--animate: shadow maps are made once per scene; "
+		                                "use --shadows rays");
 	/* Output targets checked now, so a bad path fails before the run and not after it. */
 	const char *outputs[] = {o->stats, o->port_file};
 	for (size_t i = 0; i < 2; ++i) {
@@ -206,6 +216,8 @@ static int write_stats(const struct server *s, double secs)
 	                        s->frames_rendered ? s->render_ms_sum / (double)s->frames_rendered
 	                                           : 0);
 	cJSON_AddNumberToObject(doc, "disconnects", (double)s->disconnects);
+	if (s->o.animate)
+		cJSON_AddNumberToObject(doc, "scene_frame", s->scene_frame);
 	struct rs_error err = {0};
 	int code = app_write_json(s->o.stats, doc, &err) != RS_OK ? rs_cli_fail(&prog, &err) : 0;
 	cJSON_Delete(doc);
@@ -224,7 +236,7 @@ static int run(struct server *s)
 			fprintf(stderr, "raystream-server: --token must be printable ASCII\n");
 			return 2;
 		}
-	if (rs_scenegen_load(s->o.scene, &scene, &err) != RS_OK) {
+	if (rs_scenegen_load_frame(s->o.scene, s->o.frame, s->o.animate, &scene, &err) != RS_OK) {
 		fprintf(stderr, "raystream-server: %s\n", err.message);
 		return 1;
 	}

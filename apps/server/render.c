@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "raystream/rs_renderers.h"
+#include "raystream/rs_scenegen.h"
 #include "server.h"
 
 struct worker {
@@ -16,7 +17,35 @@ struct worker {
 	uint8_t *rgba, *jpg, *msg;
 	size_t jpg_cap;
 	uint32_t cursor;
+	struct rs_scene *scene; /* --animate: this renderer's frame, once it left s->scene */
+	uint32_t frame;
 };
+
+/* --animate: move this thread's renderer to the frame the clock has reached (a frame is a
+ * pure function of its number: raystream-render --frame N renders the same one). */
+static enum rs_status follow_clock(struct worker *w, struct rs_error *err)
+{
+	struct server *s = w->s;
+	double elapsed = server_now_s() - s->started_s;
+	uint32_t f = s->o.frame + (uint32_t)(elapsed > 0 ? elapsed * s->o.animate : 0);
+	if (f == w->frame)
+		return RS_OK;
+	struct rs_scene *next = NULL;
+	enum rs_status st = rs_scenegen_load_frame(s->o.scene, f, s->o.animate, &next, err);
+	if (st == RS_OK)
+		st = rs_renderer_update_vertices(w->renderer, next, err);
+	if (st != RS_OK) {
+		rs_scene_destroy(&next);
+		return st;
+	}
+	rs_scene_destroy(&w->scene); /* the renderer holds `next` now */
+	w->scene = next;
+	w->frame = f;
+	pthread_mutex_lock(&s->lock);
+	s->scene_frame = f > s->scene_frame ? f : s->scene_frame;
+	pthread_mutex_unlock(&s->lock);
+	return RS_OK;
+}
 
 static struct worker workers[SERVER_MAX_THREADS];
 
@@ -52,6 +81,8 @@ static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int q
 	struct rs_camera cam;
 	server_pose_camera(s, pose, &cam);
 	struct rs_frame frame = {.rgba8 = w->rgba};
+	if (s->o.animate && follow_clock(w, err) != RS_OK)
+		return 0;
 	double t0 = server_now_s();
 	if (rs_renderer_render(w->renderer, &cam, &frame, err) != RS_OK)
 		return 0;
@@ -152,7 +183,7 @@ int server_render_start(struct server *s, pthread_t *threads, uint32_t n)
 	for (uint32_t i = 0; i < n; ++i) {
 		struct worker *w = &workers[i];
 		struct rs_error err = {0};
-		*w = (struct worker){.s = s, .cursor = i};
+		*w = (struct worker){.s = s, .cursor = i, .frame = s->o.frame};
 		w->jpg_cap = rs_jpeg_bound(s->o.width, s->o.height);
 		w->rgba = malloc((size_t)s->o.width * s->o.height * 4u);
 		w->jpg = malloc(w->jpg_cap);
@@ -193,6 +224,7 @@ void server_render_stop(struct server *s, pthread_t *threads, uint32_t n)
 	for (uint32_t i = 0; i < SERVER_MAX_THREADS; ++i) {
 		struct worker *w = &workers[i];
 		rs_renderer_destroy(&w->renderer);
+		rs_scene_destroy(&w->scene); /* after the renderer that held it */
 		rs_jpeg_destroy(&w->jpeg);
 		free(w->rgba);
 		free(w->jpg);

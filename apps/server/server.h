@@ -32,6 +32,10 @@ struct server_options {
 	double read_timeout_s; /* slow drip / no hello */
 	double stale_s;        /* a pending frame older than this is dropped for a newer pose */
 	double duration_s;     /* 0: until SIGINT/SIGTERM */
+	/* --animate FPS: a scene that moves plays at FPS frames a second from --frame (frame =
+	 * frame + elapsed * FPS, each frame the pure function of its number that
+	 * raystream-render --frame renders); 0: the still --frame */
+	uint32_t animate, frame;
 };
 
 /* A frame buffer: one whole FRAME message. */
@@ -80,6 +84,7 @@ struct server {
 	struct viewer viewers[SERVER_SLOTS];
 	uint32_t next_viewer_id;
 	uint64_t frames_rendered, disconnects;
+	uint32_t scene_frame; /* --animate: the newest scene frame a render thread showed */
 	double render_ms_sum;
 	double started_s;
 };

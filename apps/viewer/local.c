@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "raystream/rs_renderers.h"
+#include "raystream/rs_scenegen.h"
 #include "viewer.h"
 
 /* A renderer of w x h; *direct set when it draws into the window itself. */
@@ -94,8 +95,35 @@ static struct rs_renderer *at_level(struct viewer *v, int level)
 	return v->ladder[level];
 }
 
+/* --animate: every open renderer moved to scene frame --frame + k for local frame k (a pure
+ * function of the number: raystream-render --frame renders the same); 0 on success. A
+ * smaller renderer that cannot follow is closed and reopened on the new scene when needed. */
+static int animate(struct viewer *v)
+{
+	uint32_t f = v->o.frame + (uint32_t)v->frames;
+	if (f == v->scene_frame)
+		return 0;
+	struct rs_scene *next = NULL;
+	struct rs_error err = {0};
+	if (rs_scenegen_load_frame(v->o.scene, f, v->o.animate, &next, &err) != RS_OK ||
+	    rs_renderer_update_vertices(v->local, next, &err) != RS_OK) {
+		fprintf(stderr, "raystream-viewer: frame %u: %s\n", f, err.message);
+		rs_scene_destroy(&next);
+		return -1;
+	}
+	for (int i = 1; i < APP_PACE_LEVELS; ++i)
+		if (v->ladder[i] && rs_renderer_update_vertices(v->ladder[i], next, &err) != RS_OK)
+			rs_renderer_destroy(&v->ladder[i]);
+	rs_scene_destroy(&v->scene); /* every renderer holds `next` now */
+	v->scene = next;
+	v->scene_frame = f;
+	return 0;
+}
+
 void viewer_local_frame(struct viewer *v)
 {
+	if (v->o.animate && animate(v) != 0)
+		return;
 	int level = v->pace.level;
 	struct rs_renderer *r = level > 0 ? at_level(v, level) : v->local;
 	if (!r) {

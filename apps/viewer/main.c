@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "raystream/rs_cli.h"
+#include "raystream/rs_scenegen.h"
 
 #include "app_net.h"
 #include "viewer.h"
@@ -215,6 +216,10 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	         "a fixed scale instead", "dynamic"),
 	    CALL("--predict", &o->no_predict, parse_predict, "on|off",
 	         "poses moved ahead by the latency", "on"),
+	    RS_CLI_U32_OPT("--frame", &o->frame, 0, 10000000,
+	                   "the frame of a scene that moves (animated, cowN)"),
+	    RS_CLI_U32_OPT("--animate", &o->animate, 0, 1000,
+	                   "local frame k shows scene frame --frame + k at FPS a second; 0: still"),
 	};
 	struct rs_cli cli = {.prog = "raystream-viewer",
 	                     .usage = "[options]",
@@ -235,6 +240,12 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	o->start_remote = o->server && !local;
 	if (o->verify_local && !o->server)
 		return rs_cli_usage_error(&cli, "--verify-local needs --server");
+	if ((o->frame || o->animate) && !rs_scenegen_moves(o->scene))
+		return rs_cli_usage_error(
+		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN)", o->scene);
+	if (o->animate && o->verify_local)
+		return rs_cli_usage_error(&cli, "--animate and --verify-local: the server's frames "
+		                                "move by its own --animate");
 	if (o->headless && !o->out_dir && !o->stats && !o->frames && !o->duration_s)
 		return rs_cli_usage_error(
 		    &cli, "--headless needs --out, --stats, --frames or --duration");

@@ -35,7 +35,8 @@ static int setup(struct viewer *v)
 {
 	struct rs_error err = {0};
 	const struct viewer_options *o = &v->o;
-	if (rs_scenegen_load(o->scene, &v->scene, &err) != RS_OK)
+	v->scene_frame = o->frame;
+	if (rs_scenegen_load_frame(o->scene, o->frame, o->animate, &v->scene, &err) != RS_OK)
 		return fail("", &err);
 	struct rs_pose_layout layout;
 	rs_pose_layout_default(&layout);

@@ -25,6 +25,9 @@ struct viewer_options {
 	int fixed_level;   /* --render-scale: that level of app_pace_scales, else -1 */
 	double duration_s, linger_s;
 	struct rs_view_calibration cal;
+	/* --frame N: the frame of a scene that moves; --animate FPS: local frame k shows scene
+	 * frame N + k at FPS frames a second of scene time (0: still) */
+	uint32_t frame, animate;
 };
 
 /* Latency samples kept for the median and 99th percentile. */
@@ -68,6 +71,7 @@ struct viewer {
 	/* dynamic resolution (local.c): renderers at the smaller scales, opened when first
 	 * needed (level 0 is v->local), the controller and the scaled frame's bytes */
 	struct rs_renderer *ladder[APP_PACE_LEVELS];
+	uint32_t scene_frame; /* the frame of v->scene (--frame, --animate) */
 	int ladder_direct[APP_PACE_LEVELS];
 	struct app_pace pace;
 	uint8_t *small;

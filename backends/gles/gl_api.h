@@ -22,6 +22,8 @@
 	X(void, BindRenderbuffer, (GLenum target, GLuint renderbuffer))                            \
 	X(void, BindVertexArray, (GLuint array))                                                   \
 	X(void, BufferData, (GLenum target, GLsizeiptr size, const void *data, GLenum usage))      \
+	X(void, BufferSubData,                                                                     \
+	  (GLenum target, GLintptr offset, GLsizeiptr size, const void *data))                     \
 	X(GLenum, CheckFramebufferStatus, (GLenum target))                                         \
 	X(void, ClearBufferfv, (GLenum buffer, GLint drawbuffer, const GLfloat *value))            \
 	X(void, CompileShader, (GLuint shader))                                                    \

@@ -298,6 +298,11 @@ void rs_gles_light_position(const struct gles *g, uint32_t i, GLfloat out[3]);
  * everything set_scene made. */
 enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err);
 void rs_gles_scene_delete(struct gles *g);
+/* The scene textures from g->accel.packed (what they hold now) to `next` (the same layout:
+ * sizes and formats): only runs of texel rows that differ are sent (glTexSubImage2D, or
+ * glBufferSubData for buffer storage); *out_bytes counts what was. */
+enum rs_status rs_gles_scene_update(struct gles *g, const struct rs_packed *next,
+                                    uint64_t *out_bytes, struct rs_error *err);
 /* The texture a plan's REF_* names. */
 GLuint rs_gles_target(const struct gles *g, uint8_t ref);
 

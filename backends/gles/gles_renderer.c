@@ -154,6 +154,15 @@ static enum rs_status prepare(struct gles *g, struct rs_error *err)
 	return st;
 }
 
+static uint64_t scene_bytes(const struct rs_packed *p)
+{
+	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
+	uint64_t n = 0;
+	for (int i = 0; i < 4; ++i)
+		n += (uint64_t)t[i]->width * t[i]->height * 16u;
+	return n;
+}
+
 static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
                                      const struct rs_render_desc *desc,
                                      struct rs_render_stats *stats, struct rs_error *err)
@@ -198,6 +207,7 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	}
 	if (st == RS_OK) {
 		g->gl.Finish();
+		stats->upload_bytes = scene_bytes(&g->accel.packed);
 		stats->build_ms = g->accel.build_ms;
 		stats->pack_ms = g->accel.pack_ms;
 	} else {
@@ -245,6 +255,87 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 		st = rs_gles_present(g, rs_gles_target(g, plan->result_acc), g->desc.width,
 		                     g->desc.height, stats, err);
 	g->cops->release(g->ctx);
+	return st;
+}
+
+/* Everything the compiled kernels were specialised for (build_programs) is the same in
+ * both frames and layouts: then the programs stay, and only texels change. */
+static bool same_kernels(const struct gles *g, const struct rs_packed *p,
+                         const struct rs_trace_frame *f)
+{
+	const struct rs_packed *q = &g->accel.packed;
+	const struct rs_texture *a[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
+	const struct rs_texture *b[4] = {&q->nodes, &q->triangles, &q->normals, &q->materials};
+	for (int i = 0; i < 4; ++i)
+		if (a[i]->width != b[i]->width || a[i]->height != b[i]->height ||
+		    a[i]->format != b[i]->format)
+			return false;
+	return p->row_items == q->row_items && p->node_orders == q->node_orders &&
+	       p->node_format == q->node_format && f->light_count == g->frame.light_count &&
+	       f->has_geometry == g->frame.has_geometry &&
+	       memcmp(&f->rules, &g->frame.rules, sizeof f->rules) == 0;
+}
+
+/* Per-frame vertices: refit (or rebuild) and repack in lib/render, then send the texel rows
+ * that differ from what the GPU holds. A new layout or new kernel constants (a rebuild with
+ * another node count, a scene whose size changed the rules) take the set_scene path. */
+static enum rs_status gles_update_vertices(void *impl, const struct rs_scene *scene,
+                                           struct rs_render_stats *stats, struct rs_error *err)
+{
+	struct gles *g = impl;
+	if (g->desc.shadows == RS_SHADOW_MAP || g->desc.reflections != RS_REFLECT_TRACE)
+		return rs_error_set(
+		    err, RS_ERR_UNSUPPORTED,
+		    "gles: update_vertices with shadow or environment maps (captured "
+		    "at set_scene): set_scene the moved scene");
+	struct rs_pack_desc pack;
+	enum rs_status st = pack_desc(g, &g->desc, &pack, err);
+	struct rs_render_accel next = {0};
+	if (st == RS_OK)
+		st = rs_render_accel_update(&g->accel, scene, &g->desc.bvh, &pack,
+		                            g->desc.rebuild_ratio, &next, err);
+	struct rs_trace_desc td = rs_render_trace_desc(&g->desc);
+	struct rs_trace_frame frame;
+	if (st == RS_OK)
+		st = rs_trace_frame_init(scene, &next.packed, &td, &frame, err);
+	if (st == RS_OK && !same_kernels(g, &next.packed, &frame)) {
+		double refit_ms = next.refit_ms, ratio = next.sah_ratio;
+		rs_render_accel_free(&next);
+		struct rs_render_desc d = g->desc;
+		st = gles_set_scene(g, scene, &d, stats, err);
+		stats->update_rebuilt = true; /* set_scene builds */
+		stats->update_sah_ratio = ratio;
+		stats->refit_ms = refit_ms;
+		stats->upload_bytes = st == RS_OK ? scene_bytes(&g->accel.packed) : 0;
+		return st;
+	}
+	if (st == RS_OK)
+		st = g->cops->make_current(g->ctx, err);
+	if (st != RS_OK) {
+		rs_render_accel_free(&next);
+		return st;
+	}
+	double t0 = rs_now_ms();
+	uint64_t bytes = 0;
+	st = rs_gles_scene_update(g, &next.packed, &bytes, err);
+	g->gl.Finish();
+	stats->upload_ms = rs_now_ms() - t0;
+	g->cops->release(g->ctx);
+	if (st != RS_OK) {
+		rs_render_accel_free(&next);
+		return st;
+	}
+	rs_render_accel_free(&g->accel);
+	g->accel = next;
+	g->scene = scene;
+	/* the frame points at the packed textures it was made from: made again on the kept ones */
+	st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);
+	stats->update_rebuilt = next.rebuilt;
+	stats->update_sah_ratio = next.sah_ratio;
+	stats->refit_ms = next.refit_ms;
+	stats->build_ms = next.rebuilt ? next.build_ms : 0.0;
+	stats->pack_ms = next.pack_ms;
+	stats->upload_bytes = bytes;
 	return st;
 }
 
@@ -341,12 +432,14 @@ static const struct rs_renderer_ops gles_ops_egl = {.name = "egl",
                                                     .set_scene = gles_set_scene,
                                                     .render = gles_render,
                                                     .destroy = gles_destroy,
-                                                    .describe = gles_describe};
+                                                    .describe = gles_describe,
+                                                    .update_vertices = gles_update_vertices};
 static const struct rs_renderer_ops gles_ops_osmesa = {.name = "osmesa",
                                                        .set_scene = gles_set_scene,
                                                        .render = gles_render,
                                                        .destroy = gles_destroy,
-                                                       .describe = gles_describe};
+                                                       .describe = gles_describe,
+                                                       .update_vertices = gles_update_vertices};
 
 enum rs_status rs_gles_renderer_create(const struct rs_gl_context_ops *ops, void *ctx,
                                        const struct rs_render_desc *desc, struct rs_renderer **out,

@@ -89,6 +89,63 @@ enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
 	return st;
 }
 
+/* Rows y0..y1 (exclusive) of scene texture i from `t`. */
+static void send_rows(const struct gles *g, int i, const struct rs_texture *t, uint32_t y0,
+                      uint32_t y1)
+{
+	const struct rs_gl *gl = &g->gl;
+	size_t row_bytes = (size_t)t->width * 16u;
+	const uint8_t *src = (const uint8_t *)t->texels + y0 * row_bytes;
+	if (g->storage == RS_SCENE_STORAGE_BUFFER) {
+		gl->BindBuffer(GL_TEXTURE_BUFFER, g->scene_buf[i]);
+		gl->BufferSubData(GL_TEXTURE_BUFFER, (GLintptr)(y0 * row_bytes),
+		                  (GLsizeiptr)((y1 - y0) * row_bytes), src);
+		gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
+		return;
+	}
+	bool words = t->format == RS_TEXEL_RGBA32UI;
+	gl->BindTexture(GL_TEXTURE_2D, g->scene_tex[i]);
+	gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, (GLint)y0, (GLsizei)t->width, (GLsizei)(y1 - y0),
+	                  words ? GL_RGBA_INTEGER : GL_RGBA, words ? GL_UNSIGNED_INT : GL_FLOAT,
+	                  src);
+	gl->BindTexture(GL_TEXTURE_2D, 0);
+}
+
+enum rs_status rs_gles_scene_update(struct gles *g, const struct rs_packed *next,
+                                    uint64_t *out_bytes, struct rs_error *err)
+{
+	const struct rs_packed *p = &g->accel.packed;
+	const struct rs_texture *old[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
+	const struct rs_texture *now[4] = {&next->nodes, &next->triangles, &next->normals,
+	                                   &next->materials};
+	uint64_t bytes = 0;
+	for (int i = 0; i < 4; ++i) {
+		const struct rs_texture *a = old[i], *b = now[i];
+		RS_ASSERT(a->width == b->width && a->height == b->height && a->format == b->format);
+		size_t row_bytes = (size_t)b->width * 16u;
+		/* a row is the unit: one call per run of changed rows, not per texel */
+		uint32_t y = 0;
+		while (y < b->height) {
+			const uint8_t *ra = (const uint8_t *)a->texels + y * row_bytes;
+			const uint8_t *rb = (const uint8_t *)b->texels + y * row_bytes;
+			if (memcmp(ra, rb, row_bytes) == 0) {
+				y++;
+				continue;
+			}
+			uint32_t end = y + 1;
+			while (end < b->height &&
+			       memcmp((const uint8_t *)a->texels + end * row_bytes,
+			              (const uint8_t *)b->texels + end * row_bytes, row_bytes) != 0)
+				end++;
+			send_rows(g, i, b, y, end);
+			bytes += (uint64_t)(end - y) * row_bytes;
+			y = end;
+		}
+	}
+	*out_bytes = bytes;
+	return rs_gles_check(&g->gl, "updating the scene textures", err);
+}
+
 void rs_gles_scene_delete(struct gles *g)
 {
 	const struct rs_gl *gl = &g->gl;

@@ -39,6 +39,13 @@ enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct 
 		status = rs_pack_scene(scene, out->nodes, out->node_count, out->triangle_order,
 		                       &out->packed, err);
 	out->pack_ms = rs_now_ms() - t1;
+	if (status == RS_OK) {
+		struct rs_bvh_desc resolved;
+		struct rs_bvh_stats bs;
+		rs_bvh_desc_resolve(bvh, &resolved);
+		rs_bvh_stats(out->nodes, out->node_count, resolved.traversal_cost, &bs);
+		out->build_sah = bs.sah_cost;
+	}
 	if (status != RS_OK)
 		rs_render_accel_free(out);
 	return status;

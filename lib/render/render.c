@@ -96,6 +96,9 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "render: %u items per texture row do not fit a %u-texel row",
 		                    d.pack.row_items, d.pack.max_texture_size);
+	if (isnan(d.rebuild_ratio) || d.rebuild_ratio < 0.0)
+		return rs_error_set(err, RS_ERR_INVALID, "render: rebuild ratio %g is not >= 0",
+		                    d.rebuild_ratio);
 	if (d.threads > RS_RENDER_MAX_THREADS)
 		return rs_error_set(err, RS_ERR_INVALID, "render: %u threads (at most %u)",
 		                    d.threads, RS_RENDER_MAX_THREADS);
@@ -188,6 +191,40 @@ enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct 
 		return fail(r, status, err);
 	r->desc = d;
 	r->scene = scene;
+	return RS_OK;
+}
+
+enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
+                                           const struct rs_scene *scene, struct rs_error *err)
+{
+	RS_ASSERT(renderer && scene);
+	struct rs_renderer *r = renderer;
+	rs_error_clear(&r->error);
+	if (!r->scene)
+		return fail(r, rs_error_set(&r->error, RS_ERR_INVALID, "render: no scene set"),
+		            err);
+	if (!r->ops->update_vertices)
+		return fail(r,
+		            rs_error_set(&r->error, RS_ERR_UNSUPPORTED,
+		                         "render: the %s backend cannot update vertices",
+		                         r->ops->name),
+		            err);
+	enum rs_status status = rs_render_scene_same_topology(r->scene, scene, &r->error);
+	if (status != RS_OK)
+		return fail(r, status, err);
+	struct rs_render_stats *s = &r->stats;
+	s->update_rebuilt = false;
+	s->update_sah_ratio = s->refit_ms = s->build_ms = s->pack_ms = s->upload_ms = 0.0;
+	s->upload_bytes = 0;
+	status = r->ops->update_vertices(r->impl, scene, s, &r->error);
+	/* as set_scene: a failed update leaves no scene to render, unless the backend refused
+	 * before touching anything (RS_ERR_UNSUPPORTED) */
+	if (status != RS_ERR_UNSUPPORTED)
+		r->scene = status == RS_OK ? scene : NULL;
+	if (status != RS_OK)
+		return fail(r, status, err);
+	s->updates++;
+	s->update_rebuilds += s->update_rebuilt ? 1u : 0u;
 	return RS_OK;
 }
 

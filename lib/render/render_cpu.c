@@ -191,6 +191,33 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 	return RS_OK;
 }
 
+static enum rs_status cpu_update_vertices(void *impl, const struct rs_scene *scene,
+                                          struct rs_render_stats *stats, struct rs_error *err)
+{
+	struct cpu_renderer *cpu = impl;
+	struct rs_render_accel next;
+	enum rs_status status =
+	    rs_render_accel_update(&cpu->accel, scene, &cpu->desc.bvh, &cpu->desc.pack,
+	                           cpu->desc.rebuild_ratio, &next, err);
+	if (status == RS_OK && cpu->intersector && cpu->intersector->prepare)
+		status = cpu->intersector->prepare(cpu->intersector->user, &next.packed, err);
+	if (status != RS_OK) {
+		rs_render_accel_free(&next);
+		rs_render_accel_free(&cpu->accel);
+		cpu->scene = NULL;
+		return status;
+	}
+	rs_render_accel_free(&cpu->accel);
+	cpu->accel = next;
+	cpu->scene = scene;
+	stats->update_rebuilt = next.rebuilt;
+	stats->update_sah_ratio = next.sah_ratio;
+	stats->refit_ms = next.refit_ms;
+	stats->build_ms = next.rebuilt ? next.build_ms : 0.0;
+	stats->pack_ms = next.pack_ms;
+	return RS_OK;
+}
+
 static void cpu_destroy(void *impl)
 {
 	struct cpu_renderer *cpu = impl;
@@ -212,7 +239,8 @@ static const struct rs_renderer_ops cpu_ops = {.name = "cpu",
                                                .set_scene = cpu_set_scene,
                                                .render = cpu_render,
                                                .destroy = cpu_destroy,
-                                               .describe = cpu_describe};
+                                               .describe = cpu_describe,
+                                               .update_vertices = cpu_update_vertices};
 
 enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
                                       struct rs_error *err)

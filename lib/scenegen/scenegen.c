@@ -21,6 +21,10 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 		out->kind = RS_SCENEGEN_MIRRORS;
 		return RS_OK;
 	}
+	if (strcmp(name, "animated") == 0) {
+		out->kind = RS_SCENEGEN_ANIMATED;
+		return RS_OK;
+	}
 	if (strncmp(name, "cow", 3) != 0 || name[3] < '1' || name[3] > '9')
 		goto bad;
 	for (p = name + 3; *p != '\0'; p++) {
@@ -35,7 +39,8 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 	return RS_OK;
 bad:
 	return rs_error_set(err, RS_ERR_INVALID,
-	                    "unknown scene '%.64s' (expected box, mirrors or cowN, N = 1..%u)",
+	                    "unknown scene '%.64s' (expected box, mirrors, animated or cowN, N = "
+	                    "1..%u)",
 	                    name, RS_SCENEGEN_MAX_COWS);
 }
 
@@ -52,6 +57,8 @@ enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, 
 		n = snprintf(out, size, "box");
 	else if (desc->kind == RS_SCENEGEN_MIRRORS)
 		n = snprintf(out, size, "mirrors");
+	else if (desc->kind == RS_SCENEGEN_ANIMATED)
+		n = snprintf(out, size, "animated");
 	else if (desc->kind == RS_SCENEGEN_COW)
 		n = snprintf(out, size, "cow%u", desc->cows == 0 ? 1u : (unsigned)desc->cows);
 	else
@@ -73,8 +80,13 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 		return rs_error_set(err, RS_ERR_INVALID, "cow scene: %u cows (limit %u)",
 		                    (unsigned)desc->cows, RS_SCENEGEN_MAX_COWS);
 	if (desc->kind != RS_SCENEGEN_COW && desc->kind != RS_SCENEGEN_BOX &&
-	    desc->kind != RS_SCENEGEN_MIRRORS)
+	    desc->kind != RS_SCENEGEN_MIRRORS && desc->kind != RS_SCENEGEN_ANIMATED)
 		return rs_error_set(err, RS_ERR_INVALID, "unknown scene kind %d", (int)desc->kind);
+	if (desc->frame > 0 && desc->kind != RS_SCENEGEN_COW && desc->kind != RS_SCENEGEN_ANIMATED)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "scene kind %d does not move (frame %u asked)", (int)desc->kind,
+		                    (unsigned)desc->frame);
+	uint32_t fps = desc->fps ? desc->fps : RS_SCENEGEN_DEFAULT_FPS;
 	st = rs_scene_create(NULL, &scene, err);
 	if (st != RS_OK)
 		return st;
@@ -82,14 +94,17 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 		st = sg_build_box(scene, err);
 	else if (desc->kind == RS_SCENEGEN_MIRRORS)
 		st = sg_build_mirrors(scene, err);
-	else {
+	else if (desc->kind == RS_SCENEGEN_ANIMATED || desc->kind == RS_SCENEGEN_COW) {
 		char found[4096];
 		const char *cow = desc->cow_path;
 		if (!cow &&
 		    (st = rs_scenegen_data_path("cow.obj", found, sizeof found, err)) == RS_OK)
 			cow = found;
-		if (cow)
-			st = sg_build_cows(scene, cow, desc->cows == 0 ? 1 : desc->cows, err);
+		if (cow && desc->kind == RS_SCENEGEN_ANIMATED)
+			st = sg_build_animated(scene, cow, desc->frame, fps, err);
+		else if (cow)
+			st = sg_build_cows(scene, cow, desc->cows == 0 ? 1 : desc->cows,
+			                   desc->frame, fps, err);
 	}
 	if (st != RS_OK) {
 		rs_scene_destroy(&scene);

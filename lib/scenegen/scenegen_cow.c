@@ -29,23 +29,16 @@ static void grid_shape(uint32_t n, uint32_t *cols, uint32_t *rows)
 	*rows = (n + c - 1) / c;
 }
 
-/* Adds copy i of the cow (positions/normals from `cow`) with material `mat`. */
-static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *cow, uint32_t i,
-                               uint32_t n, uint32_t mat, double *pos, float *nrm,
-                               struct rs_error *err)
+enum rs_status sg_add_cow(struct rs_scene *scene, const struct rs_scene *cow, double yaw, double gx,
+                          double gz, uint32_t mat, double *pos, float *nrm, struct rs_error *err)
 {
 	const float *p = rs_scene_positions(cow), *q = rs_scene_normals(cow);
 	size_t verts = rs_scene_vertex_count(cow);
 	struct rs_bounds b;
 	struct rs_mesh_desc d;
-	uint32_t cols, rows;
-	double a = (double)i * COW_TURN_DEG * RS_PI / 180.0, cs = cos(a), sn = sin(a);
-	double c[3], gx, gz;
-	enum rs_status st;
+	double cs = cos(yaw), sn = sin(yaw);
+	double c[3];
 
-	grid_shape(n, &cols, &rows);
-	gx = ((double)(i % cols) - 0.5 * (double)(cols - 1)) * GRID_DX;
-	gz = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * GRID_DZ;
 	rs_scene_bounds(cow, &b);
 	sg_center(&b, c);
 	for (size_t v = 0; v < verts; v++) {
@@ -67,40 +60,81 @@ static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *co
 	d.indices = rs_scene_indices(cow);
 	d.triangle_count = rs_scene_triangle_count(cow);
 	d.material = mat;
-	st = rs_scene_add_mesh(scene, &d, err);
+	return rs_scene_add_mesh(scene, &d, err);
+}
+
+/* The walk of the moving cow of an animated CowN (rs_scenegen_desc.frame): a sway of
+ * +-1.5 along z and +-25 degrees of yaw, period 4 s, zero at frame 0. */
+static void sway(uint32_t frame, uint32_t fps, double *dz, double *dyaw)
+{
+	double s = sin(2.0 * RS_PI * ((double)frame / (double)fps) / 4.0);
+	*dz = 1.5 * s;
+	*dyaw = 25.0 * RS_PI / 180.0 * s;
+}
+
+/* Adds copy i of the cow (positions/normals from `cow`) with material `mat`; copy n / 2
+ * sways when frame > 0 (the others stand still). */
+static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *cow, uint32_t i,
+                               uint32_t n, uint32_t mat, uint32_t frame, uint32_t fps, double *pos,
+                               float *nrm, struct rs_error *err)
+{
+	uint32_t cols, rows;
+	double a = (double)i * COW_TURN_DEG * RS_PI / 180.0, gx, gz, dz = 0.0, dyaw = 0.0;
+	enum rs_status st;
+
+	grid_shape(n, &cols, &rows);
+	gx = ((double)(i % cols) - 0.5 * (double)(cols - 1)) * GRID_DX;
+	gz = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * GRID_DZ;
+	if (frame > 0 && i == n / 2)
+		sway(frame, fps, &dz, &dyaw);
+	st = sg_add_cow(scene, cow, a + dyaw, gx, gz + dz, mat, pos, nrm, err);
 	if (st != RS_OK)
 		return rs_error_prefix(err, st, "cow copy %u", i);
 	return RS_OK;
 }
 
-static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                               struct rs_error *err)
+enum rs_status sg_load_cow(const char *cow_path, struct rs_scene **out, double **pos, float **nrm,
+                           struct rs_error *err)
 {
-	static const struct rs_material cow_mat = {.diffuse = {0.55f, 0.40f, 0.30f},
-	                                           .specular = 0.3f,
-	                                           .shininess = 32.0f,
-	                                           .reflectance = 0.25f};
+	enum rs_status st;
+
+	*out = NULL;
+	*pos = NULL;
+	*nrm = NULL;
+	if (cow_path == NULL)
+		return rs_error_set(err, RS_ERR_INVALID, "cow scene: no cow model path given");
+	st = rs_scene_create(NULL, out, err);
+	if (st == RS_OK)
+		st = rs_load_mesh_file(NULL, cow_path, *out, err);
+	if (st == RS_OK) {
+		*pos = malloc(rs_scene_vertex_count(*out) * 3 * sizeof(**pos));
+		*nrm = malloc(rs_scene_vertex_count(*out) * 3 * sizeof(**nrm));
+		if (*pos == NULL || *nrm == NULL)
+			st = rs_error_set(err, RS_ERR_NO_MEMORY, "cow scene: out of memory");
+	}
+	if (st != RS_OK) {
+		free(*pos);
+		free(*nrm);
+		*pos = NULL;
+		*nrm = NULL;
+		rs_scene_destroy(out);
+	}
+	return st;
+}
+
+static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uint32_t n,
+                               uint32_t frame, uint32_t fps, struct rs_error *err)
+{
 	struct rs_scene *cow = NULL;
 	float *buf = NULL;
 	double *pos = NULL;
 	uint32_t mat;
-	enum rs_status st;
+	enum rs_status st = sg_load_cow(cow_path, &cow, &pos, &buf, err);
 
-	if (cow_path == NULL)
-		return rs_error_set(err, RS_ERR_INVALID, "cow scene: no cow model path given");
-	st = rs_scene_create(NULL, &cow, err);
 	if (st == RS_OK)
-		st = rs_load_mesh_file(NULL, cow_path, cow, err);
-	if (st == RS_OK)
-		st = sg_material(scene, &cow_mat, &mat, err);
-	if (st == RS_OK) {
-		pos = malloc(rs_scene_vertex_count(cow) * 3 * sizeof(*pos));
-		buf = malloc(rs_scene_vertex_count(cow) * 3 * sizeof(*buf));
-		if (buf == NULL || pos == NULL)
-			st = rs_error_set(err, RS_ERR_NO_MEMORY, "cow scene: out of memory");
-	}
+		st = sg_material(scene, &sg_cow_material, &mat, err);
 	for (uint32_t i = 0; st == RS_OK && i < n; i++)
-		st = add_copy(scene, cow, i, n, mat, pos, buf, err);
+		st = add_copy(scene, cow, i, n, mat, frame, fps, pos, buf, err);
 	free(pos);
 	free(buf);
 	rs_scene_destroy(&cow);
@@ -148,16 +182,39 @@ static enum rs_status add_stage(struct rs_scene *scene, const struct rs_bounds *
 	return RS_OK;
 }
 
+const struct rs_material sg_cow_material = {
+    .diffuse = {0.55f, 0.40f, 0.30f}, .specular = 0.3f, .shininess = 32.0f, .reflectance = 0.25f};
+
+/* The herd's bounds at rest (frame 0): the stage, camera, lights and environment of an
+ * animated CowN stay where frame 0 has them, so every frame has the same topology and
+ * only the moving cow's vertices differ. */
+static enum rs_status rest_bounds(const char *cow_path, uint32_t n, struct rs_bounds *out,
+                                  struct rs_error *err)
+{
+	struct rs_scene *rest = NULL;
+	enum rs_status st = rs_scene_create(NULL, &rest, err);
+
+	if (st == RS_OK)
+		st = add_herd(rest, cow_path, n, 0, 1, err);
+	if (st == RS_OK)
+		rs_scene_bounds(rest, out);
+	rs_scene_destroy(&rest);
+	return st;
+}
+
 enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                             struct rs_error *err)
+                             uint32_t frame, uint32_t fps, struct rs_error *err)
 {
 	struct rs_bounds herd;
 	double c[3];
-	enum rs_status st = add_herd(scene, cow_path, n, err);
+	enum rs_status st = add_herd(scene, cow_path, n, frame, fps, err);
 
 	if (st != RS_OK)
 		return st;
-	rs_scene_bounds(scene, &herd);
+	if (frame == 0)
+		rs_scene_bounds(scene, &herd);
+	else if ((st = rest_bounds(cow_path, n, &herd, err)) != RS_OK)
+		return st;
 	sg_center(&herd, c);
 	if ((st = add_stage(scene, &herd, err)) != RS_OK ||
 	    (st = sg_frame_camera(scene, &herd, err)) != RS_OK)
@@ -170,5 +227,21 @@ enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint3
 	}
 	if ((st = sg_set_environment(scene, err)) != RS_OK)
 		return st;
+	if (frame > 0) {
+		/* the environment cube sits on the whole scene's bounds, which the swaying cow
+		 * may push out: frame 0's cube, so every frame has the same environment */
+		struct rs_scene *rest = NULL;
+		struct rs_environment env;
+		st = rs_scene_create(NULL, &rest, err);
+		if (st == RS_OK)
+			st = sg_build_cows(rest, cow_path, n, 0, fps, err);
+		if (st == RS_OK) {
+			rs_scene_environment(rest, &env);
+			st = rs_scene_set_environment(scene, &env, err);
+		}
+		rs_scene_destroy(&rest);
+		if (st != RS_OK)
+			return st;
+	}
 	return rs_scene_set_ambient(scene, 0.1, err);
 }

@@ -76,15 +76,35 @@ enum rs_status rs_scenegen_data_path(const char *file, char *out, size_t size, s
 
 enum rs_status rs_scenegen_load(const char *name, struct rs_scene **out, struct rs_error *err)
 {
+	return rs_scenegen_load_frame(name, 0, 0, out, err);
+}
+
+bool rs_scenegen_moves(const char *name)
+{
+	struct rs_scenegen_desc gen;
+	return name && rs_scenegen_parse(name, &gen, NULL) == RS_OK &&
+	       (gen.kind == RS_SCENEGEN_ANIMATED || gen.kind == RS_SCENEGEN_COW);
+}
+
+enum rs_status rs_scenegen_load_frame(const char *name, uint32_t frame, uint32_t fps,
+                                      struct rs_scene **out, struct rs_error *err)
+{
 	RS_ASSERT(name && out);
 	*out = NULL;
 	struct rs_scenegen_desc gen;
-	if (rs_scenegen_parse(name, &gen, NULL) == RS_OK)
+	if (frame > 0 && !rs_scenegen_moves(name))
+		return rs_error_set(
+		    err, RS_ERR_INVALID,
+		    "scene '%.64s' does not move: frame %u needs 'animated' or cowN", name, frame);
+	if (rs_scenegen_parse(name, &gen, NULL) == RS_OK) {
+		gen.frame = frame;
+		gen.fps = fps;
 		return rs_scenegen_build(&gen, out, err);
+	}
 	if (!is_file(name))
 		return rs_error_set(err, RS_ERR_NOT_FOUND,
-		                    "scene '%s' is neither box, mirrors, cowN (N 1..%u) nor an "
-		                    "existing file",
+		                    "scene '%s' is neither box, mirrors, animated, cowN (N 1..%u) "
+		                    "nor an existing file",
 		                    name, RS_SCENEGEN_MAX_COWS);
 	return rs_load_scene(NULL, name, out, err);
 }

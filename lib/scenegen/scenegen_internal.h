@@ -44,9 +44,26 @@ enum rs_status sg_set_environment(struct rs_scene *scene, struct rs_error *err);
  * (sg_set_environment) and ambient 0.1. */
 enum rs_status sg_finish(struct rs_scene *scene, const double lights[4][3], struct rs_error *err);
 
-/* The scene builders, into an empty scene. */
+/* The cow's material in every cow scene. */
+extern const struct rs_material sg_cow_material;
+
+/* Load the cow model into a new scene *out, with scratch for one placed copy (xyz per
+ * vertex: *pos, *nrm); the caller frees all three. Nothing is left on failure. */
+enum rs_status sg_load_cow(const char *cow_path, struct rs_scene **out, double **pos, float **nrm,
+                           struct rs_error *err);
+
+/* One copy of `cow` turned by `yaw` radians about +y (right-handed) about its bounds' centre,
+ * that centre put on (gx, gz), standing on y = 0; `pos` and `nrm` are scratch. */
+enum rs_status sg_add_cow(struct rs_scene *scene, const struct rs_scene *cow, double yaw, double gx,
+                          double gz, uint32_t mat, double *pos, float *nrm, struct rs_error *err);
+
+/* The scene builders, into an empty scene. A CowN with frame > 0 has its cow n / 2 sway
+ * (fps > 0); the stage is that of frame 0. */
 enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                             struct rs_error *err);
+                             uint32_t frame, uint32_t fps, struct rs_error *err);
+/* The animated scene (docs/scenes.md) at frame / fps seconds. */
+enum rs_status sg_build_animated(struct rs_scene *scene, const char *cow_path, uint32_t frame,
+                                 uint32_t fps, struct rs_error *err);
 enum rs_status sg_build_box(struct rs_scene *scene, struct rs_error *err);
 enum rs_status sg_build_mirrors(struct rs_scene *scene, struct rs_error *err);
 

@@ -18,6 +18,7 @@ struct bench_options {
 	uint32_t table; /* 1: hit numbers and build times; 2: fps over a render backend */
 	bool times;     /* --times: frame times of one setting per scene (was raystream-glbench) */
 	bool builds;    /* --builds: BVH build time against Embree's (builds.c) */
+	uint32_t animate; /* --animate N: per-frame update against set_scene (animate.c); 0: off */
 	uint32_t size, flat_size, none_max_tris, passes, lights, repeats, threads;
 	const char *only;                     /* --scene: one of bench_scenes, or NULL for all */
 	const char *scenes[BENCH_MAX_SCENES]; /* --times: the scenes named */
@@ -77,6 +78,7 @@ cJSON *bench_json_summary(struct bench_summary s);
 int bench_table1(const struct bench_options *o);
 int bench_table2(const struct bench_options *o);
 int bench_times(const struct bench_options *o);
-int bench_builds(const struct bench_options *o); /* BVH build time against Embree's */
+int bench_builds(const struct bench_options *o);  /* BVH build time against Embree's */
+int bench_animate(const struct bench_options *o); /* per-frame update against set_scene */
 
 #endif

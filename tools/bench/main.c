@@ -9,6 +9,8 @@
  *             raystream-glbench).
  *   --builds: BVH build time, ours against Embree's medium build on the same threads
  *             (builds.c, embree/embree_build.c).
+ *   --animate N SCENE...: per-frame vertex update (refit, repack, partial upload) against a
+ *             full set_scene, frames 1..N of scenes that move (animate.c).
  * --json FILE writes the figures beside the tables; progress goes to stderr once a run
  * has taken 2 s.
  */
@@ -76,6 +78,8 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	                    "frame times of the render options per SCENE (was raystream-glbench)"),
 	    RS_CLI_FLAG_OPT("--builds", &o->builds,
 	                    "BVH build time against Embree's medium build, same threads"),
+	    RS_CLI_U32_OPT("--animate", &o->animate, 1, 240,
+	                   "frames of each SCENE (animated, cowN): update against set_scene"),
 	    RS_CLI_CALL_OPT("--scene", &o->only, parse_scene, "NAME",
 	                    "tables: one of the paper's scenes [all]"),
 	    RS_CLI_U32_OPT("--size", &o->size, 8, 16384, "image side, pixels"),
@@ -98,7 +102,8 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	struct rs_cli cli = {
 	    .prog = "raystream-bench",
 	    .usage =
-	        "[--table 1|2] [options]  |  --builds [options]  |  --times [options] SCENE...",
+	        "[--table 1|2] [options]  |  --builds [options]  |  --times [options] SCENE...  |  "
+	        "--animate N [options] SCENE...",
 	    .about = about,
 	    .options = opts,
 	    .option_count = sizeof opts / sizeof opts[0],
@@ -115,7 +120,11 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 		o->pack_set |= !strncmp(argv[i], "--nodes", 7);
 	if (o->times && !cli.positional_count)
 		return rs_cli_usage_error(&cli, "--times needs at least one SCENE");
-	if (!o->times && cli.positional_count)
+	if (o->animate && !cli.positional_count)
+		return rs_cli_usage_error(&cli, "--animate needs at least one SCENE");
+	if (o->times && o->animate)
+		return rs_cli_usage_error(&cli, "--times and --animate are two runs");
+	if (!o->times && !o->animate && cli.positional_count)
 		return rs_cli_usage_error(&cli, "unexpected argument '%s' (scenes go with --times)",
 		                          positional[0]);
 	memcpy(o->scenes, positional, cli.positional_count * sizeof *positional);
@@ -136,7 +145,7 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	}
 	/* Table 1 renders on the CPU reference: it needs no backend opened. */
 	struct rs_error err = {0};
-	if ((o->times || o->table == 2) &&
+	if ((o->times || o->animate || o->table == 2) &&
 	    !(o->backend = rs_tool_backend_name(&cli, &o->render, &err)))
 		return rs_cli_fail(&cli, &err);
 	return 0;
@@ -157,13 +166,15 @@ int main(int argc, char **argv)
 	if (json_path) {
 		o.json = cJSON_CreateObject();
 		cJSON_AddStringToObject(o.json, "mode",
-		                        o.times        ? "times"
+		                        o.animate      ? "animate"
+		                        : o.times      ? "times"
 		                        : o.builds     ? "builds"
 		                        : o.table == 2 ? "table2"
 		                                       : "table1");
 		cJSON_AddArrayToObject(o.json, "rows");
 	}
-	code = o.times        ? bench_times(&o)
+	code = o.animate      ? bench_animate(&o)
+	       : o.times      ? bench_times(&o)
 	       : o.builds     ? bench_builds(&o)
 	       : o.table == 2 ? bench_table2(&o)
 	                      : bench_table1(&o);

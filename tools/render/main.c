@@ -1,9 +1,10 @@
 /*
- * raystream-render: render a scene (box, mirrors, cowN or a mesh file) with a backend and
- * write the image (PNG or JPEG), the primary-hit depth and a stats file, each named on
- * stdout. Options through rs_cli and rs_render_desc_set (docs/tools.md). Every failure is
- * one line on stderr and exit status 1 (2 for usage errors); no output file is ever left
- * half-written.
+ * raystream-render: render a scene (box, mirrors, animated, cowN or a mesh file) with a
+ * backend and write the image (PNG or JPEG), the primary-hit depth and a stats file, each
+ * named on stdout; a scene that moves at any --frame, or --animate frames in a row through
+ * rs_renderer_update_vertices(). Options through rs_cli and rs_render_desc_set (docs/tools.md).
+ * Every failure is one line on stderr and exit status 1 (2 for usage errors); no output file is
+ * ever left half-written.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,20 +22,24 @@ static const struct rs_cli prog = {.prog = "raystream-render"}; /* messages afte
 struct options {
 	const char *scene, *out, *stats, *depth;
 	bool jpeg; /* --out ends in .jpg or .jpeg */
+	uint32_t frame, animate, fps;
 	struct rs_render_desc desc;
 };
 
 static const char about[] =
-    "Renders SCENE (box, mirrors, cowN with N 1..1024, or an OBJ/PLY file; a FILE.json\n"
+    "Renders SCENE (box, mirrors, animated, cowN with N 1..1024, or an OBJ/PLY file; a FILE.json\n"
     "beside it, from raystream-scene, sets camera, lights and environment) and names every\n"
     "file it writes on stdout. The backend auto renders on the GPU where a GL context\n"
     "opens and says so on stderr when it falls back to cpu, the double-precision\n"
-    "reference. Render options are the library's (rs_render_desc_set), docs/render.md.\n";
+    "reference. Render options are the library's (rs_render_desc_set), docs/render.md.\n"
+    "Scenes that move (animated, cowN): --frame N renders frame N; --animate COUNT renders\n"
+    "COUNT frames from it, moving the vertices between frames (refit, partial upload), and\n"
+    "names each image and depth FILE-NNNN.ext; frame N of a run is --frame N's image.\n";
 
 /* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
 static int parse_args(int argc, char **argv, struct options *o)
 {
-	*o = (struct options){.out = NULL};
+	*o = (struct options){.fps = 30};
 	const struct rs_cli_option opts[] = {
 	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE", "what to render (required)"),
 	    {.name = "--out",
@@ -45,6 +50,10 @@ static int parse_args(int argc, char **argv, struct options *o)
 	     .fallback = "out.png"},
 	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the frame cost and counted"),
 	    RS_CLI_STRING_OPT("--depth", &o->depth, "FILE.pfm", "primary-hit distance per pixel"),
+	    RS_CLI_U32_OPT("--frame", &o->frame, 0, 10000000, "the frame of a scene that moves"),
+	    RS_CLI_U32_OPT("--animate", &o->animate, 0, 100000,
+	                   "frames to render from --frame (0: one, no numbered names)"),
+	    RS_CLI_U32_OPT("--fps", &o->fps, 1, 1000, "frames per second of the scene's motion"),
 	};
 	struct rs_cli cli = {.prog = prog.prog,
 	                     .usage = "--scene SCENE [options]",
@@ -64,6 +73,9 @@ static int parse_args(int argc, char **argv, struct options *o)
 		                          o->desc.backend, rs_renderer_backends());
 	if (!o->out && !o->stats && !o->depth)
 		o->out = "out.png";
+	if ((o->frame || o->animate > 1) && !rs_scenegen_moves(o->scene))
+		return rs_cli_usage_error(
+		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN)", o->scene);
 	if (o->out) {
 		const char *dot = strrchr(o->out, '.');
 		o->jpeg = dot && (!strcasecmp(dot, ".jpg") || !strcasecmp(dot, ".jpeg"));
@@ -128,6 +140,14 @@ static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
 	cJSON_AddNumberToObject(doc, "build_ms", st->build_ms);
 	cJSON_AddNumberToObject(doc, "pack_ms", st->pack_ms);
 	cJSON_AddNumberToObject(doc, "upload_ms", st->upload_ms);
+	if (o->animate) {
+		cJSON_AddNumberToObject(doc, "frame", o->frame + o->animate - 1);
+		cJSON_AddNumberToObject(doc, "updates", st->updates);
+		cJSON_AddNumberToObject(doc, "update_rebuilds", st->update_rebuilds);
+		cJSON_AddNumberToObject(doc, "update_sah_ratio", st->update_sah_ratio);
+		cJSON_AddNumberToObject(doc, "refit_ms", st->refit_ms);
+		cJSON_AddNumberToObject(doc, "upload_bytes", (double)st->upload_bytes);
+	}
 	if (!strcmp(st->backend, "cpu"))
 		cJSON_AddNumberToObject(doc, "threads", d->threads);
 	if (st->kernel_count) {
@@ -143,13 +163,27 @@ static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
 	return doc;
 }
 
+/* `path` for frame `frame` of an --animate run: FILE-NNNN.ext (as given without --animate). */
+static const char *frame_path(const struct options *o, const char *path, uint32_t frame, char *buf,
+                              size_t cap)
+{
+	if (!o->animate)
+		return path;
+	const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+	if (!dot || (slash && dot < slash))
+		dot = path + strlen(path);
+	snprintf(buf, cap, "%.*s-%04u%s", (int)(dot - path), path, frame, dot);
+	return buf;
+}
+
 /* The image as --out names it: PNG from the linear floats, JPEG from RGBA8. */
-static enum rs_status write_image(const struct options *o, const struct rs_frame *f, uint32_t w,
-                                  uint32_t h, struct rs_error *err)
+static enum rs_status write_image(const struct options *o, const char *path,
+                                  const struct rs_frame *f, uint32_t w, uint32_t h,
+                                  struct rs_error *err)
 {
 	if (o->jpeg)
-		return rs_jpeg_write(o->out, f->rgba8, w, h, 95, err);
-	return rs_image_write_png(o->out, f->rgb, w, h, err);
+		return rs_jpeg_write(path, f->rgba8, w, h, 95, err);
+	return rs_image_write_png(path, f->rgb, w, h, err);
 }
 
 static int run(const struct options *o)
@@ -161,7 +195,8 @@ static int run(const struct options *o)
 	uint8_t *rgba8 = NULL;
 	const char *written[3] = {NULL, NULL, NULL}; /* outputs of this run, removed on failure */
 	int code = 1;
-	if (rs_scenegen_load(o->scene, &scene, &err) != RS_OK)
+	struct rs_scene *next = NULL;
+	if (rs_scenegen_load_frame(o->scene, o->frame, o->fps, &scene, &err) != RS_OK)
 		goto done;
 	struct rs_render_desc desc = o->desc;
 	desc.counters = true;
@@ -183,16 +218,42 @@ static int run(const struct options *o)
 		goto done;
 	}
 	struct rs_frame frame = {.rgb = rgb, .rgba8 = rgba8, .depth = o->depth ? depth : NULL};
-	double t0 = rs_now_ms();
-	if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
-		goto done;
-	double ms = rs_now_ms() - t0;
-	if (o->out && write_image(o, &frame, w, h, &err) != RS_OK)
-		goto done;
-	written[0] = o->out;
-	if (o->depth && rs_image_write_pfm(o->depth, depth, w, h, 1, &err) != RS_OK)
-		goto done;
-	written[1] = o->depth;
+	double ms = 0.0;
+	uint32_t frames = o->animate ? o->animate : 1u;
+	for (uint32_t k = 0; k < frames; ++k) {
+		uint32_t f = o->frame + k;
+		/* the next frame's scene replaces this one's only once the renderer holds it */
+		if (k > 0) {
+			if (rs_scenegen_load_frame(o->scene, f, o->fps, &next, &err) != RS_OK ||
+			    rs_renderer_update_vertices(renderer, next, &err) != RS_OK)
+				goto done;
+			rs_scene_destroy(&scene);
+			scene = next;
+			next = NULL;
+		}
+		double t0 = rs_now_ms();
+		if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
+			goto done;
+		ms = rs_now_ms() - t0;
+		char names[2][4096];
+		const char *out =
+		    o->out ? frame_path(o, o->out, f, names[0], sizeof names[0]) : NULL;
+		const char *dpath =
+		    o->depth ? frame_path(o, o->depth, f, names[1], sizeof names[1]) : NULL;
+		if (out && write_image(o, out, &frame, w, h, &err) != RS_OK)
+			goto done;
+		if (dpath && rs_image_write_pfm(dpath, depth, w, h, 1, &err) != RS_OK)
+			goto done;
+		if (o->animate) { /* every frame's files are named as they are written */
+			if (out)
+				rs_cli_wrote(out);
+			if (dpath)
+				rs_cli_wrote(dpath);
+			continue;
+		}
+		written[0] = o->out;
+		written[1] = o->depth;
+	}
 	if (o->stats) {
 		cJSON *doc = stats_json(o, scene, renderer, ms);
 		enum rs_status s = doc ? rs_tool_write_json(o->stats, doc, &err)
@@ -229,6 +290,7 @@ done:
 	free(rgba8);
 	free(depth);
 	rs_renderer_destroy(&renderer);
+	rs_scene_destroy(&next);
 	rs_scene_destroy(&scene);
 	return code;
 }

@@ -92,6 +92,25 @@ enum rs_status rs_bvh_build(const struct rs_bvh_desc *desc, const float *positio
                             struct rs_error *err);
 
 /**
+ * Refit a built hierarchy to moved vertices: the same topology (escape, level, order, first,
+ * count and the triangle order are kept), every box recomputed bottom-up from `positions`
+ * (the mesh's new positions, same `indices` as at the build). One pass over the nodes and
+ * triangles, no allocation. RS_ERR_BAD_DATA, with the tree unchanged, for a NaN or
+ * infinite vertex, an index out of range or a tree whose escapes or leaves are out of
+ * range. The refitted boxes may overlap more than a build's would: compare
+ * rs_bvh_stats().sah_cost against the cost at the build to decide when to rebuild
+ * (docs/bvh.md, "Refit").
+ */
+enum rs_status rs_bvh_refit(struct rs_bvh_node *nodes, size_t node_count, const float *positions,
+                            size_t vertex_count, const uint32_t *indices,
+                            const uint32_t *triangle_order, size_t triangle_count,
+                            struct rs_error *err);
+
+/** The refitted tree's SAH cost over the cost at its last build past which the renderers
+ * rebuild instead (rs_render_desc.rebuild_ratio's default; measured in docs/bvh.md). */
+#define RS_BVH_REBUILD_RATIO 1.15
+
+/**
  * Check every invariant listed at struct rs_bvh_node (escape against its definition,
  * containment, level/order, the triangle order being a permutation). RS_OK or
  * RS_ERR_BAD_DATA with the first violation named in err.

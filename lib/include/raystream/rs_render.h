@@ -8,7 +8,9 @@
  *
  * Life cycle: create -> set_scene (builds the BVH, packs and uploads once) -> render any
  * number of frames, each with an optional camera (the tracked viewer changes only the
- * camera every frame; nothing else is uploaded) -> destroy.
+ * camera every frame; nothing else is uploaded) -> destroy. Between frames,
+ * rs_renderer_update_vertices() moves the scene's vertices (same topology): the BVH is
+ * refitted (or rebuilt past rs_render_desc.rebuild_ratio) and only what changed is uploaded.
  *
  * Threading: a renderer is used by one thread at a time. GL backends make their context
  * current in set_scene and render and release it before returning.
@@ -129,6 +131,10 @@ struct rs_render_desc {
 	const char *egl_platform;
 	/** GL backends: where the packed scene lives; the CPU backend ignores it. */
 	enum rs_scene_storage scene_storage;
+	/** rs_renderer_update_vertices(): rebuild the BVH instead of refitting it once the
+	 * refitted tree's SAH cost exceeds this many times the cost at its last build; 0 ->
+	 * RS_BVH_REBUILD_RATIO; +INFINITY: always refit. NaN or negative is refused. */
+	double rebuild_ratio;
 	/** The backend rs_renderer_open() opens when it is given no name: "auto", "cpu",
 	 * "egl", "osmesa" (rs_renderers.h); NULL -> "auto". The backends themselves ignore it;
 	 * rs_render_desc_set() points it at a static string. */
@@ -169,6 +175,15 @@ struct rs_render_stats {
 	struct rs_render_kernel_time kernels[RS_RENDER_MAX_KERNELS];
 	/** GL backends: the storage set_scene chose (never AUTO); CPU: AUTO. */
 	enum rs_scene_storage scene_storage;
+	/** Vertex updates (rs_renderer_update_vertices) since set_scene, and how many of them
+	 * rebuilt the BVH rather than refitting it. */
+	uint32_t updates, update_rebuilds;
+	bool update_rebuilt;     /**< the last update rebuilt (false: refitted) */
+	double update_sah_ratio; /**< the last refit's SAH cost over the cost at the last build */
+	double refit_ms;         /**< the last update's refit (a rebuild is in build_ms) */
+	/** Bytes of scene textures the last set_scene or update uploaded (CPU: 0); pack_ms and
+	 * upload_ms are the last update's too. */
+	uint64_t upload_bytes;
 };
 
 /** Where a frame goes; caller-owned buffers of the renderer's width * height pixels. */
@@ -202,6 +217,13 @@ struct rs_renderer_ops {
 	void (*destroy)(void *impl);
 	/** Optional: describe the device (GL_RENDERER) into `out` for stats.renderer. */
 	void (*describe)(const void *impl, char *out, size_t cap);
+	/** Optional (NULL: RS_ERR_UNSUPPORTED): move to `scene`, whose topology the caller
+	 * checked against the current one (rs_render_scene_same_topology()); refit or rebuild,
+	 * repack and upload what changed; fill the update fields of `stats`. On failure the
+	 * backend keeps no scene (the renderer then refuses to render), except for
+	 * RS_ERR_UNSUPPORTED, which it returns before changing anything. */
+	enum rs_status (*update_vertices)(void *impl, const struct rs_scene *scene,
+	                                  struct rs_render_stats *stats, struct rs_error *err);
 };
 
 /**
@@ -235,6 +257,30 @@ void rs_renderer_destroy(struct rs_renderer **renderer);
  */
 enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct rs_scene *scene,
                                      struct rs_error *err);
+
+/**
+ * Move the current scene's vertices for the next frame: `scene` replaces the scene of the
+ * last set_scene (or update) and must stay alive and unchanged as that one; it must have
+ * the same topology (vertex and triangle counts, indices, per-triangle materials and the
+ * materials); positions and normals may differ, and so may lights, ambient and environment
+ * (every backend reads them from the new scene, as set_scene would).
+ * The BVH is refitted, or rebuilt when the refitted tree's SAH cost passes
+ * rs_render_desc.rebuild_ratio times its cost at the last build; the scene is repacked
+ * and GL backends upload only the texel rows that changed. The images are those a
+ * set_scene of `scene` gives (same hits; the tree decides only the order of box tests).
+ * RS_ERR_INVALID before set_scene or for a topology change (one line naming what
+ * changed; the current scene stays); RS_ERR_UNSUPPORTED where the backend cannot update
+ * (GL shadow or environment maps, captured at set_scene). Stats: updates,
+ * update_rebuilds, update_rebuilt, update_sah_ratio, refit_ms, build_ms, pack_ms,
+ * upload_ms, upload_bytes.
+ */
+enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
+                                           const struct rs_scene *scene, struct rs_error *err);
+
+/** RS_OK when `next` has the topology of `current` (update_vertices' condition), else
+ * RS_ERR_INVALID with one line naming the first difference. */
+enum rs_status rs_render_scene_same_topology(const struct rs_scene *current,
+                                             const struct rs_scene *next, struct rs_error *err);
 
 /**
  * Render a frame. `camera` NULL: the scene's camera; else its eye, target, up and fov are
@@ -309,6 +355,10 @@ struct rs_render_accel {
 	struct rs_packed packed;
 	double build_ms; /**< rs_bvh_build() only */
 	double pack_ms;
+	double build_sah; /**< the tree's SAH cost when it was last built (refits compare) */
+	double refit_ms;  /**< rs_render_accel_update(): the refit, 0 when it rebuilt */
+	double sah_ratio; /**< rs_render_accel_update(): refitted cost / build_sah */
+	bool rebuilt;     /**< rs_render_accel_update() rebuilt rather than refitted */
 };
 
 /** Build the BVH of `scene` with `bvh` and pack it with `pack` (either NULL: defaults;
@@ -317,6 +367,20 @@ struct rs_render_accel {
 enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
                                      const struct rs_pack_desc *pack, struct rs_render_accel *out,
                                      struct rs_error *err);
+
+/**
+ * The BVH and textures of `scene`, which has the topology of the scene `accel` was built
+ * for (rs_render_scene_same_topology()), into `out`: accel's tree refitted to the new
+ * positions, or rebuilt with `bvh` when the refitted SAH cost passes `rebuild_ratio` (0:
+ * RS_BVH_REBUILD_RATIO) times accel->build_sah; then packed with `pack` into new textures
+ * of the same layout when the node count is unchanged. `accel` is left as it was (a GL
+ * backend compares the two to upload only the changed rows). Free `out` with
+ * rs_render_accel_free(), also after a failure.
+ */
+enum rs_status rs_render_accel_update(const struct rs_render_accel *accel,
+                                      const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
+                                      const struct rs_pack_desc *pack, double rebuild_ratio,
+                                      struct rs_render_accel *out, struct rs_error *err);
 
 /** Free what rs_render_accel_build() allocated and zero the struct; NULL is allowed. */
 void rs_render_accel_free(struct rs_render_accel *accel);

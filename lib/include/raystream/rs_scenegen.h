@@ -9,6 +9,7 @@
 #ifndef RS_SCENEGEN_H
 #define RS_SCENEGEN_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -35,7 +36,14 @@ enum rs_scenegen_kind {
 	/** Table 3's scene: mirror spheres and a mirror torus that reflect each other and
 	 * themselves, 25,254 triangles (docs/scenes.md) */
 	RS_SCENEGEN_MIRRORS = 2,
+	/** Things that move (docs/scenes.md): two cows walking a circle, one turning in the
+	 * middle, a mirror orbiting them; 17,484 triangles; rs_scenegen_desc.frame and fps
+	 * place them */
+	RS_SCENEGEN_ANIMATED = 3,
 };
+
+/** Frames per second when rs_scenegen_desc.fps is 0. */
+#define RS_SCENEGEN_DEFAULT_FPS 30u
 
 /** What to build; zero-initialised means Cow1 with the shipped cow. */
 struct rs_scenegen_desc {
@@ -44,12 +52,18 @@ struct rs_scenegen_desc {
 	/** Path of the cow model for RS_SCENEGEN_COW; NULL: the shipped cow.obj, found by
 	 * rs_scenegen_data_path(). */
 	const char *cow_path;
+	/** Scenes that move (ANIMATED, and COW, whose cow N / 2 sways): the frame shown, at
+	 * time frame / fps seconds, a pure function of the two (no clock); frame 0 of a COW
+	 * scene is the still one. Other kinds refuse a frame > 0. Every frame of one scene has
+	 * the same topology (rs_renderer_update_vertices() takes any after any). */
+	uint32_t frame;
+	uint32_t fps; /**< 0 -> RS_SCENEGEN_DEFAULT_FPS */
 };
 
 /**
- * Parse a scene name: "box", "mirrors", or "cowN" with N = 1..RS_SCENEGEN_MAX_COWS written without
- * leading zeros (lower case). Fills *out (cow_path NULL); on failure returns RS_ERR_INVALID
- * with a message naming the bad name.
+ * Parse a scene name: "box", "mirrors", "animated" or "cowN" with N = 1..RS_SCENEGEN_MAX_COWS
+ * written without leading zeros (lower case). Fills *out (cow_path NULL); on failure returns
+ * RS_ERR_INVALID with a message naming the bad name.
  */
 enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
                                  struct rs_error *err);
@@ -91,6 +105,15 @@ enum rs_status rs_scenegen_data_path(const char *file, char *out, size_t size,
  * beside it (rs_load_scene()). RS_ERR_NOT_FOUND names a name that is none of these.
  */
 enum rs_status rs_scenegen_load(const char *name, struct rs_scene **out, struct rs_error *err);
+
+/** rs_scenegen_load() of frame `frame` at `fps` (0: RS_SCENEGEN_DEFAULT_FPS) of a scene that
+ * moves ("animated", "cowN"); frame 0 of any scene is rs_scenegen_load()'s; RS_ERR_INVALID
+ * for frame > 0 of one that does not move. */
+enum rs_status rs_scenegen_load_frame(const char *name, uint32_t frame, uint32_t fps,
+                                      struct rs_scene **out, struct rs_error *err);
+
+/** Whether the scene named `name` moves with its frame ("animated", "cowN"). */
+bool rs_scenegen_moves(const char *name);
 
 /**
  * Export a scene: an OBJ with positions, normals and one object per run of triangles
