@@ -141,6 +141,28 @@ static void random_mesh_tree_is_independent_of_threads(void **state)
 	}
 }
 
+/* Builds one after another in one process, as a renderer does on every set_scene: the
+ * builder's scratch comes from memory the previous build freed, which held its own
+ * placeholders for deferred subtrees. A node must never be taken for a placeholder because
+ * of what that memory held (it was: a stale level sent subtrees to the wrong places, and
+ * a Release build crashed or packed a broken tree). ASan's quarantine keeps freed memory
+ * from being reused, so it is the Release run of this test that would catch it. */
+static void repeated_builds_are_independent_of_earlier_ones(void **state)
+{
+	(void)state;
+	for (int k = 0; k < 24; k++) {
+		struct mesh m = random_mesh(20000 + (size_t)(k % 3) * 1500);
+		struct built one = build(&m, 1), many = build(&m, 2 + (uint32_t)(k % 3));
+		assert_int_equal(many.count, one.count);
+		assert_memory_equal(many.nodes, one.nodes, one.count * sizeof *one.nodes);
+		assert_memory_equal(many.order, one.order, m.tris * sizeof *one.order);
+		built_free(&one);
+		built_free(&many);
+		free(m.pos);
+		free(m.idx);
+	}
+}
+
 /* 300,000 triangles on two threads: subtrees of n / 8 records, above the size at which the
  * upper nodes bin in chunks on the threads; a subtree, already on a thread, must bin on its
  * own (two threads, one build each: a nested loop on the threads would hang or race). */
@@ -253,6 +275,7 @@ int main(void)
 	    cmocka_unit_test(random_mesh_tree_is_independent_of_threads),
 	    cmocka_unit_test(signed_zeros_and_duplicates_are_independent_of_threads),
 	    cmocka_unit_test(big_subtrees_bin_on_their_own_thread),
+	    cmocka_unit_test(repeated_builds_are_independent_of_earlier_ones),
 	    cmocka_unit_test(threads_keep_the_sah_cost),
 	    cmocka_unit_test(thread_count_is_validated),
 	    cmocka_unit_test(bad_input_is_named_the_same_on_threads),

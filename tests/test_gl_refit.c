@@ -53,7 +53,10 @@ static void check(const char *backend, enum rs_scene_storage storage, const char
 	assert_non_null(fresh);
 	struct rs_scene *s[4] = {frame_scene(name, 0)};
 	struct rs_error err;
-	assert_int_equal(rs_renderer_set_scene(moved, s[0], &err), RS_OK);
+	enum rs_status first = rs_renderer_set_scene(moved, s[0], &err);
+	if (first != RS_OK)
+		fprintf(stderr, "set_scene: %s\n", err.message);
+	assert_int_equal(first, RS_OK);
 	uint64_t full = rs_renderer_stats(moved)->upload_bytes;
 	assert_true(full > 0);
 	for (int i = 0; i < count; ++i) {

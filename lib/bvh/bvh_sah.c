@@ -644,6 +644,10 @@ void rs_bvh__build_subtree(const struct rs_bvh__sah *s, struct rs_bvh__scratch *
 		out->parent[k] = t.parent;
 		node->first = 0;
 		node->count = 0;
+		/* Levels are set by rs_bvh__finalize(); until then a placeholder is told apart by
+		 * its level alone (place_subtrees(), stitch()), so every other node must not hold a
+		 * stale RS_BVH_DEFERRED from reused memory. */
+		node->level = 0;
 		if (t.end - t.begin <= out->defer) {
 			node->level = RS_BVH_DEFERRED;
 			node->first = (uint32_t)out->deferred_count;
