@@ -146,6 +146,9 @@ enum rs_optical_verdict {
 	                                     reported pose, constant velocity) beyond both
 	                                     poses' stated errors and a hand's acceleration
 	                                     (rs_pose_step_score()) */
+	RS_OPTICAL_SPOT_SIZE = 9,       /**< a marker's spot differs in size between the views
+	                                     beyond the other markers' (another light on its
+	                                     epipolar line, docs/optical.md) */
 };
 
 /** Constant name of a verdict ("RS_OPTICAL_REPROJECTION"); never NULL. */
@@ -178,6 +181,10 @@ struct rs_optical_quality {
 	double marker_chi2;        /**< worst marker's chi-square of its two sides (2 degrees) */
 	double side_chi2;          /**< side-length chi-square of the triple (3 degrees) */
 	double step_score;         /**< rs_pose_step_score() from the prediction (0: none) */
+	double fault_rotation_rad; /**< the largest rotation error one gross centroid fault along
+	                                an epipolar line could cause and still pass the side
+	                                tests (docs/optical.md, "Faults the sides cannot see") */
+	double fault_position_m;   /**< the same for the display origin's position */
 };
 
 struct rs_optical_tracker;
