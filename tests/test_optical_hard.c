@@ -40,10 +40,12 @@ struct seq {
 	double se_rot, se_pos, st_rot, st_pos;
 };
 
-static void seq_open(struct seq *s, double baseline)
+static void seq_open_masked(struct seq *s, double baseline, const struct rs_optical_mask *mask1)
 {
 	memset(s, 0, sizeof *s);
 	struct rs_optical_tracker_desc d = {.centroid_sigma_px = SIGMA_PX};
+	if (mask1)
+		d.mask[1] = *mask1;
 	make_rig(baseline, &d.rig);
 	s->rig = d.rig;
 	rs_pose_layout_default(&s->layout);
@@ -52,6 +54,11 @@ static void seq_open(struct seq *s, double baseline)
 	 * noise (depth, ~0.2 mm at 0.05 px, 1 m and a 0.4 m baseline). */
 	struct rs_pose_solver_desc sd = {.noise_sigma_m = 0.0003};
 	assert_int_equal(rs_pose_solver_create(&sd, &s->layout, &s->solver, NULL), RS_OK);
+}
+
+static void seq_open(struct seq *s, double baseline)
+{
+	seq_open_masked(s, baseline, NULL);
 }
 
 static void seq_close(struct seq *s, const char *name)
@@ -305,6 +312,78 @@ static void test_marker_like_stray_within_fault_bound(void **state)
 	stray_runs(1);
 }
 
+/* A marker-like light where the room always shows one (a lamp), on camera 1's epipolar line
+ * of a marker hidden there, 2 mm out along camera 0's ray: unmasked, the side lengths
+ * cannot refuse it (up to 30x the stated error, test_marker_like_stray_within_fault_bound);
+ * with a mask rectangle over it the blob is not used and counted, and no pose is wrong. A
+ * rectangle that only reaches into a marker's 3 px centroid margin refuses that marker. */
+static void test_camera_mask_refuses_a_static_light(void **state)
+{
+	(void)state;
+	struct rng r = {.s = 1919};
+	g_ghost_sigma = 2.4;
+	g_ghost_level = 240;
+	int masked_frames = 0, frames = 0, unmasked_bad = 0;
+	for (int trial = 0; trial < 6; ++trial) {
+		struct rs_pose T;
+		facing_pose(&r, &T);
+		int k = trial % 3;
+		double X[3], G[3], u, w;
+		struct seq probe;
+		seq_open(&probe, 0.4);
+		rs_pose_transform_point(&T, probe.layout.markers[k], X);
+		double n = sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+		for (int c = 0; c < 3; ++c)
+			G[c] = X[c] * (1 + 0.002 / n);
+		project_point(&probe.rig, 1, G, &u, &w);
+		double ghost[1][2][2] = {{{NAN, NAN}, {u, w}}};
+		/* unmasked: the wrong pose the mask is for (printed) */
+		probe.dt = 1.0;
+		seq_frame(&probe, &T, k + 1, ghost, 1, (uint64_t)trial);
+		unmasked_bad += probe.worst > MAX_RATIO;
+		rs_optical_tracker_destroy(&probe.tracker);
+		rs_pose_solver_destroy(&probe.solver);
+		struct rs_optical_mask m = {.count = 1};
+		m.rects[0] = (struct rs_optical_rect){(int)u - 6, (int)w - 6, 13, 13};
+		struct seq s;
+		seq_open_masked(&s, 0.4, &m);
+		s.dt = 1.0;
+		struct rs_optical_quality oq = seq_frame(&s, &T, k + 1, ghost, 1, (uint64_t)trial);
+		masked_frames += oq.blobs_masked[1] == 1;
+		frames++;
+		seq_close(&s, "masked static light");
+		/* a rectangle 1-2 px beyond a clean marker's spot (radius ~3.2 px): inside its
+		 * centroid window */
+		project_point(&s.rig, 1, X, &u, &w);
+		m.rects[0] = (struct rs_optical_rect){(int)u + 5, (int)w - 2, 4, 4};
+		seq_open_masked(&s, 0.4, &m);
+		s.dt = 1.0;
+		oq = seq_frame(&s, &T, 0, NULL, 0, (uint64_t)trial);
+		assert_int_equal(oq.blobs_masked[1], 1);
+		assert_int_not_equal(oq.verdict, RS_OPTICAL_SOLVED);
+		seq_close(&s, "mask next to a marker");
+	}
+	printf("# unmasked: %d of 6 frames a good pose beyond %.0fx its stated error\n",
+	       unmasked_bad, MAX_RATIO);
+	assert_int_equal(masked_frames, frames);
+	g_ghost_sigma = 1.6;
+	g_ghost_level = 150;
+}
+
+/* A bad mask is refused at creation. */
+static void test_bad_mask_refused(void **state)
+{
+	(void)state;
+	struct rs_optical_tracker_desc d = {.centroid_sigma_px = SIGMA_PX};
+	make_rig(0.4, &d.rig);
+	struct rs_optical_tracker *t = NULL;
+	d.mask[0].count = 1; /* an empty rectangle */
+	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_ERR_INVALID);
+	d.mask[0].count = RS_OPTICAL_MAX_MASK_RECTS + 1;
+	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_ERR_INVALID);
+	assert_null(t);
+}
+
 /* The display mirrored in a glossy table 10 cm below camera 0 (y down): a dimmer copy of
  * all three markers, congruent, so its triple fits the layout as well as the display's.
  * From the first frame (no history: ambiguous) and after five clean frames (the last
@@ -478,6 +557,8 @@ int main(void)
 	    cmocka_unit_test(test_markers_at_the_corners),
 	    cmocka_unit_test(test_stray_spot_on_hidden_markers_epipolar_line),
 	    cmocka_unit_test(test_marker_like_stray_within_fault_bound),
+	    cmocka_unit_test(test_camera_mask_refuses_a_static_light),
+	    cmocka_unit_test(test_bad_mask_refused),
 	    cmocka_unit_test(test_reflection_of_the_display),
 	    cmocka_unit_test(test_clean_frames_at_the_law),
 	    cmocka_unit_test(test_stated_error_includes_distortion),

@@ -134,6 +134,19 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 		d.epipolar_gate_px = std::max(2.0, 6.0 * std::sqrt(2.0) * d.centroid_sigma_px);
 	if (d.side_tolerance_m == 0.0)
 		d.side_tolerance_m = 0.01;
+	for (int v = 0; v < 2; ++v) {
+		const rs_optical_mask &m = d.mask[v];
+		if (m.count > RS_OPTICAL_MAX_MASK_RECTS)
+			return rs_error_set(
+			    err, RS_ERR_INVALID,
+			    "optical tracker: camera %d mask has %u rectangles (at most %d)", v,
+			    m.count, RS_OPTICAL_MAX_MASK_RECTS);
+		for (uint32_t k = 0; k < m.count; ++k)
+			if (!(m.rects[k].width > 0 && m.rects[k].height > 0))
+				return rs_error_set(
+				    err, RS_ERR_INVALID,
+				    "optical tracker: camera %d mask rectangle %u is empty", v, k);
+	}
 	if (!detect_desc_valid(dd) || !(d.epipolar_gate_px > 0) ||
 	    !std::isfinite(d.epipolar_gate_px) || !(d.centroid_sigma_px > 0) ||
 	    !std::isfinite(d.centroid_sigma_px) || !(d.side_tolerance_m > 0) ||
@@ -393,11 +406,22 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 			const rs_optical_camera &c = t->d.rig.cam[v];
 			q.blobs_at_edge[v] = t->counts[v].at_edge;
 			q.blobs_crowded[v] = t->counts[v].crowded;
+			q.blobs_masked[v] = t->counts[v].masked;
 			t->raw[v].clear();
 			t->area[v].clear();
 			for (const rs_optical_blob &b : t->blobs[v]) {
 				if (external && near_edge(c, b)) {
 					q.blobs_at_edge[v]++;
+					continue;
+				}
+				// No window: the spot reaches a pixel of radius and the margin.
+				const int reach = k_centroid_margin_px + 1;
+				if (external &&
+				    window_masked(&t->d.mask[v], (int)std::floor(b.x + 0.5) - reach,
+				                  (int)std::floor(b.y + 0.5) - reach,
+				                  (int)std::floor(b.x + 0.5) + reach + 1,
+				                  (int)std::floor(b.y + 0.5) + reach + 1)) {
+					q.blobs_masked[v]++;
 					continue;
 				}
 				t->raw[v].emplace_back(b.x, b.y);
@@ -566,7 +590,8 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 	}
 	try {
 		for (int v = 0; v < 2; ++v) {
-			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v], &t->counts[v]);
+			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v], &t->counts[v],
+			       &t->d.mask[v]);
 			if (t->blobs[v].size() > k_max_blobs)
 				t->blobs[v].resize(k_max_blobs);
 		}

@@ -117,6 +117,24 @@ enum rs_status rs_optical_detect(const struct rs_optical_detect_desc *desc,
                                  size_t cap, size_t *out_n, struct rs_error *err);
 
 /** Tracker options; zero means default. */
+/** Most rectangles in one camera's mask. */
+#define RS_OPTICAL_MAX_MASK_RECTS 16
+
+/** A pixel rectangle: columns x .. x + width - 1, rows y .. y + height - 1. */
+struct rs_optical_rect {
+	int32_t x, y, width, height;
+};
+
+/**
+ * Image regions of one camera to ignore (a lamp, a window, a glossy surface that the room
+ * always shows): a blob whose centroid window (its pixels and the 3 px the centroid's
+ * flanks need) touches one is not used, and counted in the quality's blobs_masked.
+ */
+struct rs_optical_mask {
+	struct rs_optical_rect rects[RS_OPTICAL_MAX_MASK_RECTS];
+	uint32_t count; /**< rects used (0: no mask) */
+};
+
 struct rs_optical_tracker_desc {
 	struct rs_optical_rig rig;            /**< required (checked) */
 	struct rs_pose_layout layout;         /**< all zero: rs_pose_layout_default() */
@@ -125,6 +143,7 @@ struct rs_optical_tracker_desc {
 	                                           max(2, 6 sqrt(2) centroid_sigma_px)) */
 	double centroid_sigma_px;             /**< expected centroid noise (0.3), for quality */
 	double side_tolerance_m;              /**< worst side-length mismatch of a triple (0.01) */
+	struct rs_optical_mask mask[2];       /**< per camera: regions to ignore (none) */
 };
 
 /** Why a frame pair gave no markers (or RS_OPTICAL_SOLVED when it did). */
@@ -185,6 +204,7 @@ struct rs_optical_quality {
 	                                an epipolar line could cause and still pass the side
 	                                tests (docs/optical.md, "Faults the sides cannot see") */
 	double fault_position_m;   /**< the same for the display origin's position */
+	uint32_t blobs_masked[2];  /**< blobs not used: window touches the camera's mask */
 };
 
 struct rs_optical_tracker;
