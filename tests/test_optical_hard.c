@@ -193,7 +193,9 @@ static void test_spots_walk_across_each_edge(void **state)
 		for (int e = 0; e < 4; ++e) {
 			struct seq s;
 			seq_open(&s, 0.4);
-			int edge_blobs = 0;
+			char name[64];
+			snprintf(name, sizeof name, "edge %s, camera %d", names[e], v);
+			int edge_blobs = 0, other_sees = 0;
 			for (double off = -4; off <= 8; off += 0.5) {
 				double u = W / 2.0 - 40, w = H / 2.0 - 30;
 				if (e == 0)
@@ -209,11 +211,27 @@ static void test_spots_walk_across_each_edge(void **state)
 				struct rs_optical_quality oq =
 				    seq_frame(&s, &T, 0, NULL, 0, (uint64_t)(off * 4 + 100));
 				edge_blobs += oq.blobs_at_edge[v] > 0;
+				/* the other camera: does it see all three markers 4 px inside? */
+				int inside = 1;
+				for (int i = 0; i < 3; ++i) {
+					double X[3], x, y;
+					rs_pose_transform_point(&T, s.layout.markers[i], X);
+					project_point(&s.rig, !v, X, &x, &y);
+					inside &= x >= 4 && y >= 4 && x <= W - 5 && y <= H - 5;
+				}
+				other_sees += inside;
 			}
-			char name[64];
-			snprintf(name, sizeof name, "edge %s, camera %d", names[e], v);
 			/* the frames with the spot cut by the edge say so */
 			assert_true(edge_blobs >= 8);
+			/* Camera 1 is 0.4 m to the side and toed in: ~8 % farther from the display,
+			 * its field there is wider than camera 0's, and a marker at its left, top
+			 * or bottom edge is outside camera 0's image (24-37 px beyond it at 1 m;
+			 * docs/optical.md): no partner to match, TOO_FEW_MATCHES. Such a run solves
+			 * nothing, honestly. */
+			printf("# %s: the other camera sees all markers in %d of 25 frames\n", name,
+			       other_sees);
+			if (!other_sees)
+				assert_int_equal(s.good, 0);
 			seq_close(&s, name);
 		}
 }
