@@ -132,21 +132,19 @@ void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], con
 			for (int sign = -1; sign <= 1; sign += 2) {
 				const cv::Vec3d u = rays[i][v] * (double)sign;
 				// Grow d geometrically until the gate refuses, then bisect the
-				// edge.
+				// edge to 1 % of d (a bound, not a measurement).
 				double lo = 0, hi = 1e-4;
 				while (hi < max_d && passes_moved(layout_sides, P, S, i, u, hi)) {
 					lo = hi;
-					hi *= 1.3;
+					hi *= 1.5;
 				}
-				if (hi >= max_d)
-					lo = max_d;
-				else
-					for (int it = 0; it < 12; ++it) {
-						double mid = 0.5 * (lo + hi);
-						(passes_moved(layout_sides, P, S, i, u, mid) ? lo
-						                                             : hi) =
-						    mid;
-					}
+				for (int it = 0; hi < max_d && it < 6; ++it) {
+					double mid = 0.5 * (lo + hi);
+					(passes_moved(layout_sides, P, S, i, u, mid) ? lo : hi) =
+					    mid;
+				}
+				// The refused edge: a bound errs outwards.
+				lo = std::min(hi, max_d);
 				cv::Vec3d Q[3] = {P[0], P[1], P[2]};
 				Q[i] += lo * u;
 				rs_pose T;
