@@ -78,6 +78,19 @@ static void test_video_source_reads_sequence(void **state)
 	rs_track_source_destroy(&src);
 	rs_pose_solver_destroy(&solver);
 
+	/* A mask over all of camera 0 (mask0=, two rectangles): every blob there is refused and
+	 * counted, no markers. */
+	char masked[600];
+	snprintf(masked, sizeof masked, "%s&mask0=0,0,%d,%d+5,5,1,1", rest, W, H);
+	assert_int_equal(rs_optical_open_uri("video", masked, &src, &err), RS_OK);
+	assert_int_equal(rs_track_source_read(src, &s, 100, NULL), RS_OK);
+	assert_int_equal(s.marker_count, 0);
+	struct rs_optical_quality oq;
+	assert_true(rs_optical_source_quality(src, &oq));
+	assert_int_equal(oq.blobs_masked[0], 3);
+	assert_int_equal(oq.blobs_masked[1], 0);
+	rs_track_source_destroy(&src);
+
 	/* Mismatched frame sizes: the right stream is narrower than calibrated. */
 	write_sequence(dir, W / 2);
 	assert_int_equal(rs_optical_open_uri("video", rest, &src, &err), RS_OK);
@@ -107,6 +120,10 @@ static void test_video_source_bad_input(void **state)
 	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&speed=2", RS_ERR_PARSE},
 	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&sigma_px=-1", RS_ERR_PARSE},
 	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&sigma_px=0.1x", RS_ERR_PARSE},
+	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&mask0=1,2,3", RS_ERR_PARSE},
+	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&mask1=1,2,0,4", RS_ERR_PARSE},
+	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&mask1=1,2,3,4+", RS_ERR_PARSE},
+	    {"%s/l_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml&mask0=1,2,3,4x", RS_ERR_PARSE},
 	    {"%s/x_%%02d.png,%s/r_%%02d.png?calib=%s/rig.yaml", RS_ERR_IO}, /* unreadable */
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {

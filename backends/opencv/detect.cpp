@@ -42,8 +42,21 @@ static bool window_has_other(const cv::Mat &labels, int i, int x0, int y0, int x
 	return false;
 }
 
+bool window_masked(const rs_optical_mask *mask, int x0, int y0, int x1, int y1)
+{
+	if (!mask)
+		return false;
+	for (uint32_t k = 0; k < mask->count && k < RS_OPTICAL_MAX_MASK_RECTS; ++k) {
+		const rs_optical_rect &r = mask->rects[k];
+		if (x0 < (int64_t)r.x + r.width && r.x < x1 && y0 < (int64_t)r.y + r.height &&
+		    r.y < y1)
+			return true;
+	}
+	return false;
+}
+
 void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &s,
-            std::vector<rs_optical_blob> &out, DetectCounts *counts)
+            std::vector<rs_optical_blob> &out, DetectCounts *counts, const rs_optical_mask *mask)
 {
 	out.clear();
 	if (counts)
@@ -72,6 +85,13 @@ void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &
 		if (x0 < 0 || y0 < 0 || x1 > img.cols || y1 > img.rows) {
 			if (counts)
 				counts->at_edge++;
+			continue;
+		}
+		// A region the user masked (a lamp, a glossy surface the room always shows): its
+		// light is not a marker's, and a marker next to it has a biased background.
+		if (window_masked(mask, x0, y0, x1, y1)) {
+			if (counts)
+				counts->masked++;
 			continue;
 		}
 		// Another bright region (a neighbouring spot, a lamp, a saturated reflection)

@@ -6,6 +6,7 @@
 // fails is not reported: a wrong pose must never come back good.
 #include "optical_internal.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rs_optical
@@ -87,6 +88,79 @@ void side_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Mat
 	}
 }
 
+// The pose of markers P (layout id order): false when degenerate.
+static bool fit_pose(const rs_pose_layout &layout, const cv::Vec3d P[3], rs_pose *T)
+{
+	double model[3][3], measured[3][3];
+	for (int i = 0; i < 3; ++i)
+		for (int k = 0; k < 3; ++k) {
+			model[i][k] = layout.markers[i][k];
+			measured[i][k] = P[i][k];
+		}
+	rs_pose M;
+	if (rs_pose_fit((const double(*)[3])model, (const double(*)[3])measured, 3, &M, nullptr,
+	                nullptr) != RS_OK)
+		return false;
+	rs_pose_compose(&M, &layout.T_markers_display, T);
+	return true;
+}
+
+// Whether the gate's side tests pass with marker i moved by d along u.
+static bool passes_moved(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
+                         int i, const cv::Vec3d &u, double d)
+{
+	cv::Vec3d Q[3] = {P[0], P[1], P[2]};
+	Q[i] += d * u;
+	double total, mc[3];
+	side_chi2(layout_sides, Q, S, &total, mc);
+	return total <= RS_OPTICAL_CHI2_3DOF && mc[0] <= RS_OPTICAL_CHI2_2DOF &&
+	       mc[1] <= RS_OPTICAL_CHI2_2DOF && mc[2] <= RS_OPTICAL_CHI2_2DOF;
+}
+
+void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], const cv::Vec3d P[3],
+                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], double *out_rot,
+                 double *out_pos)
+{
+	*out_rot = *out_pos = INFINITY;
+	rs_pose T0;
+	if (!fit_pose(layout, P, &T0))
+		return;
+	double rot = 0, pos = 0;
+	const double max_d = 0.1; // beyond 10 cm the labelling refuses the triple anyway
+	for (int i = 0; i < 3; ++i)
+		for (int v = 0; v < 2; ++v)
+			for (int sign = -1; sign <= 1; sign += 2) {
+				const cv::Vec3d u = rays[i][v] * (double)sign;
+				// Grow d geometrically until the gate refuses, then bisect the
+				// edge to 1 % of d (a bound, not a measurement).
+				double lo = 0, hi = 1e-4;
+				while (hi < max_d && passes_moved(layout_sides, P, S, i, u, hi)) {
+					lo = hi;
+					hi *= 1.5;
+				}
+				for (int it = 0; hi < max_d && it < 6; ++it) {
+					double mid = 0.5 * (lo + hi);
+					(passes_moved(layout_sides, P, S, i, u, mid) ? lo : hi) =
+					    mid;
+				}
+				// The refused edge: a bound errs outwards.
+				lo = std::min(hi, max_d);
+				cv::Vec3d Q[3] = {P[0], P[1], P[2]};
+				Q[i] += lo * u;
+				rs_pose T;
+				if (!fit_pose(layout, Q, &T))
+					return;
+				double d[3];
+				for (int k = 0; k < 3; ++k)
+					d[k] = T.position[k] - T0.position[k];
+				rot = std::max(rot, rs_pose_angle_between(&T, &T0));
+				pos = std::max(pos,
+				               std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+			}
+	*out_rot = rot;
+	*out_pos = pos;
+}
+
 } // namespace rs_optical
 
 extern "C" const char *rs_optical_verdict_name(enum rs_optical_verdict v)
@@ -110,6 +184,8 @@ extern "C" const char *rs_optical_verdict_name(enum rs_optical_verdict v)
 		return "RS_OPTICAL_AMBIGUOUS";
 	case RS_OPTICAL_STEP:
 		return "RS_OPTICAL_STEP";
+	case RS_OPTICAL_SPOT_SIZE:
+		return "RS_OPTICAL_SPOT_SIZE";
 	}
 	return "RS_OPTICAL_UNKNOWN";
 }

@@ -24,12 +24,17 @@ const int k_centroid_margin_px = 3;
 // Blobs refused as measurements: window cut by the image edge, or shared with another
 // bright region.
 struct DetectCounts {
-	uint32_t at_edge = 0, crowded = 0;
+	uint32_t at_edge = 0, crowded = 0, masked = 0;
 };
 
-// Blobs of `img` passing the gates, largest first; `counts` (may be null) the refused ones.
+// Blobs of `img` passing the gates, largest first; `counts` (may be null) the refused ones;
+// `mask` (may be null) the regions a blob's window must not touch.
 void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &s,
-            std::vector<rs_optical_blob> &out, DetectCounts *counts);
+            std::vector<rs_optical_blob> &out, DetectCounts *counts,
+            const rs_optical_mask *mask = nullptr);
+
+// Whether the window [x0, x1) x [y0, y1) overlaps a rectangle of `mask` (may be null).
+bool window_masked(const rs_optical_mask *mask, int x0, int y0, int x1, int y1);
 
 } // namespace rs_optical
 

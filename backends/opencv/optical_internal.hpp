@@ -58,6 +58,13 @@ cv::Matx22d centroid_weight(const rs_optical_camera &c, cv::Point2d undistorted)
 void side_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
                double *out_total, double out_marker[3]);
 
+// The largest pose error (rotation rad, position m) one gross centroid fault could cause
+// and still pass the side tests: a centroid moved along its epipolar line moves marker i
+// along the other camera's ray, rays[i][v] (unit, v the camera whose ray it is).
+void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], const cv::Vec3d P[3],
+                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], double *out_rot,
+                 double *out_pos);
+
 } // namespace rs_optical
 
 #endif

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
@@ -51,7 +52,32 @@ struct Options {
 	std::string a, b, calib, layout;
 	double rate_hz = 60.0;
 	double sigma_px = 0.0; // centroid noise the gate and the stated errors use (0: default)
+	rs_optical_mask mask[2] = {};
 };
+
+// mask0=X,Y,W,H[+X,Y,W,H...]: one camera's rectangles to ignore.
+bool parse_mask(const std::string &v, rs_optical_mask *m)
+{
+	*m = rs_optical_mask{};
+	size_t pos = 0;
+	while (pos <= v.size()) {
+		size_t plus = v.find('+', pos);
+		std::string r =
+		    v.substr(pos, plus == std::string::npos ? std::string::npos : plus - pos);
+		long x, y, w, h;
+		int used = 0;
+		if (m->count >= RS_OPTICAL_MAX_MASK_RECTS ||
+		    std::sscanf(r.c_str(), "%ld,%ld,%ld,%ld%n", &x, &y, &w, &h, &used) != 4 ||
+		    used != (int)r.size() || w <= 0 || h <= 0 || w > 16384 || h > 16384 ||
+		    x < -16384 || x > 16384 || y < -16384 || y > 16384)
+			return false;
+		m->rects[m->count++] = {(int32_t)x, (int32_t)y, (int32_t)w, (int32_t)h};
+		if (plus == std::string::npos)
+			return true;
+		pos = plus + 1;
+	}
+	return false;
+}
 
 rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
 {
@@ -92,11 +118,17 @@ rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
 			if (*end || !(o->sigma_px >= 1e-4 && o->sigma_px <= 100))
 				return rs_error_set(err, RS_ERR_PARSE, "%s: bad sigma_px '%.40s'",
 				                    scheme, v.c_str());
+		} else if (k == "mask0" || k == "mask1") {
+			if (!parse_mask(v, &o->mask[k[4] - '0']))
+				return rs_error_set(
+				    err, RS_ERR_PARSE,
+				    "%s: bad %s '%.40s' (X,Y,W,H[+X,Y,W,H], at most %d)", scheme,
+				    k.c_str(), v.c_str(), RS_OPTICAL_MAX_MASK_RECTS);
 		} else {
-			return rs_error_set(
-			    err, RS_ERR_PARSE,
-			    "%s: unknown option '%.40s' (calib, layout, rate, sigma_px)", scheme,
-			    k.c_str());
+			return rs_error_set(err, RS_ERR_PARSE,
+			                    "%s: unknown option '%.40s' (calib, layout, rate, "
+			                    "sigma_px, mask0, mask1)",
+			                    scheme, k.c_str());
 		}
 		if (amp == std::string::npos)
 			break;
@@ -161,6 +193,8 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 		return st;
 	rs_optical_tracker_desc d{};
 	d.centroid_sigma_px = o.sigma_px;
+	d.mask[0] = o.mask[0];
+	d.mask[1] = o.mask[1];
 	if ((st = rs_optical_rig_load(o.calib.c_str(), &d.rig, err)) != RS_OK)
 		return st;
 	if (!o.layout.empty() &&

@@ -28,6 +28,9 @@ const double k_prior_max_age_s = 0.1;
 // about the last pose's error, adds to the stated errors instead.
 const double k_velocity_tc_s = 0.0;
 const double k_prior_reach_m = 0.02;
+// Spot-size agreement of a marker between the views (spot_sizes_agree()).
+const double k_spot_size_ratio = 2.0;
+const double k_spot_size_px = 4.0;
 
 struct Pair {
 	int i, j;    // blob indices in view 0 and 1
@@ -45,6 +48,7 @@ struct rs_optical_tracker {
 	DetectScratch scratch;
 	std::vector<rs_optical_blob> blobs[2];
 	std::vector<cv::Point2d> raw[2], und[2];
+	std::vector<double> area[2];   // thresholded area of each raw centroid's spot (0: unknown)
 	std::vector<cv::Matx22d> W[2]; // each centroid's inverse covariance per sigma^2
 	DetectCounts counts[2];
 	std::vector<Pair> pairs;
@@ -130,6 +134,19 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 		d.epipolar_gate_px = std::max(2.0, 6.0 * std::sqrt(2.0) * d.centroid_sigma_px);
 	if (d.side_tolerance_m == 0.0)
 		d.side_tolerance_m = 0.01;
+	for (int v = 0; v < 2; ++v) {
+		const rs_optical_mask &m = d.mask[v];
+		if (m.count > RS_OPTICAL_MAX_MASK_RECTS)
+			return rs_error_set(
+			    err, RS_ERR_INVALID,
+			    "optical tracker: camera %d mask has %u rectangles (at most %d)", v,
+			    m.count, RS_OPTICAL_MAX_MASK_RECTS);
+		for (uint32_t k = 0; k < m.count; ++k)
+			if (!(m.rects[k].width > 0 && m.rects[k].height > 0))
+				return rs_error_set(
+				    err, RS_ERR_INVALID,
+				    "optical tracker: camera %d mask rectangle %u is empty", v, k);
+	}
 	if (!detect_desc_valid(dd) || !(d.epipolar_gate_px > 0) ||
 	    !std::isfinite(d.epipolar_gate_px) || !(d.centroid_sigma_px > 0) ||
 	    !std::isfinite(d.centroid_sigma_px) || !(d.side_tolerance_m > 0) ||
@@ -294,6 +311,33 @@ static bool settle_by_prior(const rs_optical_tracker &t, double time_s, const cv
 	return d_best <= k_prior_reach_m && d_other > std::max(3.0 * d_best, k_prior_reach_m);
 }
 
+// One LED seen by both cameras makes spots of about the same size in each (the views are
+// 1 m away and 0.4 m apart: distance and emission angle differ little), and the three
+// markers of one display change alike from one view to the other. A marker whose
+// view-1/view-0 area ratio is off the other two's by more than 2x (and 4 px) pairs a spot
+// with another light on its epipolar line: where that line runs along the display's
+// normal the side lengths cannot see it (docs/optical.md). Unknown areas (0, blobs from
+// elsewhere) are not tested.
+static bool spot_sizes_agree(const rs_optical_tracker &t, const std::vector<Pair> &P,
+                             const int best[3])
+{
+	double a0[3], a1[3], lr[3];
+	for (int k = 0; k < 3; ++k) {
+		a0[k] = t.area[0][P[best[k]].i];
+		a1[k] = t.area[1][P[best[k]].j];
+		if (!(a0[k] > 0) || !(a1[k] > 0))
+			return true;
+		lr[k] = std::log(a1[k] / a0[k]);
+	}
+	for (int k = 0; k < 3; ++k) {
+		double ref = 0.5 * (lr[(k + 1) % 3] + lr[(k + 2) % 3]);
+		if (std::fabs(lr[k] - ref) > std::log(k_spot_size_ratio) &&
+		    std::fabs(a1[k] - a0[k] * std::exp(ref)) > k_spot_size_px)
+			return false;
+	}
+	return true;
+}
+
 // The display pose of the labelled markers, and whether it follows the last reported one
 // (constant velocity) within both poses' stated errors and a hand's acceleration.
 static rs_optical_verdict step_gate(const rs_optical_tracker &t, const cv::Vec3d pts[3],
@@ -362,13 +406,26 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 			const rs_optical_camera &c = t->d.rig.cam[v];
 			q.blobs_at_edge[v] = t->counts[v].at_edge;
 			q.blobs_crowded[v] = t->counts[v].crowded;
+			q.blobs_masked[v] = t->counts[v].masked;
 			t->raw[v].clear();
+			t->area[v].clear();
 			for (const rs_optical_blob &b : t->blobs[v]) {
 				if (external && near_edge(c, b)) {
 					q.blobs_at_edge[v]++;
 					continue;
 				}
+				// No window: the spot reaches a pixel of radius and the margin.
+				const int reach = k_centroid_margin_px + 1;
+				if (external &&
+				    window_masked(&t->d.mask[v], (int)std::floor(b.x + 0.5) - reach,
+				                  (int)std::floor(b.y + 0.5) - reach,
+				                  (int)std::floor(b.x + 0.5) + reach + 1,
+				                  (int)std::floor(b.y + 0.5) + reach + 1)) {
+					q.blobs_masked[v]++;
+					continue;
+				}
 				t->raw[v].emplace_back(b.x, b.y);
+				t->area[v].push_back(b.area_px);
 			}
 			q.blobs[v] = (uint32_t)t->raw[v].size();
 			if (t->raw[v].empty())
@@ -438,6 +495,11 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 		q.verdict = RS_OPTICAL_AMBIGUOUS;
 		return RS_OK;
 	}
+	if (!spot_sizes_agree(*t, P, best)) {
+		q.side_error_m = best_worst;
+		q.verdict = RS_OPTICAL_SPOT_SIZE;
+		return RS_OK;
+	}
 	double sq = 0, sig = 0, s2 = t->d.centroid_sigma_px * t->d.centroid_sigma_px;
 	cv::Vec3d pts[3];
 	cv::Matx33d cov[3];
@@ -460,6 +522,17 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 	q.side_error_m = best_worst;
 	q.sigma_m = std::sqrt(sig / 3.0);
 	pose_error_law(t->d.layout, pts, cov, &q.rotation_rms_rad, &q.position_rms_m);
+	{
+		// A stray spot on marker id's epipolar line in one view moves it along the
+		// other view's ray: rays[id][v] is camera v's.
+		cv::Vec3d c1 = -(R.t() * tv), rays[3][2];
+		for (int id = 0; id < 3; ++id) {
+			rays[id][0] = pts[id] / cv::norm(pts[id]);
+			rays[id][1] = (pts[id] - c1) / cv::norm(pts[id] - c1);
+		}
+		fault_bound(t->d.layout, t->layout_sides, pts, cov, rays, &q.fault_rotation_rad,
+		            &q.fault_position_m);
+	}
 	q.verdict = gate(*t, pts, cov, q);
 	rs_pose pose;
 	if (q.verdict == RS_OPTICAL_SOLVED)
@@ -517,7 +590,8 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 	}
 	try {
 		for (int v = 0; v < 2; ++v) {
-			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v], &t->counts[v]);
+			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v], &t->counts[v],
+			       &t->d.mask[v]);
 			if (t->blobs[v].size() > k_max_blobs)
 				t->blobs[v].resize(k_max_blobs);
 		}

@@ -207,12 +207,15 @@ static void print_pose(const struct rs_track_source *src, const struct rs_marker
 	       rs_pose_status_name(q->status), q->residual_rms_m * 1e3, q->min_height_m * 1e3,
 	       q->markers_used);
 #ifdef RS_HAVE_OPTICAL
-	/* An optical sample's own stated error (its triangulation, lens distortion included)
-	 * and, when it gave no markers, why. */
+	/* An optical sample's own stated error (its triangulation, lens distortion included),
+	 * the error one undetectable stray spot could add (its fault bound) and, when it gave
+	 * no markers, why. */
 	struct rs_optical_quality oq;
 	if (rs_optical_source_quality(src, &oq))
-		printf(" stated=%.3fdeg/%.3fmm optical=%s", oq.rotation_rms_rad * 180.0 / RS_PI,
-		       oq.position_rms_m * 1e3, rs_optical_verdict_name(oq.verdict));
+		printf(" stated=%.3fdeg/%.3fmm fault=%.3fdeg/%.3fmm optical=%s",
+		       oq.rotation_rms_rad * 180.0 / RS_PI, oq.position_rms_m * 1e3,
+		       oq.fault_rotation_rad * 180.0 / RS_PI, oq.fault_position_m * 1e3,
+		       rs_optical_verdict_name(oq.verdict));
 #else
 	(void)src;
 #endif

@@ -117,6 +117,24 @@ enum rs_status rs_optical_detect(const struct rs_optical_detect_desc *desc,
                                  size_t cap, size_t *out_n, struct rs_error *err);
 
 /** Tracker options; zero means default. */
+/** Most rectangles in one camera's mask. */
+#define RS_OPTICAL_MAX_MASK_RECTS 16
+
+/** A pixel rectangle: columns x .. x + width - 1, rows y .. y + height - 1. */
+struct rs_optical_rect {
+	int32_t x, y, width, height;
+};
+
+/**
+ * Image regions of one camera to ignore (a lamp, a window, a glossy surface that the room
+ * always shows): a blob whose centroid window (its pixels and the 3 px the centroid's
+ * flanks need) touches one is not used, and counted in the quality's blobs_masked.
+ */
+struct rs_optical_mask {
+	struct rs_optical_rect rects[RS_OPTICAL_MAX_MASK_RECTS];
+	uint32_t count; /**< rects used (0: no mask) */
+};
+
 struct rs_optical_tracker_desc {
 	struct rs_optical_rig rig;            /**< required (checked) */
 	struct rs_pose_layout layout;         /**< all zero: rs_pose_layout_default() */
@@ -125,6 +143,7 @@ struct rs_optical_tracker_desc {
 	                                           max(2, 6 sqrt(2) centroid_sigma_px)) */
 	double centroid_sigma_px;             /**< expected centroid noise (0.3), for quality */
 	double side_tolerance_m;              /**< worst side-length mismatch of a triple (0.01) */
+	struct rs_optical_mask mask[2];       /**< per camera: regions to ignore (none) */
 };
 
 /** Why a frame pair gave no markers (or RS_OPTICAL_SOLVED when it did). */
@@ -146,6 +165,9 @@ enum rs_optical_verdict {
 	                                     reported pose, constant velocity) beyond both
 	                                     poses' stated errors and a hand's acceleration
 	                                     (rs_pose_step_score()) */
+	RS_OPTICAL_SPOT_SIZE = 9,       /**< a marker's spot differs in size between the views
+	                                     beyond the other markers' (another light on its
+	                                     epipolar line, docs/optical.md) */
 };
 
 /** Constant name of a verdict ("RS_OPTICAL_REPROJECTION"); never NULL. */
@@ -178,6 +200,11 @@ struct rs_optical_quality {
 	double marker_chi2;        /**< worst marker's chi-square of its two sides (2 degrees) */
 	double side_chi2;          /**< side-length chi-square of the triple (3 degrees) */
 	double step_score;         /**< rs_pose_step_score() from the prediction (0: none) */
+	double fault_rotation_rad; /**< the largest rotation error one gross centroid fault along
+	                                an epipolar line could cause and still pass the side
+	                                tests (docs/optical.md, "Faults the sides cannot see") */
+	double fault_position_m;   /**< the same for the display origin's position */
+	uint32_t blobs_masked[2];  /**< blobs not used: window touches the camera's mask */
 };
 
 struct rs_optical_tracker;
