@@ -190,11 +190,11 @@ static void refused_where_it_cannot_work(void **state)
 	assert_non_null(strstr(err.message, "has 5"));
 	rs_renderer_destroy(&r);
 	rs_scene_destroy(&five);
+	/* The faces have a size of their own: a frame need not be square. */
 	desc.height = SIZE / 2;
 	r = gl_open("egl", &desc);
 	struct rs_scene *s = facing_spheres(0);
-	assert_int_equal(rs_renderer_set_scene(r, s, &err), RS_ERR_UNSUPPORTED);
-	assert_non_null(strstr(err.message, "square"));
+	assert_int_equal(rs_renderer_set_scene(r, s, &err), RS_OK);
 	rs_renderer_destroy(&r);
 	rs_scene_destroy(&s);
 }

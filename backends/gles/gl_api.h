@@ -19,6 +19,9 @@
 	X(void, BindBuffer, (GLenum target, GLuint buffer))                                        \
 	X(void, BindFramebuffer, (GLenum target, GLuint framebuffer))                              \
 	X(void, BindTexture, (GLenum target, GLuint texture))                                      \
+	X(void, BlitFramebuffer,                                                                   \
+	  (GLint srcX0, GLint srcY0, GLint srcX1, GLint srcY1, GLint dstX0, GLint dstY0,           \
+	   GLint dstX1, GLint dstY1, GLbitfield mask, GLenum filter))                              \
 	X(void, BindRenderbuffer, (GLenum target, GLuint renderbuffer))                            \
 	X(void, BindVertexArray, (GLuint array))                                                   \
 	X(void, BufferData, (GLenum target, GLsizeiptr size, const void *data, GLenum usage))      \

@@ -26,6 +26,9 @@ static const char *format_name(GLenum format, double *bytes)
 	case GL_RGB16F:
 		*bytes = 6.0;
 		return "RGB16F";
+	case GL_RGBA16F:
+		*bytes = 8.0;
+		return "RGBA16F";
 	case GL_DEPTH_COMPONENT32F:
 		*bytes = 4.0;
 		return "DEPTH32F";

@@ -63,13 +63,13 @@ static enum rs_status visibility(const struct gles *g, const struct rs_gles_prog
 /* Bind what step `s` reads to its program (made current). */
 static void bind_inputs(const struct gles *g, const struct rs_gles_plan *plan,
                         const struct rs_gles_step *s, const struct rs_gles_program *p,
-                        const struct rs_camera *camera, float near)
+                        const struct rs_camera *camera, float near, GLsizei w, GLsizei h)
 {
 	const struct rs_gl *gl = &g->gl;
 	if (s->bind & BIND_SCENE)
 		rs_gles_scene_uniforms(g, p);
 	if (s->bind & BIND_CAMERA)
-		rs_gles_camera_uniforms(g, p, camera);
+		rs_gles_camera_uniforms(g, p, camera, (uint32_t)w, (uint32_t)h);
 	if (s->bind & BIND_NEAR)
 		rs_gles_uniform_f(gl, p, U_NEAR, near);
 	if (s->bind & BIND_ENVMAP)
@@ -98,7 +98,7 @@ enum rs_status rs_gles_plan_run(struct gles *g, const struct rs_gles_plan *plan,
 		const struct rs_gles_program *p = &g->prog[s->prog];
 		double t0 = rs_now_ms();
 		g->gl.UseProgram(p->id);
-		bind_inputs(g, plan, s, p, camera, near);
+		bind_inputs(g, plan, s, p, camera, near, w, h);
 		if (s->raster) {
 			st = visibility(g, p, camera, rs_gles_target(g, s->out[0]), stats, t0, err);
 			continue;
@@ -183,4 +183,61 @@ enum rs_status rs_gles_readback(struct gles *g, const struct rs_gles_plan *plan,
 		stats->counters_valid = true;
 	}
 	return rs_gles_check(gl, "reading the frame back", err);
+}
+
+bool rs_gles_face_probe(struct gles *g, GLuint cube)
+{
+	const struct rs_gl *gl = &g->gl;
+	gl->BindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+	gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, 0);
+	for (int i = 0; i < 4; ++i)
+		gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i,
+		                         GL_TEXTURE_2D, 0, 0);
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+	                         GL_TEXTURE_CUBE_MAP_POSITIVE_X, cube, 0);
+	bool ok = gl->CheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+	return ok;
+}
+
+/* A blit, not a draw: the colour is the plan's last target already, and the copy converts
+ * to half floats and reverses columns in one step (no kernel of its own). Source and face
+ * are two attachments of the renderer's own framebuffer (no second framebuffer to make):
+ * colour 0 is read, colour 1 drawn. */
+enum rs_status rs_gles_to_face(struct gles *g, const struct rs_gles_plan *plan, GLuint cube,
+                               int face, GLsizei n, bool mirror, struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	static const GLenum bufs[2] = {GL_NONE, GL_COLOR_ATTACHMENT1};
+	gl->BindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+	                         rs_gles_target(g, plan->result_acc), 0);
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1,
+	                         GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)face, cube, 0);
+	for (int i = 2; i < 4; ++i)
+		gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i,
+		                         GL_TEXTURE_2D, 0, 0);
+	gl->ReadBuffer(GL_COLOR_ATTACHMENT0);
+	gl->DrawBuffers(2, bufs);
+	enum rs_status st = RS_OK;
+	if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+		st = rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                  "gles: a cube map face is not a complete render target");
+	if (st == RS_OK)
+		gl->BlitFramebuffer(0, 0, n, n, mirror ? n : 0, 0, mirror ? 0 : n, n,
+		                    GL_COLOR_BUFFER_BIT, GL_NEAREST);
+	/* the next draw attaches its own targets; the face is not left attached */
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
+	return st == RS_OK ? rs_gles_check(gl, "a cube map face", err) : st;
+}
+
+enum rs_status rs_gles_read_face(struct gles *g, const struct rs_gles_plan *plan, GLsizei n,
+                                 struct rs_error *err)
+{
+	const struct rs_gl *gl = &g->gl;
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+	                         rs_gles_target(g, plan->result_acc), 0);
+	gl->ReadBuffer(GL_COLOR_ATTACHMENT0);
+	gl->ReadPixels(0, 0, n, n, GL_RGBA, GL_FLOAT, g->scratch);
+	return rs_gles_check(gl, "reading a cube map face back", err);
 }

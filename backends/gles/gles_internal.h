@@ -204,8 +204,13 @@ struct gles {
 	GLuint color;                /* RGBA8 display target */
 	GLuint depth;                /* raster primary: depth renderbuffer */
 	GLuint shadow, shadow_depth; /* shadow maps: R32F array (6 faces a light), depth */
-	GLuint envmap;               /* RS_REFLECT_ENVMAP: RGB16F cube map (gles_envmap.c) */
-	bool envmap_ready;           /* captured: later passes read it instead of tracing */
+	GLuint envmap;               /* RS_REFLECT_ENVMAP: RGBA16F cube map (gles_envmap.c) */
+	/* Cube map captures: the face side (desc.envmap_size), and whether a face of an
+	 * RGBA16F cube map is a complete colour attachment here (probed at set_scene: the
+	 * faces are then copied on the GPU, else read back and uploaded). */
+	uint32_t face_size;
+	bool face_direct;
+	bool envmap_ready; /* captured: later passes read it instead of tracing */
 	/* RS_REFLECT_INTERREFLECT (gles_interreflect.c): the objects, their triangle -> object
 	 * texture, two sets of cube maps (bounce k writes one set and reads the other), the set
 	 * the next pass reads (-1: none yet). */
@@ -244,6 +249,18 @@ enum rs_status rs_gles_display(struct gles *g, const struct rs_gles_plan *plan,
 enum rs_status rs_gles_readback(struct gles *g, const struct rs_gles_plan *plan,
                                 const struct rs_frame *frame, struct rs_render_stats *stats,
                                 struct rs_error *err);
+
+/* Cube map faces (the captures, gles_envmap.c): rs_gles_face_probe() says whether face 0 of
+ * RGBA16F cube map `cube` is a complete colour attachment of the renderer's framebuffer;
+ * then
+ * rs_gles_to_face() copies the plan's colour, n x n texels from the origin, into face `face`
+ * on the GPU (columns reversed with `mirror`), and otherwise rs_gles_read_face() reads them
+ * (RGBA floats) into g->scratch for an upload. The frame's framebuffer is bound after each. */
+bool rs_gles_face_probe(struct gles *g, GLuint cube);
+enum rs_status rs_gles_to_face(struct gles *g, const struct rs_gles_plan *plan, GLuint cube,
+                               int face, GLsizei n, bool mirror, struct rs_error *err);
+enum rs_status rs_gles_read_face(struct gles *g, const struct rs_gles_plan *plan, GLsizei n,
+                                 struct rs_error *err);
 
 /* ---- 4 programs and scene storage ---------------------------------------------------- */
 
@@ -285,9 +302,10 @@ void rs_gles_uniform_3fv(const struct rs_gl *gl, const struct rs_gles_program *p
                          const GLfloat *v);
 /* The packed textures and the frame description's constants (rs_trace_frame), in fp32. */
 void rs_gles_scene_uniforms(const struct gles *g, const struct rs_gles_program *p);
-/* Camera basis (rs_trace_view: eye in the packed frame, R1), size, fov, lens shift. */
+/* Camera basis for a w x h image (rs_trace_view: eye in the packed frame, R1), size, fov,
+ * lens shift. */
 void rs_gles_camera_uniforms(const struct gles *g, const struct rs_gles_program *p,
-                             const struct rs_camera *c);
+                             const struct rs_camera *c, uint32_t w, uint32_t h);
 /* The cube maps and whether pass `pass` reads them (RS_REFLECT_ENVMAP, _INTERREFLECT). */
 void rs_gles_envmap_uniforms(const struct gles *g, const struct rs_gles_program *p, uint32_t pass);
 /* Light i of the frame in the packed frame (R1), rounded to fp32. */
@@ -355,8 +373,12 @@ enum rs_status rs_gles_shadow_maps(struct gles *g, struct rs_error *err);
 /* gles_envmap.c. RS_REFLECT_ENVMAP (and _INTERREFLECT, for rays leaving no mirror): the
  * classic cube map captured from the centre of the scene's bounds (PLAN_ENVMAP). */
 enum rs_status rs_gles_envmap(struct gles *g, struct rs_error *err);
-/* Render the 6 faces of cube map `tex` from `eye` with `plan` (90 degrees, the frame's
- * square size; primary rays start `near` from the eye). */
+/* Make `tex` an RGBA16F cube map of g->face_size texels a side (`what` names it in an
+ * out-of-memory error). */
+enum rs_status rs_gles_cube_alloc(struct gles *g, GLuint tex, const char *what,
+                                  struct rs_error *err);
+/* Render the 6 faces of cube map `tex` (rs_gles_cube_alloc) from `eye` with `plan` (90
+ * degrees, g->face_size texels a side; primary rays start `near` from the eye). */
 enum rs_status rs_gles_capture_cube(struct gles *g, const struct rs_gles_plan *plan,
                                     const double eye[3], float near, GLuint tex,
                                     struct rs_error *err);

@@ -4,7 +4,9 @@
  * not see itself), bounce by bounce: bounce 1 sees the scene traced at 1 pass, bounce k
  * also the objects' maps of bounce k-1 (two sets, ping-pong). A ray leaving a mirror
  * object then reads its own object's map (surface.glsl finds the object by the ray's skip
- * slot through u_objects); rays from other surfaces read the classic map. */
+ * slot through u_objects); rays from other surfaces read the classic map. The two sets
+ * are made at set_scene; a bounce renders into one set on the GPU (gles_envmap.c) while its
+ * rays read the other. */
 #include <stdlib.h>
 
 #include "gles_internal.h"
@@ -56,6 +58,11 @@ enum rs_status rs_gles_interreflect_setup(struct gles *g, struct rs_error *err)
 		/* Every sampler needs a complete cube map bound: 1x1 black for unused slots. */
 		static const float black[3] = {0.0f, 0.0f, 0.0f};
 		gl->GenTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
+		/* Both sets made once: every frame's bounces only render into them. */
+		for (int s = 0; s < 2; ++s)
+			for (uint32_t o = 0; st == RS_OK && o < count; ++o)
+				st = rs_gles_cube_alloc(g, g->objmap[s][o],
+				                        "a mirror object's cube map", err);
 		for (int s = 0; s < 2; ++s)
 			for (uint32_t o = count; st == RS_OK && o < RS_RENDER_MAX_MIRROR_OBJECTS;
 			     ++o) {

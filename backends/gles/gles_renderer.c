@@ -29,6 +29,11 @@ static enum rs_status check_limits(const struct gles *g, const struct rs_packed 
 		return rs_error_set(err, RS_ERR_LIMIT,
 		                    "gles: image %ux%u is over this GL's limit of %d texels a side",
 		                    d->width, d->height, side);
+	if (d->reflections != RS_REFLECT_TRACE && g->face_size > (uint32_t)side)
+		return rs_error_set(err, RS_ERR_LIMIT,
+		                    "gles: environment map face side %u is over this GL's limit of "
+		                    "%d texels",
+		                    g->face_size, side);
 	if (d->shadows == RS_SHADOW_MAP && d->shadow_map_size > (uint32_t)g->max_tex)
 		return rs_error_set(
 		    err, RS_ERR_LIMIT,
@@ -174,6 +179,7 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	rs_gles_scene_delete(g);
 	g->desc = *desc;
 	g->scene = scene;
+	g->face_size = desc->envmap_size ? desc->envmap_size : RS_RENDER_ENVMAP_SIZE;
 	struct rs_pack_desc pack;
 	st = pack_desc(g, desc, &pack, err);
 	struct rs_bvh_desc bvh = rs_render_bvh_desc(desc);
@@ -188,7 +194,10 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 		st = check_limits(g, &g->accel.packed, &g->frame, err);
 	if (st == RS_OK)
 		stats->scene_storage = g->storage;
-	size_t floats = (size_t)desc->width * desc->height * 4u;
+	/* The readback's scratch also holds a cube face where faces take the fallback. */
+	uint32_t face = desc->reflections != RS_REFLECT_TRACE ? g->face_size : 0;
+	size_t floats = (size_t)(desc->width > face ? desc->width : face) *
+	                (desc->height > face ? desc->height : face) * 4u;
 	if (st == RS_OK && !(g->scratch = malloc(floats * sizeof(float))))
 		st = rs_error_set(err, RS_ERR_NO_MEMORY, "gles: out of memory for %ux%u",
 		                  desc->width, desc->height);

@@ -61,7 +61,10 @@ enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
 			st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
 			                       (GLsizei)t[i]->height, 1, err);
 	}
-	GLsizei w = (GLsizei)g->desc.width, h = (GLsizei)g->desc.height;
+	/* The cube map captures run the plans over face_size squares in the same targets. */
+	uint32_t face = g->desc.reflections != RS_REFLECT_TRACE ? g->face_size : 0;
+	GLsizei w = (GLsizei)(g->desc.width > face ? g->desc.width : face),
+	        h = (GLsizei)(g->desc.height > face ? g->desc.height : face);
 	GLuint *targets[2 * (ST_COUNT + 2)];
 	int n = 0;
 	for (int k = 0; k < 2; ++k) {
@@ -76,8 +79,9 @@ enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
 		st = rs_gles_allocated(gl, "a per-pixel state target", GL_RGBA32F, w, h, 1, err);
 	}
 	if (st == RS_OK) {
-		g->color = texture(gl, GL_RGBA8, w, h, GL_UNSIGNED_BYTE, NULL);
-		st = rs_gles_allocated(gl, "the display target", GL_RGBA8, w, h, 1, err);
+		GLsizei cw = (GLsizei)g->desc.width, ch = (GLsizei)g->desc.height;
+		g->color = texture(gl, GL_RGBA8, cw, ch, GL_UNSIGNED_BYTE, NULL);
+		st = rs_gles_allocated(gl, "the display target", GL_RGBA8, cw, ch, 1, err);
 	}
 	if (st == RS_OK && g->desc.primary == RS_PRIMARY_RASTER) {
 		gl->GenRenderbuffers(1, &g->depth);

@@ -83,11 +83,11 @@ void rs_gles_scene_uniforms(const struct gles *g, const struct rs_gles_program *
 }
 
 void rs_gles_camera_uniforms(const struct gles *g, const struct rs_gles_program *p,
-                             const struct rs_camera *c)
+                             const struct rs_camera *c, uint32_t w, uint32_t h)
 {
 	const struct rs_gl *gl = &g->gl;
 	struct rs_trace_view v;
-	rs_trace_view_init(c, g->frame.origin, g->desc.width, g->desc.height, &v);
+	rs_trace_view_init(c, g->frame.origin, w, h, &v);
 	GLfloat eye[3], fw[3], rt[3], upv[3];
 	for (int a = 0; a < 3; ++a) {
 		eye[a] = (GLfloat)v.eye[a];

@@ -62,6 +62,13 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 	    d.reflections != RS_REFLECT_INTERREFLECT)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown reflection mode %d",
 		                    (int)d.reflections);
+	if (d.envmap_size == 0)
+		d.envmap_size = RS_RENDER_ENVMAP_SIZE;
+	if (d.envmap_size > RS_RENDER_MAX_ENVMAP_SIZE)
+		return rs_error_set(
+		    err, RS_ERR_LIMIT,
+		    "render: environment map face side %u is too large (at most %u)", d.envmap_size,
+		    RS_RENDER_MAX_ENVMAP_SIZE);
 	if (d.reflection_bounces == 0)
 		d.reflection_bounces = 1;
 	if (d.reflection_bounces > RS_RENDER_MAX_BOUNCES)

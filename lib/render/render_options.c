@@ -20,6 +20,7 @@ static const struct rs_render_option options[] = {
     {"primary", "trace|raster", "trace", "primary hits traced or rasterized (GL)"},
     {"reflections", "trace|envmap|interreflect[:1..8]", "trace",
      "traced, or environment maps (GL)"},
+    {"envmap-size", "8..16384", "128", "environment map cube face side in texels (GL)"},
     {"bvh", "sah|none|linear|paper", "sah", "BVH builder (docs/bvh.md)"},
     {"nodes", "compact|paper[:directional|single]|wide4", "compact:directional",
      "node texels:orders; paper:single is the paper's; wide4: 4-wide quantised"},
@@ -151,6 +152,8 @@ static bool set_value(struct rs_render_desc *d, const struct rs_render_option *o
 		d->primary = (enum rs_primary_mode)i;
 	else if (!strcmp(k, "reflections"))
 		return set_reflections(d, v);
+	else if (!strcmp(k, "envmap-size"))
+		return rs_parse_u32(v, 8, RS_RENDER_MAX_ENVMAP_SIZE, &d->envmap_size);
 	else if (!strcmp(k, "bvh"))
 		return rs_bvh_builder_parse(v, &d->bvh.builder, NULL) == RS_OK;
 	else if (!strcmp(k, "nodes"))
@@ -177,7 +180,8 @@ enum rs_status rs_render_desc_set(struct rs_render_desc *desc, const char *key, 
 	if (!o)
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "unknown render option '%s' (backend, size, passes, lights, "
-		                    "shadows, primary, reflections, bvh, nodes, scene-storage, "
+		                    "shadows, primary, reflections, envmap-size, bvh, nodes, "
+		                    "scene-storage, "
 		                    "threads, triangle-test, chain)",
 		                    key);
 	/* A failed parse leaves the descriptor as it was. */
@@ -249,6 +253,9 @@ enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char 
 		                   d->reflection_bounces ? d->reflection_bounces : 1u)
 		        : snprintf(out, cap, "%s",
 		                   d->reflections == RS_REFLECT_ENVMAP ? "envmap" : "trace");
+	else if (!strcmp(key, "envmap-size"))
+		n = snprintf(out, cap, "%u",
+		             d->envmap_size ? d->envmap_size : RS_RENDER_ENVMAP_SIZE);
 	else if (!strcmp(key, "bvh"))
 		n = snprintf(out, cap, "%s", rs_bvh_builder_name(d->bvh.builder));
 	else if (!strcmp(key, "nodes") && d->pack.nodes == RS_PACK_NODES_WIDE4)

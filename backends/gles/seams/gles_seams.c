@@ -1,5 +1,6 @@
-/* Test seam (gles_seams.h; test builds only): one kernel's source replaced, to check that a
- * compile error names the file and line. */
+/* Test seams (gles_seams.h; test builds only): one kernel's source replaced, to check that a
+ * compile error names the file and line; cube map captures forced onto their readback
+ * fallback, to compare it with the GPU path. */
 #include <string.h>
 
 #include "gles_seams.h"
@@ -15,4 +16,16 @@ void rs__gles_override_kernel(const char *name, const char *source)
 const char *rs__gles_kernel_override(const char *name)
 {
 	return override_name && strcmp(override_name, name) == 0 ? override_source : NULL;
+}
+
+static bool capture_readback;
+
+void rs__gles_force_capture_readback(bool on)
+{
+	capture_readback = on;
+}
+
+bool rs__gles_capture_readback(void)
+{
+	return capture_readback;
 }

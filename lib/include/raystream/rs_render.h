@@ -61,7 +61,7 @@ enum rs_reflection_mode {
 	RS_REFLECT_TRACE = 0, /**< traced through the BVH (default) */
 	/** Classic environment mapping (GL backends only): one cube map captured once at
 	 * set_scene from the scene's centre (the traced image of 1 pass, 90-degree faces of
-	 * the frame's size, which must be square); later rays read it by direction and stop.
+	 * rs_render_desc.envmap_size texels); later rays read it by direction and stop.
 	 * No inter- or self-reflection, parallax error away from the centre. */
 	RS_REFLECT_ENVMAP = 1,
 	/** Inter-reflection environment mapping (GL backends only): a cube map per reflective
@@ -69,7 +69,7 @@ enum rs_reflection_mode {
 	 * from its bounding-sphere centre every frame with capture rays starting on that sphere
 	 * (the object does not see itself), rs_render_desc.reflection_bounces times: bounce k
 	 * sees the scene and the maps of bounce k-1. Rays leaving an object read its own map by
-	 * direction; rays leaving other surfaces read the classic map. Square frames only. */
+	 * direction; rays leaving other surfaces read the classic map. */
 	RS_REFLECT_INTERREFLECT = 2,
 };
 
@@ -90,6 +90,9 @@ enum rs_scene_storage {
 
 /** Most reflective objects RS_REFLECT_INTERREFLECT maps (GLES 3.0 has 16 texture units). */
 #define RS_RENDER_MAX_MIRROR_OBJECTS 4u
+/** Default and largest rs_render_desc.envmap_size (face side in texels). */
+#define RS_RENDER_ENVMAP_SIZE 128u
+#define RS_RENDER_MAX_ENVMAP_SIZE 16384u
 /** Largest rs_render_desc.reflection_bounces. */
 #define RS_RENDER_MAX_BOUNCES 8u
 
@@ -139,6 +142,11 @@ struct rs_render_desc {
 	 * "egl", "osmesa" (rs_renderers.h); NULL -> "auto". The backends themselves ignore it;
 	 * rs_render_desc_set() points it at a static string. */
 	const char *backend;
+	/** RS_REFLECT_ENVMAP and _INTERREFLECT: the cube maps' face side in texels, rendered by
+	 * the kernels straight into the cube faces (docs/gles.md); 0 -> RS_RENDER_ENVMAP_SIZE,
+	 * at most RS_RENDER_MAX_ENVMAP_SIZE (and the GL context's viewport and texture
+	 * limits, checked at set_scene). */
+	uint32_t envmap_size;
 };
 
 /** Kernel timing, GL backends (summed over the passes of one frame). */
