@@ -101,7 +101,7 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	     .help = "use the scene's first N lights",
 	     .min = 1,
 	     .max = 64,
-	     .fallback = "1"},
+	     .fallback = "all (the library's default)"},
 	    {.name = "--render-threads",
 	     .kind = RS_CLI_U32,
 	     .out = &o->render_threads,
@@ -234,8 +234,7 @@ static int run(struct server *s)
 		        s->o.lights, s->o.scene, scene_lights);
 		goto done;
 	}
-	if (!s->o.lights)
-		s->o.lights = scene_lights ? 1u : 0u;
+	/* 0 stays 0: all of the scene's lights, as raystream-render and the library draw it */
 	s->scene = scene;
 	size_t image = s->o.raw ? (size_t)s->o.width * s->o.height * 4u
 	                        : rs_jpeg_bound(s->o.width, s->o.height);
@@ -285,6 +284,7 @@ done:
 		close(lfd);
 	for (int i = 0; i < SERVER_SLOTS; ++i) {
 		free(s->viewers[i].pending.data);
+		free(s->viewers[i].refine_acc);
 		free(s->viewers[i].inflight.data);
 	}
 	if (s->wake[0] > 0) {

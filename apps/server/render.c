@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "app_refine.h"
 #include "raystream/rs_renderers.h"
 #include "server.h"
 
@@ -44,23 +45,56 @@ static struct viewer *pick(struct server *s, struct worker *w)
 	return NULL;
 }
 
-/* Render and encode `pose` into w->msg; returns the message length, 0 on failure. */
+/* Whether two cameras are the same, field by field (the viewer sends its resting pose's
+ * camera unchanged while still). */
+static int same_camera(const struct rs_camera *a, const struct rs_camera *b)
+{
+	for (int i = 0; i < 3; ++i)
+		if (a->eye[i] != b->eye[i] || a->target[i] != b->target[i] || a->up[i] != b->up[i])
+			return 0;
+	return a->fov_y_deg == b->fov_y_deg && a->shift[0] == b->shift[0] &&
+	       a->shift[1] == b->shift[1];
+}
+
+/* The refinement sample of `pose` for viewer v (lock held): the next one when its camera
+ * is the last one's, else 0 (a restart). */
+static uint32_t refine_sample(struct server *s, struct viewer *v, const struct rs_stream_pose *pose)
+{
+	struct rs_camera cam;
+	server_pose_camera(s, pose, &cam);
+	if (v->refine && v->refine_have && same_camera(&cam, &v->refine_cam)) {
+		if (v->refine_sample + 1 < APP_REFINE_MAX_SAMPLES)
+			++v->refine_sample;
+	} else {
+		v->refine_cam = cam;
+		v->refine_have = 1;
+		v->refine_sample = 0;
+	}
+	return v->refine_sample;
+}
+
+/* Render and encode `pose` at refinement sample `sample` into w->msg, adding it to the mean
+ * in *acc; returns the message length, 0 on failure. */
 static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int quality,
-                      uint32_t *render_us, struct rs_error *err)
+                      uint32_t sample, float **acc, uint32_t *render_us, struct rs_error *err)
 {
 	struct server *s = w->s;
 	struct rs_camera cam;
 	server_pose_camera(s, pose, &cam);
+	cam.sample = sample;
 	struct rs_frame frame = {.rgba8 = w->rgba};
 	double t0 = server_now_s();
 	if (rs_renderer_render(w->renderer, &cam, &frame, err) != RS_OK)
 		return 0;
+	if (app_refine_mean(acc, sample, w->rgba, s->o.width, s->o.height) != 0)
+		sample = 0; /* out of memory: the frame as rendered, one sample */
 	double t1 = server_now_s();
 	struct rs_stream_msg m = {.type = RS_STREAM_FRAME};
 	m.u.frame = (struct rs_stream_frame){.pose_id = pose->pose_id,
 	                                     .pose_time_us = pose->time_us,
 	                                     .width = (uint16_t)s->o.width,
-	                                     .height = (uint16_t)s->o.height};
+	                                     .height = (uint16_t)s->o.height,
+	                                     .samples = (uint16_t)(sample + 1)};
 	size_t n = (size_t)s->o.width * s->o.height * 4u;
 	if (s->o.raw) {
 		m.u.frame.encoding = RS_STREAM_ENC_RGBA8;
@@ -97,16 +131,26 @@ static void *render_main(void *arg)
 		struct rs_stream_pose pose = v->pose;
 		uint32_t id = v->id;
 		int quality = v->quality;
+		uint32_t sample = refine_sample(s, v, &pose);
+		float *acc = v->refine_acc; /* ours while busy */
+		v->refine_acc = NULL;
 		v->pose_new = 0;
 		v->busy = 1;
 		pthread_mutex_unlock(&s->lock);
 
 		struct rs_error err = {0};
 		uint32_t render_us = 0;
-		size_t len = produce(w, &pose, quality, &render_us, &err);
+		size_t len = produce(w, &pose, quality, sample, &acc, &render_us, &err);
 
 		pthread_mutex_lock(&s->lock);
-		v->busy = 0;
+		if (v->id != id) { /* it left while we rendered: the slot may be a new viewer's */
+			free(acc);
+		} else {
+			v->busy = 0;
+			v->refine_acc = acc;
+			if (len == 0)
+				v->refine_have = 0; /* the mean may be partial */
+		}
 		if (len == 0) {
 			server_log(s, "viewer %u: pose %u not rendered: %s", id, pose.pose_id,
 			           err.message);

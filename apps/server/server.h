@@ -45,6 +45,7 @@ struct outframe {
 struct viewer {
 	int active, fd, hello_done, closing;
 	int acks;      /* the viewer acknowledges frames (RS_STREAM_POSE_ACKS): pace by them */
+	int refine;    /* it wants still cameras refined (RS_STREAM_POSE_REFINE) */
 	uint32_t addr; /* the peer's IPv4 address, for the greeting pool */
 	uint32_t id;
 	char peer[64];
@@ -58,7 +59,13 @@ struct viewer {
 	uint32_t next_frame_id;
 	struct outframe pending;
 	uint64_t poses, poses_replaced, frames_rendered, frames_dropped;
-	/* poll thread only */
+	/* still-pose refinement: a POSE with the camera of the one before (the viewer holds
+	 * its resting pose's camera while still) renders the next sub-pixel sample into the
+	 * float mean, which is what gets encoded (JPEG once, of the mean) */
+	struct rs_camera refine_cam;
+	uint32_t refine_sample;
+	int refine_have;
+	float *refine_acc; /* the mean; taken by the render thread while busy */
 	struct outframe inflight;
 	uint8_t ctl[1024];
 	size_t ctl_len, ctl_off;

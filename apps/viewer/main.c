@@ -199,7 +199,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	    CALL("--duration", &o->duration_s, parse_positive, "S", "stop after S seconds > 0",
 	         "no limit"),
 	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the run measured, at exit"),
-	    RS_CLI_FLAG_OPT("--verify-local", &verify, "compare remote frames with local ones"),
+	    RS_CLI_FLAG_OPT("--verify-local", &verify,
+	                    "compare remote frames with local ones (remote refinement off)"),
 	    {.name = "--pose-id-base",
 	     .kind = RS_CLI_U32,
 	     .out = &o->pose_id_base,
@@ -215,6 +216,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	         "a fixed scale instead", "dynamic"),
 	    CALL("--predict", &o->no_predict, parse_predict, "on|off",
 	         "poses moved ahead by the latency", "on"),
+	    CALL("--refine", &o->no_refine, parse_predict, "on|off",
+	         "average sub-pixel samples while the pose is still", "on"),
 	};
 	struct rs_cli cli = {.prog = "raystream-viewer",
 	                     .usage = "[options]",

@@ -116,7 +116,8 @@ void viewer_send_pose(struct viewer *v, const struct rs_camera *cam, uint32_t fl
 	struct rs_stream_msg m = {.type = RS_STREAM_POSE};
 	struct rs_stream_pose *p = &m.u.pose;
 	p->pose_id = v->pose_id;
-	p->flags = flags | RS_STREAM_POSE_ACKS;
+	p->flags =
+	    flags | RS_STREAM_POSE_ACKS | (v->refine_remote.enabled ? RS_STREAM_POSE_REFINE : 0u);
 	p->time_us = (uint64_t)(viewer_now_s() * 1e6);
 	memcpy(p->eye, cam->eye, sizeof p->eye);
 	memcpy(p->target, cam->target, sizeof p->target);
@@ -151,6 +152,7 @@ static int handle(struct viewer *v, const struct rs_stream_msg *m)
 			        err.message);
 			return 0; /* a bad frame is skipped, never shown half-decoded */
 		}
+		v->remote_samples = f->samples ? f->samples : 1u;
 		if (v->remote)
 			viewer_show(v, f->frame_id, f->pose_id, f->pose_time_us);
 		return 0;

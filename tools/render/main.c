@@ -20,7 +20,8 @@ static const struct rs_cli prog = {.prog = "raystream-render"}; /* messages afte
 
 struct options {
 	const char *scene, *out, *stats, *depth;
-	bool jpeg; /* --out ends in .jpg or .jpeg */
+	bool jpeg;        /* --out ends in .jpg or .jpeg */
+	uint32_t samples; /* --samples: refinement frames averaged (0 and 1: one frame) */
 	struct rs_render_desc desc;
 };
 
@@ -45,6 +46,9 @@ static int parse_args(int argc, char **argv, struct options *o)
 	     .fallback = "out.png"},
 	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the frame cost and counted"),
 	    RS_CLI_STRING_OPT("--depth", &o->depth, "FILE.pfm", "primary-hit distance per pixel"),
+	    RS_CLI_U32_OPT("--samples", &o->samples, 1, 4096,
+	                   "average N frames of the sub-pixel sequence (what a still viewer "
+	                   "converges to)"),
 	};
 	struct rs_cli cli = {.prog = prog.prog,
 	                     .usage = "--scene SCENE [options]",
@@ -152,6 +156,42 @@ static enum rs_status write_image(const struct options *o, const struct rs_frame
 	return rs_image_write_png(o->out, f->rgb, w, h, err);
 }
 
+/* One sample as refinement averages it: what a frame shows, clamped to [0, 1] (NaN: 0). */
+static double shown(float c)
+{
+	return c > 0.0f ? (c < 1.0f ? (double)c : 1.0) : 0.0;
+}
+
+/* --samples N: frames 0..N-1 of the camera's sub-pixel sequence (rs_camera.sample) averaged
+ * in double, the image a still viewer's refinement converges to: the mean of what each
+ * frame shows (docs/view.md). `f` holds frame 0. */
+static enum rs_status average_samples(const struct options *o, const struct rs_scene *scene,
+                                      struct rs_renderer *renderer, const struct rs_frame *f,
+                                      uint32_t w, uint32_t h, struct rs_error *err)
+{
+	size_t n = (size_t)w * h * 3;
+	double *sum = malloc(n * sizeof *sum);
+	if (!sum)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for a %ux%u image", w, h);
+	for (size_t i = 0; i < n; ++i)
+		sum[i] = shown(f->rgb[i]);
+	struct rs_camera cam = *rs_scene_camera(scene);
+	struct rs_frame one = {.rgb = f->rgb};
+	enum rs_status st = RS_OK;
+	for (uint32_t k = 1; k < o->samples && st == RS_OK; ++k) {
+		cam.sample = k;
+		st = rs_renderer_render(renderer, &cam, &one, err);
+		for (size_t i = 0; st == RS_OK && i < n; ++i)
+			sum[i] += shown(f->rgb[i]);
+	}
+	for (size_t i = 0; st == RS_OK && i < n; ++i)
+		f->rgb[i] = (float)(sum[i] / o->samples);
+	if (st == RS_OK && f->rgba8)
+		rs_image_quantize(f->rgb, w, h, f->rgba8);
+	free(sum);
+	return st;
+}
+
 static int run(const struct options *o)
 {
 	struct rs_error err = {0}, note = {0};
@@ -185,6 +225,8 @@ static int run(const struct options *o)
 	struct rs_frame frame = {.rgb = rgb, .rgba8 = rgba8, .depth = o->depth ? depth : NULL};
 	double t0 = rs_now_ms();
 	if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
+		goto done;
+	if (o->samples > 1 && average_samples(o, scene, renderer, &frame, w, h, &err) != RS_OK)
 		goto done;
 	double ms = rs_now_ms() - t0;
 	if (o->out && write_image(o, &frame, w, h, &err) != RS_OK)
