@@ -3,7 +3,7 @@
 # draws into the window and the mean is kept on the GPU (accumulate.glsl). For frame counts
 # 1, 4 and 16 of a still, noiseless tracker the screenshot must come closer to
 # raystream-render's 16-sample CPU reference (the same R2 offsets averaged in double), and
-# be within 35 dB of it at 16; a walking tracker shows 1 sample on the status line.
+# be within 35 dB of it at 16; walking after holding still restarts the accumulation.
 #   viewer_refine_xvfb.sh VIEWER WORK_DIR XWD_COMPARE RENDER
 source "$(dirname "$0")/cli_harness.sh"
 viewer=$bin
@@ -14,11 +14,12 @@ size=128x128
 still='sim:realtime=1&noise=0&script=still:600'
 "$render" --scene box --size $size --backend cpu --passes 2 --samples 16 --out ref16.png > render.out 2>&1 &&
   ok "16-sample CPU reference" || bad "reference render: $(cat render.out)"
-# shot N TRACKER: the window after the status line reports frame N, as N.xwd
+# shot N TRACKER [ARGS...]: the window after the status line reports frame N, as N.xwd
 shot() {
   local n=$1 tracker=$2
+  shift 2
   timeout 120 "$viewer" --tracker "$tracker" --view camera --size $size --threads 1 --frames "$n" \
-    --linger 8 --target-fps 0 --local --backend egl > "$n.out" 2> "$n.err" &
+    --linger 8 --target-fps 0 --local --backend egl "$@" > "$n.out" 2> "$n.err" &
   local vpid=$!
   pids+=($vpid)
   for _ in $(seq 900); do grep -q "frame $n pose" "$n.out" && break; sleep 0.1; done
@@ -47,8 +48,10 @@ done
 [ $fine = 1 ] && ok "the window comes closer with more frames (frames:dB)$trend" || bad "not converging (frames:dB)$trend"
 awk "BEGIN { exit !($prev >= 35) }" && ok "16 frames: within 35 dB of the 16-sample reference ($prev dB)" ||
   bad "16 frames: $prev dB"
-shot 6 'sim:realtime=1&noise=0&script=walk'
-grep -q "frame 6 pose .* | 1 sample(s)" 6.out && ok "walking: 1 sample (every frame restarts)" ||
-  bad "walking: $(tail -1 6.out)"
+# held still 0.4 s, then walked: the walk restarts what the still part accumulated
+shot 30 'sim:realtime=1&noise=0&script=still:0.4,walk:0.6' --stats walk.json
+restarts=$(sed -n 's/.*"refine_restarts":[[:space:]]*\([0-9]*\).*/\1/p' walk.json)
+[ "${restarts:-0}" -ge 1 ] && ok "still then walking: $restarts restart(s) of the accumulation" ||
+  bad "walking did not restart: $(grep -o '"refine_[a-z]*":[^,]*' walk.json) $(tail -1 30.out)"
 grep -q "failed" ./*.err && bad "a step failed: $(grep -h failed ./*.err | head -2)" || ok "no failed steps"
 finish

@@ -57,6 +57,7 @@ static void accept_all(struct server *s, int lfd, double now)
 		                     .inflight = infl,
 		                     .refine_acc = acc};
 		snprintf(v->peer, sizeof v->peer, "%s", peer);
+		app_pace_init(&v->pace, s->o.target_fps);
 		rs_stream_parser_init(&v->parser, v->inbuf, sizeof v->inbuf);
 		struct rs_stream_link_desc ld = {.rate_bits_per_s = s->o.link_mbps * 1e6,
 		                                 .latency_s = s->o.link_latency_ms * 1e-3};

@@ -142,6 +142,9 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	                      "a viewer silent mid-message or without hello is dropped"),
 	    RS_CLI_DOUBLE_OPT("--stale-ms", &stale_ms, "0..600000", 0, 600000,
 	                      "a pending frame older than this yields to a newer pose"),
+	    RS_CLI_DOUBLE_OPT("--target-fps", &o->target_fps, "0..1000", 0, 1000,
+	                      "per viewer dynamic resolution budget (frames sent smaller, the "
+	                      "viewer scales up); 0: off"),
 	    {.name = "--duration",
 	     .kind = RS_CLI_DOUBLE,
 	     .out = &o->duration_s,

@@ -4,6 +4,7 @@
 #ifndef RS_SERVER_H
 #define RS_SERVER_H
 
+#include "app_pace.h"
 #include <pthread.h>
 #include <stdint.h>
 
@@ -32,6 +33,7 @@ struct server_options {
 	double read_timeout_s; /* slow drip / no hello */
 	double stale_s;        /* a pending frame older than this is dropped for a newer pose */
 	double duration_s;     /* 0: until SIGINT/SIGTERM */
+	double target_fps;     /* per viewer dynamic resolution (app_pace); 0: off */
 };
 
 /* A frame buffer: one whole FRAME message. */
@@ -64,7 +66,9 @@ struct viewer {
 	 * float mean, which is what gets encoded (JPEG once, of the mean) */
 	struct rs_camera refine_cam;
 	uint32_t refine_sample;
-	int refine_have;
+	int refine_have, refine_level;
+	/* --target-fps: this viewer's render scale, from its frames' render + encode times */
+	struct app_pace pace;
 	float *refine_acc; /* the mean; taken by the render thread while busy */
 	struct outframe inflight;
 	uint8_t ctl[1024];

@@ -242,6 +242,7 @@ int viewer_main(struct viewer_options *o)
 	/* --verify-local compares each remote frame with one local sample of its camera */
 	v.refine_remote.enabled = !o->no_refine && !o->verify_local;
 	v.remote_samples = 1;
+	v.remote_scale = v.remote_scale_min = 1.0;
 	struct sigaction sa = {.sa_handler = on_signal};
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);

@@ -80,6 +80,8 @@ struct viewer {
 	 * and the samples in the newest frame */
 	struct app_refine refine_remote;
 	uint32_t remote_samples;
+	double remote_scale; /* the newest remote frame's width over the window's */
+	double remote_scale_min;
 	uint8_t *rgba, *check;   /* the frame shown; a local render to compare with */
 	uint32_t pose_id;        /* last pose id sent or rendered */
 	struct rs_camera camera; /* current camera */
