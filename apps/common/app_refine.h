@@ -19,8 +19,10 @@
  * of a scene a metre away by a pixel of a 512-px, 45-degree view (about 1.5 mm, 0.09°). */
 #define APP_REFINE_STILL_MM 0.5
 #define APP_REFINE_STILL_DEG 0.05
-/* Samples averaged at most; after that the image is kept (no more frames change it). */
-#define APP_REFINE_MAX_SAMPLES 256u
+/* The sample number stops here (it never wraps to 0, which would restart); the running
+ * mean keeps taking frames with weight 1 / (n + 1), so a capped count would pull it
+ * towards one sample's image instead. */
+#define APP_REFINE_MAX_SAMPLES 0xfffffff0u
 
 struct app_refine {
 	int enabled;

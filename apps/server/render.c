@@ -126,11 +126,12 @@ static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int q
 		sample = 0; /* out of memory: the frame as rendered, one sample */
 	double t1 = server_now_s();
 	struct rs_stream_msg m = {.type = RS_STREAM_FRAME};
-	m.u.frame = (struct rs_stream_frame){.pose_id = pose->pose_id,
-	                                     .pose_time_us = pose->time_us,
-	                                     .width = (uint16_t)fw,
-	                                     .height = (uint16_t)fh,
-	                                     .samples = (uint16_t)(sample + 1)};
+	m.u.frame =
+	    (struct rs_stream_frame){.pose_id = pose->pose_id,
+	                             .pose_time_us = pose->time_us,
+	                             .width = (uint16_t)fw,
+	                             .height = (uint16_t)fh,
+	                             .samples = (uint16_t)(sample < 65534u ? sample + 1 : 65535u)};
 	size_t n = (size_t)fw * fh * 4u;
 	if (s->o.raw) {
 		m.u.frame.encoding = RS_STREAM_ENC_RGBA8;
