@@ -25,7 +25,9 @@ static const char about[] =
     "into it), cpu with one line when no GL context opens. --target-fps: local frames in\n"
     "the window render at a smaller scale, upscaled, while they miss the budget (files and\n"
     "--headless stay full size). --predict on moves each pose ahead by the measured\n"
-    "latency (at most 30 ms). Keys: q/Esc quit, space or m local/remote, r recentre.\n";
+    "latency (at most 30 ms). --refine on averages sub-pixel samples while the pose is\n"
+    "still (0.5 mm, 0.05 degrees): antialiasing; any motion restarts it.\n"
+    "Keys: q/Esc quit, space or m local/remote, r recentre.\n";
 
 /* "a,b,c" (n numbers) or "AxB" (n = 2, sep 'x'). */
 static int parse_numbers(const char *v, char sep, int n, double *out)
