@@ -5,3 +5,10 @@ if(TARGET rs_appcommon)
   target_link_libraries(app_pace_test PRIVATE rs_appcommon)
   add_test(NAME app_pace COMMAND app_pace_test)
 endif()
+
+# Still-pose refinement's stillness thresholds, sample sequence and C mean (issue 17).
+if(TARGET rs_appcommon)
+  add_executable(app_refine_test ${CMAKE_CURRENT_SOURCE_DIR}/app_refine_test.c)
+  target_link_libraries(app_refine_test PRIVATE rs_appcommon m)
+  add_test(NAME app_refine COMMAND app_refine_test)
+endif()

@@ -1,6 +1,8 @@
 /* Rasterized primary hits (paper 3.2.1) against traced ones: the same triangle on at least
  * 99.9% of the covered pixels, and the image against the CPU reference as in
- * test_gl_accuracy. EGL (llvmpipe in CI); skipped without a context. */
+ * test_gl_accuracy; also at a sub-pixel sample of still-pose refinement (rs_camera.sample:
+ * u_jitter in the kernels, folded into the raster pass's lens shift). EGL (llvmpipe in
+ * CI); skipped without a context. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -11,9 +13,11 @@
 
 #define SIZE 128u
 
-static void ids(enum rs_primary_mode primary, const struct rs_scene *scene, uint32_t *out,
-                float *rgb)
+static void ids(enum rs_primary_mode primary, const struct rs_scene *scene, uint32_t sample,
+                uint32_t *out, float *rgb)
 {
+	struct rs_camera cam = *rs_scene_camera(scene);
+	cam.sample = sample;
 	struct rs_render_desc desc = {
 	    .width = SIZE, .height = SIZE, .passes = 2, .lights = 4, .primary = primary};
 	struct rs_renderer *r = gl_open("egl", &desc);
@@ -21,7 +25,7 @@ static void ids(enum rs_primary_mode primary, const struct rs_scene *scene, uint
 		gl_skip();
 	assert_int_equal(rs_renderer_set_scene(r, scene, NULL), RS_OK);
 	struct rs_frame frame = {.rgb = rgb, .triangle = out};
-	assert_int_equal(rs_renderer_render(r, NULL, &frame, NULL), RS_OK);
+	assert_int_equal(rs_renderer_render(r, &cam, &frame, NULL), RS_OK);
 	const struct rs_render_stats *s = rs_renderer_stats(r);
 	bool rasterized = false; /* the frame ran the raster pass */
 	for (uint32_t k = 0; k < s->kernel_count; ++k)
@@ -30,13 +34,15 @@ static void ids(enum rs_primary_mode primary, const struct rs_scene *scene, uint
 	rs_renderer_destroy(&r);
 }
 
-static void agree(const char *name)
+static void agree(const char *name, uint32_t sample)
 {
 	struct rs_scene *scene = gl_scene(name);
 	static uint32_t traced[SIZE * SIZE], rastered[SIZE * SIZE], cpu_ids[SIZE * SIZE];
 	static float rgb[SIZE * SIZE * 3], want[SIZE * SIZE * 3];
-	ids(RS_PRIMARY_TRACE, scene, traced, rgb);
-	ids(RS_PRIMARY_RASTER, scene, rastered, rgb);
+	ids(RS_PRIMARY_TRACE, scene, sample, traced, rgb);
+	ids(RS_PRIMARY_RASTER, scene, sample, rastered, rgb);
+	struct rs_camera cam = *rs_scene_camera(scene);
+	cam.sample = sample;
 	size_t covered = 0, same = 0;
 	for (size_t i = 0; i < SIZE * SIZE; ++i) {
 		if (traced[i] == RS_NO_SLOT && rastered[i] == RS_NO_SLOT)
@@ -50,7 +56,7 @@ static void agree(const char *name)
 	assert_int_equal(rs_renderer_create_cpu(&desc, &cpu, NULL), RS_OK);
 	assert_int_equal(rs_renderer_set_scene(cpu, scene, NULL), RS_OK);
 	struct rs_frame frame = {.rgb = want, .triangle = cpu_ids};
-	assert_int_equal(rs_renderer_render(cpu, NULL, &frame, NULL), RS_OK);
+	assert_int_equal(rs_renderer_render(cpu, &cam, &frame, NULL), RS_OK);
 	size_t cpu_same = 0;
 	for (size_t i = 0; i < SIZE * SIZE; ++i)
 		cpu_same += cpu_ids[i] == traced[i];
@@ -71,15 +77,34 @@ static void agree(const char *name)
 
 static void raster_and_traced_primaries_agree_on_box(void **state)
 {
-	agree("box");
+	agree("box", 0);
 }
 static void raster_and_traced_primaries_agree_on_cow1(void **state)
 {
-	agree("cow1");
+	agree("cow1", 0);
 }
 static void raster_and_traced_primaries_agree_on_cow5(void **state)
 {
-	agree("cow5");
+	agree("cow5", 0);
+}
+
+/* Sample 5 moves every primary ray by (-0.23, -0.15) pixels: the traced and rasterized GL
+ * primaries and the CPU's still agree, and the image is not sample 0's (the offset is
+ * applied, not dropped on the way). */
+static void primaries_agree_at_a_subpixel_sample_on_cow1(void **state)
+{
+	agree("cow1", 5);
+	struct rs_scene *scene = gl_scene("cow1");
+	static uint32_t at0[SIZE * SIZE], at5[SIZE * SIZE];
+	static float rgb[SIZE * SIZE * 3];
+	ids(RS_PRIMARY_RASTER, scene, 0, at0, rgb);
+	ids(RS_PRIMARY_RASTER, scene, 5, at5, rgb);
+	size_t moved = 0;
+	for (size_t i = 0; i < SIZE * SIZE; ++i)
+		moved += at0[i] != at5[i];
+	print_message("cow1: %zu pixels see another triangle at sample 5\n", moved);
+	assert_true(moved > 0);
+	rs_scene_destroy(&scene);
 }
 
 static void raster_counters_count_no_primary_traversal(void **state)
@@ -115,6 +140,7 @@ int main(void)
 	    cmocka_unit_test(raster_and_traced_primaries_agree_on_box),
 	    cmocka_unit_test(raster_and_traced_primaries_agree_on_cow1),
 	    cmocka_unit_test(raster_and_traced_primaries_agree_on_cow5),
+	    cmocka_unit_test(primaries_agree_at_a_subpixel_sample_on_cow1),
 	    cmocka_unit_test(raster_counters_count_no_primary_traversal),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));

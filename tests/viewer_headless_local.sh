@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The viewer rendering on its own backend without a window (--local --headless): for egl,
 # osmesa and cpu the last frame it wrote must be the scene — within 40 dB of
-# raystream-render's CPU reference of the scene's camera — so a black or empty frame fails
+# raystream-render's CPU reference of the scene's camera (all lights, the default of both;
+# four sub-pixel samples, what a still viewer's 4th frame has refined to) — so a black or
+# empty frame fails
 # (the window's twin is window_local_xvfb.sh; remote headless frames: stream_e2e.sh).
 #   viewer_headless_local.sh VIEWER WORK_DIR RENDER COMPARE
 source "$(dirname "$0")/cli_harness.sh"
@@ -10,7 +12,7 @@ render=$3
 compare=$4
 size=128x128
 still='sim:realtime=1&noise=0&script=still:600'
-"$render" --scene box --size $size --backend cpu --passes 2 --lights 1 --out ref.png > render.out 2>&1 &&
+"$render" --scene box --size $size --backend cpu --passes 2 --samples 4 --out ref.png > render.out 2>&1 &&
   ok "CPU reference of the scene's camera" || bad "reference render: $(cat render.out)"
 for b in egl osmesa cpu; do
   rm -f "headless-$b.png"

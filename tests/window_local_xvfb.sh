@@ -15,7 +15,7 @@ render=$5
 source "$(dirname "$0")/xvfb_harness.sh" 120
 size=128x128
 still='sim:realtime=1&noise=0&script=still:600'
-"$render" --scene box --size $size --backend cpu --passes 2 --lights 1 --out ref.png > render.out 2>&1 &&
+"$render" --scene box --size $size --backend cpu --passes 2 --out ref.png > render.out 2>&1 &&
   ok "CPU reference of the scene's camera" || bad "reference render: $(cat render.out)"
 
 "$server" --port 0 --port-file port.json --size $size --threads 1 --encoding raw 2> server.log &
@@ -23,13 +23,14 @@ pids+=($!)
 for _ in $(seq 100); do [ -s port.json ] && break; sleep 0.1; done
 port=$(sed -n 's/.*"port":[[:space:]]*\([0-9]*\).*/\1/p' port.json)
 
-# show NAME TRACKER ARGS...: run the viewer until its 8th frame is written, screenshot
+# show NAME TRACKER ARGS...: run the viewer until its 8th frame is written, screenshot;
+# refinement off: these compare single frames (viewer_refine_xvfb tests the average)
 show() {
   local name=$1 tracker=$2
   shift 2
   rm -f "$name.png"
   timeout 90 "$viewer" --tracker "$tracker" --view camera --size $size --threads 1 \
-    --frames 8 --last "$name.png" --linger 8 "$@" > "$name.out" 2> "$name.err" &
+    --frames 8 --last "$name.png" --linger 8 --refine off "$@" > "$name.out" 2> "$name.err" &
   local vpid=$!
   pids+=($vpid)
   for _ in $(seq 600); do [ -s "$name.png" ] && break; sleep 0.1; done
@@ -69,13 +70,13 @@ check_last moving-remote
 # on the status line instead of --last
 printf 'v -10 -10 0\nv 10 -10 0\nv 10 10 0\nv -10 10 0\nf 1 2 3\nf 1 3 4\n' > flat.obj
 printf '{"format": "raystream-view", "version": 1, "camera": {"eye": [0, 0, 3], "target": [0, 0, 0], "fov_y_deg": 45}, "lights": [{"position": [1, 2, 6]}]}\n' > flat.json
-"$render" --scene flat.obj --size $size --backend cpu --passes 2 --lights 1 --out flat-ref.png > flat-render.out 2>&1 ||
+"$render" --scene flat.obj --size $size --backend cpu --passes 2 --out flat-ref.png > flat-render.out 2>&1 ||
   bad "flat reference: $(cat flat-render.out)"
 scaled() { # NAME ARGS...: until the status line reports frame 8, then a screenshot
   local name=$1
   shift
   timeout 90 "$viewer" --tracker "$still" --size $size --threads 1 --frames 8 --linger 8 \
-    --stats "$name.json" "$@" > "$name.out" 2> "$name.err" &
+    --refine off --stats "$name.json" "$@" > "$name.out" 2> "$name.err" &
   local vpid=$!
   pids+=($vpid)
   for _ in $(seq 600); do grep -q "frame 8 pose" "$name.out" && break; sleep 0.1; done
@@ -97,7 +98,11 @@ done
 scaled budget --local --backend egl --target-fps 1000
 steps=$(sed -n 's/.*"scale_steps_down":[[:space:]]*\([0-9]*\).*/\1/p' budget.json)
 [ "${steps:-0}" -ge 1 ] && ok "--target-fps 1000: $steps steps down" || bad "no step down: $(cat budget.json budget.err)"
-"$compare" budget.xwd ref.png 0 0 20 > budget.ref && ok "scaled-down window shows the scene: $(cat budget.ref)" ||
+# the bound, measured with all lights (the apps' and the reference's default) at 128x128:
+# the correct image upscaled from 0.5 / 0.35 / 0.25 gives 21.0 / 20.3 / 19.1 dB; another
+# scene (the lit quad) 11.0 dB, a uniform grey 6.6 dB, a black window 0.7 dB (the box is
+# bright with its four lights); 15 dB lies between
+"$compare" budget.xwd ref.png 0 0 15 > budget.ref && ok "scaled-down window shows the scene: $(cat budget.ref)" ||
   bad "scaled-down window: $(cat budget.ref)"
 # pose prediction to display time: the horizon is the measured latency, capped at 30 ms
 pred=$(sed -n 's/.*"predicted_ms_mean":[[:space:]]*\([-0-9.e+]*\).*/\1/p' budget.json)

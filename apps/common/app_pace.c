@@ -6,6 +6,7 @@
  *    count, still fits 80 % of the budget: the step up must not immediately miss it, and
  *    the gap between "over" and "fits at 80 %" is the hysteresis. */
 #include <math.h>
+#include <stddef.h>
 
 #include "app_pace.h"
 
@@ -49,6 +50,41 @@ int app_pace_update(struct app_pace *p, double frame_ms)
 			return step(p, -1);
 	}
 	return p->level;
+}
+
+static float texel(const uint8_t *src, uint32_t w, uint32_t h, long x, long y, int c)
+{
+	x = x < 0 ? 0 : x >= (long)w ? (long)w - 1 : x;
+	y = y < 0 ? 0 : y >= (long)h ? (long)h - 1 : y;
+	return src[((size_t)y * w + (size_t)x) * 4u + (size_t)c] * (1.0f / 255.0f);
+}
+
+void app_pace_resample(const uint8_t *src, uint32_t w, uint32_t h, uint8_t *dst, uint32_t dw,
+                       uint32_t dh)
+{
+	float sx = (float)w / (float)dw, sy = (float)h / (float)dh;
+	for (uint32_t y = 0; y < dh; ++y) {
+		float fy = ((float)y + 0.5f) * sy - 0.5f;
+		long iy = (long)floorf(fy);
+		float ty = fy - (float)iy;
+		for (uint32_t x = 0; x < dw; ++x) {
+			float fx = ((float)x + 0.5f) * sx - 0.5f;
+			long ix = (long)floorf(fx);
+			float tx = fx - (float)ix;
+			uint8_t *o = dst + ((size_t)y * dw + x) * 4u;
+			for (int c = 0; c < 3; ++c) {
+				float a = texel(src, w, h, ix, iy, c),
+				      b = texel(src, w, h, ix + 1, iy, c);
+				float d = texel(src, w, h, ix, iy + 1, c);
+				float e = texel(src, w, h, ix + 1, iy + 1, c);
+				float v = (a + (b - a) * tx) +
+				          ((d + (e - d) * tx) - (a + (b - a) * tx)) * ty;
+				v = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+				o[c] = (uint8_t)floorf(v * 255.0f + 0.5f);
+			}
+			o[3] = 255;
+		}
+	}
 }
 
 void app_pace_size(int level, uint32_t w, uint32_t h, uint32_t *out_w, uint32_t *out_h)

@@ -30,4 +30,11 @@ int app_pace_update(struct app_pace *p, double frame_ms);
 /* The render size at `level` for a w x h window: the scale applied, at least 1 pixel. */
 void app_pace_size(int level, uint32_t w, uint32_t h, uint32_t *out_w, uint32_t *out_h);
 
+/* Scale RGBA8 image `src` (w x h, row 0 = top) up or down to `dst` (dw x dh) with the
+ * bilinear filter and rounding of the display step (present.glsl: texel centres, edges
+ * clamped), for frames that arrive smaller (a server's --target-fps) and must be full size
+ * in files. Alpha is 255. */
+void app_pace_resample(const uint8_t *src, uint32_t w, uint32_t h, uint8_t *dst, uint32_t dw,
+                       uint32_t dh);
+
 #endif

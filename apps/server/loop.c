@@ -46,6 +46,7 @@ static void accept_all(struct server *s, int lfd, double now)
 		pthread_mutex_lock(&s->lock);
 		struct outframe pend = v->pending, infl = v->inflight;
 		pend.full = infl.full = 0;
+		float *acc = v->refine_acc; /* kept, like the frame buffers; refill restarts */
 		*v = (struct viewer){.active = 1,
 		                     .fd = fd,
 		                     .addr = addr,
@@ -53,8 +54,10 @@ static void accept_all(struct server *s, int lfd, double now)
 		                     .connected_s = now,
 		                     .last_stats_s = now,
 		                     .pending = pend,
-		                     .inflight = infl};
+		                     .inflight = infl,
+		                     .refine_acc = acc};
 		snprintf(v->peer, sizeof v->peer, "%s", peer);
+		app_pace_init(&v->pace, s->o.target_fps);
 		rs_stream_parser_init(&v->parser, v->inbuf, sizeof v->inbuf);
 		struct rs_stream_link_desc ld = {.rate_bits_per_s = s->o.link_mbps * 1e6,
 		                                 .latency_s = s->o.link_latency_ms * 1e-3};

@@ -101,7 +101,7 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	     .help = "use the scene's first N lights",
 	     .min = 1,
 	     .max = 64,
-	     .fallback = "1"},
+	     .fallback = "all (the library's default)"},
 	    {.name = "--render-threads",
 	     .kind = RS_CLI_U32,
 	     .out = &o->render_threads,
@@ -142,6 +142,9 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	                      "a viewer silent mid-message or without hello is dropped"),
 	    RS_CLI_DOUBLE_OPT("--stale-ms", &stale_ms, "0..600000", 0, 600000,
 	                      "a pending frame older than this yields to a newer pose"),
+	    RS_CLI_DOUBLE_OPT("--target-fps", &o->target_fps, "0..1000", 0, 1000,
+	                      "per viewer dynamic resolution budget (frames sent smaller, the "
+	                      "viewer scales up); 0: off"),
 	    {.name = "--duration",
 	     .kind = RS_CLI_DOUBLE,
 	     .out = &o->duration_s,
@@ -246,8 +249,7 @@ static int run(struct server *s)
 		        s->o.lights, s->o.scene, scene_lights);
 		goto done;
 	}
-	if (!s->o.lights)
-		s->o.lights = scene_lights ? 1u : 0u;
+	/* 0 stays 0: all of the scene's lights, as raystream-render and the library draw it */
 	s->scene = scene;
 	size_t image = s->o.raw ? (size_t)s->o.width * s->o.height * 4u
 	                        : rs_jpeg_bound(s->o.width, s->o.height);
@@ -297,6 +299,7 @@ done:
 		close(lfd);
 	for (int i = 0; i < SERVER_SLOTS; ++i) {
 		free(s->viewers[i].pending.data);
+		free(s->viewers[i].refine_acc);
 		free(s->viewers[i].inflight.data);
 	}
 	if (s->wake[0] > 0) {

@@ -117,6 +117,7 @@ static int check_pose(struct server *s, struct viewer *v, const struct rs_stream
 		return -1;
 	}
 	v->acks = (p->flags & RS_STREAM_POSE_ACKS) != 0;
+	v->refine = (p->flags & RS_STREAM_POSE_REFINE) != 0;
 	return 0;
 }
 

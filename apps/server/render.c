@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "app_refine.h"
 #include "raystream/rs_renderers.h"
 #include "raystream/rs_scenegen.h"
 #include "server.h"
@@ -13,6 +14,10 @@
 struct worker {
 	struct server *s;
 	struct rs_renderer *renderer;
+	/* --target-fps: renderers of the smaller scales (ladder[0] is renderer), opened when a
+	 * viewer first needs one */
+	struct rs_renderer *ladder[APP_PACE_LEVELS];
+	struct rs_render_desc desc;
 	struct rs_jpeg *jpeg;
 	uint8_t *rgba, *jpg, *msg;
 	size_t jpg_cap;
@@ -73,32 +78,99 @@ static struct viewer *pick(struct server *s, struct worker *w)
 	return NULL;
 }
 
-/* Render and encode `pose` into w->msg; returns the message length, 0 on failure. */
-static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int quality,
-                      uint32_t *render_us, struct rs_error *err)
+/* Whether two cameras are the same, field by field (the viewer sends its resting pose's
+ * camera unchanged while still). */
+static int same_camera(const struct rs_camera *a, const struct rs_camera *b)
+{
+	for (int i = 0; i < 3; ++i)
+		if (a->eye[i] != b->eye[i] || a->target[i] != b->target[i] || a->up[i] != b->up[i])
+			return 0;
+	return a->fov_y_deg == b->fov_y_deg && a->shift[0] == b->shift[0] &&
+	       a->shift[1] == b->shift[1];
+}
+
+/* The refinement sample of `pose` for viewer v at render scale `level` (lock held): the next
+ * one when its camera and scale are the last one's, else 0 (a restart). */
+static uint32_t refine_sample(struct server *s, struct viewer *v, const struct rs_stream_pose *pose,
+                              int level)
+{
+	struct rs_camera cam;
+	server_pose_camera(s, pose, &cam);
+	/* --animate: the scene moves under a still camera, so every frame restarts. */
+	if (v->refine && !s->o.animate && v->refine_have && level == v->refine_level &&
+	    same_camera(&cam, &v->refine_cam)) {
+		if (v->refine_sample + 1 < APP_REFINE_MAX_SAMPLES)
+			++v->refine_sample;
+	} else {
+		v->refine_cam = cam;
+		v->refine_level = level;
+		v->refine_have = 1;
+		v->refine_sample = 0;
+	}
+	return v->refine_sample;
+}
+
+/* The renderer of render scale `level` (opened now if needed) and its size; level 0 when a
+ * smaller one cannot be opened (said once in the log). */
+static struct rs_renderer *at_level(struct worker *w, int *level, uint32_t *width, uint32_t *height)
+{
+	struct server *s = w->s;
+	w->ladder[0] = w->renderer;
+	if (*level > 0 && !w->ladder[*level]) {
+		struct rs_render_desc d = w->desc;
+		app_pace_size(*level, s->o.width, s->o.height, &d.width, &d.height);
+		struct rs_error err = {0}, note = {0};
+		if (rs_renderer_open_noted(s->o.backend, &d, &w->ladder[*level], &note, &err) !=
+		        RS_OK ||
+		    rs_renderer_set_scene(w->ladder[*level], s->scene, &err) != RS_OK) {
+			server_log(s, "render scale %.2f: %s; full size instead",
+			           app_pace_scales[*level], err.message);
+			rs_renderer_destroy(&w->ladder[*level]);
+			*level = 0;
+		}
+	}
+	app_pace_size(*level, s->o.width, s->o.height, width, height);
+	return w->ladder[*level];
+}
+
+/* Render and encode `pose` at render scale *level and refinement sample `sample` into
+ * w->msg, adding it to the mean in *acc; returns the message length, 0 on failure. */
+static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int quality, int *level,
+                      uint32_t sample, float **acc, uint32_t us[2], struct rs_error *err)
 {
 	struct server *s = w->s;
 	struct rs_camera cam;
 	server_pose_camera(s, pose, &cam);
+	cam.sample = sample;
+	uint32_t fw, fh;
+	struct rs_renderer *r = at_level(w, level, &fw, &fh);
 	struct rs_frame frame = {.rgba8 = w->rgba};
 	if (s->o.animate && follow_clock(w, err) != RS_OK)
 		return 0;
 	double t0 = server_now_s();
-	if (rs_renderer_render(w->renderer, &cam, &frame, err) != RS_OK)
+	if (rs_renderer_render(r, &cam, &frame, err) != RS_OK)
 		return 0;
+	if (!*acc) { /* full size, so every scale fits; a new buffer starts the mean */
+		*acc = malloc((size_t)s->o.width * s->o.height * 3u * sizeof **acc);
+		sample = 0;
+	}
+	if (!*acc || app_refine_mean(acc, sample, w->rgba, fw, fh) != 0)
+		sample = 0; /* out of memory: the frame as rendered, one sample */
 	double t1 = server_now_s();
 	struct rs_stream_msg m = {.type = RS_STREAM_FRAME};
-	m.u.frame = (struct rs_stream_frame){.pose_id = pose->pose_id,
-	                                     .pose_time_us = pose->time_us,
-	                                     .width = (uint16_t)s->o.width,
-	                                     .height = (uint16_t)s->o.height};
-	size_t n = (size_t)s->o.width * s->o.height * 4u;
+	m.u.frame =
+	    (struct rs_stream_frame){.pose_id = pose->pose_id,
+	                             .pose_time_us = pose->time_us,
+	                             .width = (uint16_t)fw,
+	                             .height = (uint16_t)fh,
+	                             .samples = (uint16_t)(sample < 65534u ? sample + 1 : 65535u)};
+	size_t n = (size_t)fw * fh * 4u;
 	if (s->o.raw) {
 		m.u.frame.encoding = RS_STREAM_ENC_RGBA8;
 		m.u.frame.data = w->rgba;
 	} else {
-		if (rs_jpeg_encode(w->jpeg, w->rgba, s->o.width, s->o.height, quality, s->o.sub,
-		                   w->jpg, w->jpg_cap, &n, err) != RS_OK)
+		if (rs_jpeg_encode(w->jpeg, w->rgba, fw, fh, quality, s->o.sub, w->jpg, w->jpg_cap,
+		                   &n, err) != RS_OK)
 			return 0;
 		m.u.frame.encoding = RS_STREAM_ENC_JPEG;
 		m.u.frame.data = w->jpg;
@@ -107,7 +179,8 @@ static size_t produce(struct worker *w, const struct rs_stream_pose *pose, int q
 	m.u.frame.size = (uint32_t)n;
 	m.u.frame.render_us = (uint32_t)((t1 - t0) * 1e6);
 	m.u.frame.encode_us = (uint32_t)((t2 - t1) * 1e6);
-	*render_us = m.u.frame.render_us;
+	us[0] = m.u.frame.render_us;
+	us[1] = m.u.frame.encode_us;
 	size_t len = 0;
 	if (rs_stream_encode(&m, w->msg, s->frame_cap, &len, err) != RS_OK)
 		return 0;
@@ -128,16 +201,32 @@ static void *render_main(void *arg)
 		struct rs_stream_pose pose = v->pose;
 		uint32_t id = v->id;
 		int quality = v->quality;
+		int level = v->pace.level;
+		uint32_t sample = refine_sample(s, v, &pose, level);
+		float *acc = v->refine_acc; /* ours while busy */
+		v->refine_acc = NULL;
 		v->pose_new = 0;
 		v->busy = 1;
 		pthread_mutex_unlock(&s->lock);
 
 		struct rs_error err = {0};
-		uint32_t render_us = 0;
-		size_t len = produce(w, &pose, quality, &render_us, &err);
+		uint32_t us[2] = {0, 0}; /* render, encode */
+		size_t len = produce(w, &pose, quality, &level, sample, &acc, us, &err);
+		uint32_t render_us = us[0];
 
 		pthread_mutex_lock(&s->lock);
-		v->busy = 0;
+		if (v->id != id) { /* it left while we rendered: the slot may be a new viewer's */
+			free(acc);
+		} else {
+			v->busy = 0;
+			v->refine_acc = acc;
+			if (len == 0)
+				v->refine_have = 0; /* the mean may be partial */
+			v->pace.level = level;      /* level 0 when the smaller renderer failed */
+			if (len) /* what this viewer's frame cost the server decides its next scale
+			          */
+				app_pace_update(&v->pace, ((double)us[0] + us[1]) * 1e-3);
+		}
 		if (len == 0) {
 			server_log(s, "viewer %u: pose %u not rendered: %s", id, pose.pose_id,
 			           err.message);
@@ -183,7 +272,7 @@ int server_render_start(struct server *s, pthread_t *threads, uint32_t n)
 	for (uint32_t i = 0; i < n; ++i) {
 		struct worker *w = &workers[i];
 		struct rs_error err = {0};
-		*w = (struct worker){.s = s, .cursor = i, .frame = s->o.frame};
+		*w = (struct worker){.s = s, .cursor = i, .frame = s->o.frame, .desc = desc};
 		w->jpg_cap = rs_jpeg_bound(s->o.width, s->o.height);
 		w->rgba = malloc((size_t)s->o.width * s->o.height * 4u);
 		w->jpg = malloc(w->jpg_cap);
@@ -223,6 +312,8 @@ void server_render_stop(struct server *s, pthread_t *threads, uint32_t n)
 		pthread_join(threads[i], NULL);
 	for (uint32_t i = 0; i < SERVER_MAX_THREADS; ++i) {
 		struct worker *w = &workers[i];
+		for (int l = 1; l < APP_PACE_LEVELS; ++l)
+			rs_renderer_destroy(&w->ladder[l]);
 		rs_renderer_destroy(&w->renderer);
 		rs_scene_destroy(&w->scene); /* after the renderer that held it */
 		rs_jpeg_destroy(&w->jpeg);

@@ -4,6 +4,7 @@
 #ifndef RS_SERVER_H
 #define RS_SERVER_H
 
+#include "app_pace.h"
 #include <pthread.h>
 #include <stdint.h>
 
@@ -36,6 +37,7 @@ struct server_options {
 	 * frame + elapsed * FPS, each frame the pure function of its number that
 	 * raystream-render --frame renders); 0: the still --frame */
 	uint32_t animate, frame;
+	double target_fps; /* per viewer dynamic resolution (app_pace); 0: off */
 };
 
 /* A frame buffer: one whole FRAME message. */
@@ -49,6 +51,7 @@ struct outframe {
 struct viewer {
 	int active, fd, hello_done, closing;
 	int acks;      /* the viewer acknowledges frames (RS_STREAM_POSE_ACKS): pace by them */
+	int refine;    /* it wants still cameras refined (RS_STREAM_POSE_REFINE) */
 	uint32_t addr; /* the peer's IPv4 address, for the greeting pool */
 	uint32_t id;
 	char peer[64];
@@ -62,7 +65,15 @@ struct viewer {
 	uint32_t next_frame_id;
 	struct outframe pending;
 	uint64_t poses, poses_replaced, frames_rendered, frames_dropped;
-	/* poll thread only */
+	/* still-pose refinement: a POSE with the camera of the one before (the viewer holds
+	 * its resting pose's camera while still) renders the next sub-pixel sample into the
+	 * float mean, which is what gets encoded (JPEG once, of the mean) */
+	struct rs_camera refine_cam;
+	uint32_t refine_sample;
+	int refine_have, refine_level;
+	/* --target-fps: this viewer's render scale, from its frames' render + encode times */
+	struct app_pace pace;
+	float *refine_acc; /* the mean; taken by the render thread while busy */
 	struct outframe inflight;
 	uint8_t ctl[1024];
 	size_t ctl_len, ctl_off;

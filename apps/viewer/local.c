@@ -18,11 +18,8 @@ static int open_renderer(struct viewer *v, uint32_t w, uint32_t h, struct rs_ren
 {
 	const struct viewer_options *o = &v->o;
 	struct rs_error err = {0};
-	struct rs_render_desc d = {.width = w,
-	                           .height = h,
-	                           .passes = o->passes,
-	                           .lights = rs_scene_light_count(v->scene) ? 1u : 0u,
-	                           .threads = o->threads};
+	struct rs_render_desc d = {
+	    .width = w, .height = h, .passes = o->passes, .threads = o->threads};
 	int gpu = !strcmp(o->backend, "egl") || !strcmp(o->backend, "auto");
 	*direct = 0;
 	if (v->window && gpu && !o->readback) {
@@ -67,6 +64,8 @@ int viewer_local_open(struct viewer *v)
 	v->ladder[0] = v->local;
 	v->ladder_direct[0] = v->direct;
 	app_pace_init(&v->pace, scaling(v) && v->o.fixed_level < 0 ? v->o.target_fps : 0.0);
+	/* A scene that moves is never still: averaging its frames would blur the motion. */
+	v->refine.enabled = !v->o.no_refine && !v->o.animate;
 	if (scaling(v) && v->o.fixed_level > 0)
 		v->pace.level = v->o.fixed_level;
 	return 0;
@@ -80,6 +79,7 @@ void viewer_local_close(struct viewer *v)
 	v->ladder[0] = NULL;
 	free(v->small);
 	v->small = NULL;
+	app_refine_free(&v->refine);
 }
 
 /* The renderer of `level`, opened now if needed; NULL when it cannot be (then the level
@@ -149,10 +149,16 @@ void viewer_local_frame(struct viewer *v)
 	uint64_t t = (uint64_t)(viewer_now_s() * 1e6);
 	struct rs_frame f = {.rgba8 = bytes};
 	struct rs_error err = {0};
-	if (rs_renderer_render(r, &v->camera, &f, &err) != RS_OK) {
+	/* still: the resting pose's camera at the next sub-pixel sample (a direct renderer
+	 * averages on the GPU as it presents; bytes are averaged here) */
+	struct rs_camera cam = v->camera;
+	app_refine_camera(&v->refine, &v->pose_now, level, &cam);
+	if (rs_renderer_render(r, &cam, &f, &err) != RS_OK) {
 		fprintf(stderr, "raystream-viewer: local render failed: %s\n", err.message);
 		return;
 	}
+	if (bytes && v->refine.enabled && app_refine_add(&v->refine, bytes, w, h) != 0)
+		fprintf(stderr, "raystream-viewer: out of memory for refinement\n");
 	if (level > 0 && !direct)
 		viewer_window_present_image(v, v->small, w, h); /* scaled up to the window */
 	v->shown = direct || level > 0;

@@ -26,7 +26,10 @@ static const char about[] =
     "into it), cpu with one line when no GL context opens. --target-fps: local frames in\n"
     "the window render at a smaller scale, upscaled, while they miss the budget (files and\n"
     "--headless stay full size). --predict on moves each pose ahead by the measured\n"
-    "latency (at most 30 ms). Keys: q/Esc quit, space or m local/remote, r recentre.\n";
+    "latency (at most 30 ms). --refine on averages sub-pixel samples while the pose is\n"
+    "still (0.5 mm, 0.05 degrees): antialiasing; any motion restarts it; off with\n"
+    "--animate, where the scene moves.\n"
+    "Keys: q/Esc quit, space or m local/remote, r recentre.\n";
 
 /* "a,b,c" (n numbers) or "AxB" (n = 2, sep 'x'). */
 static int parse_numbers(const char *v, char sep, int n, double *out)
@@ -200,7 +203,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	    CALL("--duration", &o->duration_s, parse_positive, "S", "stop after S seconds > 0",
 	         "no limit"),
 	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the run measured, at exit"),
-	    RS_CLI_FLAG_OPT("--verify-local", &verify, "compare remote frames with local ones"),
+	    RS_CLI_FLAG_OPT("--verify-local", &verify,
+	                    "compare remote frames with local ones (remote refinement off)"),
 	    {.name = "--pose-id-base",
 	     .kind = RS_CLI_U32,
 	     .out = &o->pose_id_base,
@@ -220,6 +224,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	                   "the frame of a scene that moves (animated, cowN)"),
 	    RS_CLI_U32_OPT("--animate", &o->animate, 0, 1000,
 	                   "local frame k shows scene frame --frame + k at FPS a second; 0: still"),
+	    CALL("--refine", &o->no_refine, parse_predict, "on|off",
+	         "average sub-pixel samples while the pose is still", "on"),
 	};
 	struct rs_cli cli = {.prog = "raystream-viewer",
 	                     .usage = "[options]",

@@ -136,9 +136,11 @@ void viewer_status_line(struct viewer *v, double now, int force)
 	snprintf(
 	    line, sizeof line,
 	    "%s | %.1f fps | latency %.1f ms median | link %.2f Mbit/s | frame %u pose %u | %s | "
-	    "scale %.2f",
+	    "scale %.2f | %u sample(s)",
 	    v->remote ? "remote" : "local", fps, lat, mbps, v->last_frame_id, v->last_pose_id_shown,
-	    rs_view_state_name(v->view_state), v->remote ? 1.0 : app_pace_scales[v->pace.level]);
+	    rs_view_state_name(v->view_state),
+	    v->remote ? v->remote_scale : app_pace_scales[v->pace.level],
+	    v->remote ? v->remote_samples : app_refine_samples(&v->refine));
 	printf("raystream-viewer: %s\n", line);
 	fflush(stdout);
 	if (v->window)
@@ -171,9 +173,14 @@ int viewer_write_stats(struct viewer *v)
 	cJSON_AddNumberToObject(doc, "server_frames_dropped", v->link.server_stats.dropped);
 	cJSON_AddNumberToObject(doc, "predicted_ms_mean",
 	                        v->predicted_n ? v->predicted_ms_sum / (double)v->predicted_n : 0);
-	cJSON_AddNumberToObject(doc, "scale_final", app_pace_scales[v->pace.level]);
+	cJSON_AddNumberToObject(doc, "scale_final",
+	                        v->remote ? v->remote_scale : app_pace_scales[v->pace.level]);
+	cJSON_AddNumberToObject(doc, "remote_scale_min", v->remote_scale_min);
 	cJSON_AddNumberToObject(doc, "scale_steps_down", v->pace.steps_down);
 	cJSON_AddNumberToObject(doc, "scale_steps_up", v->pace.steps_up);
+	cJSON_AddNumberToObject(doc, "refine_samples",
+	                        v->remote ? v->remote_samples : app_refine_samples(&v->refine));
+	cJSON_AddNumberToObject(doc, "refine_restarts", v->refine.restarts);
 	if (v->psnr_n) {
 		cJSON_AddNumberToObject(doc, "psnr_checked", (double)v->psnr_n);
 		cJSON_AddNumberToObject(doc, "psnr_min_db", v->psnr_min);

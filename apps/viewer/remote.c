@@ -116,7 +116,8 @@ void viewer_send_pose(struct viewer *v, const struct rs_camera *cam, uint32_t fl
 	struct rs_stream_msg m = {.type = RS_STREAM_POSE};
 	struct rs_stream_pose *p = &m.u.pose;
 	p->pose_id = v->pose_id;
-	p->flags = flags | RS_STREAM_POSE_ACKS;
+	p->flags =
+	    flags | RS_STREAM_POSE_ACKS | (v->refine_remote.enabled ? RS_STREAM_POSE_REFINE : 0u);
 	p->time_us = (uint64_t)(viewer_now_s() * 1e6);
 	memcpy(p->eye, cam->eye, sizeof p->eye);
 	memcpy(p->target, cam->target, sizeof p->target);
@@ -138,19 +139,37 @@ static int handle(struct viewer *v, const struct rs_stream_msg *m)
 	case RS_STREAM_FRAME: {
 		const struct rs_stream_frame *f = &m->u.frame;
 		++l->frames_in;
-		if (f->width != v->o.width || f->height != v->o.height) {
-			fprintf(stderr, "raystream-viewer: frame %u is %ux%u, not %ux%u\n",
+		/* smaller: the server's --target-fps scale; scaled up here to the window's size */
+		if (!f->width || !f->height || f->width > v->o.width || f->height > v->o.height) {
+			fprintf(stderr, "raystream-viewer: frame %u is %ux%u, not at most %ux%u\n",
 			        f->frame_id, f->width, f->height, v->o.width, v->o.height);
 			return -1;
 		}
+		int full = f->width == v->o.width && f->height == v->o.height;
+		uint8_t *to = v->rgba;
+		if (!full) {
+			uint8_t *b = realloc(v->small, (size_t)f->width * f->height * 4u);
+			if (!b) {
+				fprintf(stderr, "raystream-viewer: out of memory\n");
+				return -1;
+			}
+			to = v->small = b;
+		}
 		if (f->encoding == RS_STREAM_ENC_RGBA8)
-			memcpy(v->rgba, f->data, f->size);
-		else if (rs_jpeg_decode(v->jpeg, f->data, f->size, f->width, f->height, v->rgba,
-		                        &err) != RS_OK) {
+			memcpy(to, f->data, f->size);
+		else if (rs_jpeg_decode(v->jpeg, f->data, f->size, f->width, f->height, to, &err) !=
+		         RS_OK) {
 			fprintf(stderr, "raystream-viewer: frame %u: %s\n", f->frame_id,
 			        err.message);
 			return 0; /* a bad frame is skipped, never shown half-decoded */
 		}
+		if (!full)
+			app_pace_resample(to, f->width, f->height, v->rgba, v->o.width,
+			                  v->o.height);
+		v->remote_scale = (double)f->width / v->o.width;
+		if (v->remote_scale < v->remote_scale_min)
+			v->remote_scale_min = v->remote_scale;
+		v->remote_samples = f->samples ? f->samples : 1u;
 		if (v->remote)
 			viewer_show(v, f->frame_id, f->pose_id, f->pose_time_us);
 		return 0;

@@ -148,6 +148,7 @@ static int track(struct viewer *v, int *recentred)
 	if (!got)
 		return 0;
 	predict(v, &pose, q.status);
+	v->pose_now = pose;
 	rs_view_update(v->view, &pose, q.status, &v->camera, &v->view_state);
 	if (!*recentred && v->view_state == RS_VIEW_FRESH) {
 		/* start where the scene's camera is: the handheld's first pose is "home" */
@@ -161,11 +162,17 @@ static int track(struct viewer *v, int *recentred)
 static void new_camera(struct viewer *v)
 {
 	++v->pose_id;
+	/* still: the resting pose's camera, unchanged, so the server refines it (the server
+	 * counts the samples itself; the wire has no sample number) */
+	struct rs_camera cam = v->camera;
+	if (v->link.fd >= 0)
+		app_refine_camera(&v->refine_remote, &v->pose_now, 0, &cam);
+	cam.sample = 0;
 	uint32_t slot = v->pose_id % VIEWER_POSE_RING;
-	v->ring[slot] = v->camera;
+	v->ring[slot] = cam; /* what the server renders, for --verify-local */
 	v->ring_id[slot] = v->pose_id;
 	if (v->link.fd >= 0)
-		viewer_send_pose(v, &v->camera,
+		viewer_send_pose(v, &cam,
 		                 v->view_state == RS_VIEW_FRESH ? 0u : RS_STREAM_POSE_STALE);
 	if (!v->remote && v->local)
 		viewer_local_frame(v);
@@ -208,6 +215,8 @@ static int loop(struct viewer *v)
 			break;
 		case VIEWER_KEY_RECENTRE:
 			rs_view_recentre_last(v->view, NULL);
+			app_refine_restart(&v->refine);
+			app_refine_restart(&v->refine_remote);
 			break;
 		case VIEWER_KEY_NONE:
 			break;
@@ -231,6 +240,10 @@ int viewer_main(struct viewer_options *o)
 	memset(&v, 0, sizeof v);
 	v.o = *o;
 	v.pose_id = o->pose_id_base; /* distinct bases tell viewers' frames apart in tests */
+	/* --verify-local compares each remote frame with one local sample of its camera */
+	v.refine_remote.enabled = !o->no_refine && !o->verify_local;
+	v.remote_samples = 1;
+	v.remote_scale = v.remote_scale_min = 1.0;
 	struct sigaction sa = {.sa_handler = on_signal};
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);

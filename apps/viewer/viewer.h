@@ -5,6 +5,7 @@
 #include <stdint.h>
 
 #include "app_pace.h"
+#include "app_refine.h"
 
 #include "raystream/rs_codec.h"
 #include "raystream/rs_pose.h"
@@ -21,6 +22,7 @@ struct viewer_options {
 	int quality, headless, verify_local, start_remote;
 	int readback;      /* --present readback: GPU frames read back and uploaded (benchmarks) */
 	int no_predict;    /* --predict off: cameras from the newest pose as sampled */
+	int no_refine;     /* --refine off: no still-pose refinement */
 	double target_fps; /* --target-fps: dynamic resolution in the window (0: off) */
 	int fixed_level;   /* --render-scale: that level of app_pace_scales, else -1 */
 	double duration_s, linger_s;
@@ -75,6 +77,15 @@ struct viewer {
 	int ladder_direct[APP_PACE_LEVELS];
 	struct app_pace pace;
 	uint8_t *small;
+	/* still-pose refinement (local frames): the pose the newest camera came from */
+	struct app_refine refine;
+	struct rs_pose pose_now;
+	/* remote: the camera sent is held the same while still (the server then refines),
+	 * and the samples in the newest frame */
+	struct app_refine refine_remote;
+	uint32_t remote_samples;
+	double remote_scale; /* the newest remote frame's width over the window's */
+	double remote_scale_min;
 	uint8_t *rgba, *check;   /* the frame shown; a local render to compare with */
 	uint32_t pose_id;        /* last pose id sent or rendered */
 	struct rs_camera camera; /* current camera */

@@ -1,8 +1,10 @@
 /* The display step into a window's default framebuffer (present.glsl): for a renderer on a
  * window context, straight from its float colour state after each frame (no readback, no
- * upload); for RGBA8 frames (remote, CPU, OSMesa), from an uploaded texture. One kernel
- * for both, so a local and a remote frame of the same camera look alike. The bottom of the
- * stack: it uses only the GL table and the program helper, never the renderer's passes. */
+ * upload), through still-pose refinement's float running mean (accumulate.glsl, ping-pong
+ * between two RGBA32F targets; the camera's sample number says restart or add); for RGBA8 frames
+ * (remote, CPU, OSMesa), from an uploaded texture. One kernel for both, so a local and a remote
+ * frame of the same camera look alike. The bottom of the stack: it uses only the GL table and the
+ * program helper, never the renderer's passes. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +15,10 @@ struct rs_gles_display {
 	const struct rs_gl *gl;
 	GLuint prog, vao, tex;
 	uint32_t tex_w, tex_h;
+	/* refinement (window contexts only): acc[cur] holds the mean */
+	GLuint acc_prog, fbo, acc[2];
+	uint32_t acc_w, acc_h;
+	int cur;
 };
 
 static enum rs_status make(const struct rs_gl *gl, struct rs_gles_display *d, struct rs_error *err)
@@ -37,6 +43,12 @@ static void release(struct rs_gles_display *d)
 			gl->DeleteVertexArrays(1, &d->vao);
 		if (d->tex)
 			gl->DeleteTextures(1, &d->tex);
+		if (d->acc_prog)
+			gl->DeleteProgram(d->acc_prog);
+		if (d->fbo)
+			gl->DeleteFramebuffers(1, &d->fbo);
+		if (d->acc[0])
+			gl->DeleteTextures(2, d->acc);
 	}
 	free(d);
 }
@@ -132,8 +144,72 @@ enum rs_status rs_gles_display_rgba8(struct rs_gles_display *d, const uint8_t *r
 	return draw(d, d->tex, width, height, to, err);
 }
 
+/* Fold float frame `tex` (w x h) of refinement sample `sample` into the running mean; *out
+ * the texture holding the mean after it. */
+static enum rs_status accumulate(struct rs_gles_display *d, GLuint tex, uint32_t w, uint32_t h,
+                                 uint32_t sample, GLuint *out, struct rs_error *err)
+{
+	const struct rs_gl *gl = d->gl;
+	enum rs_status st = RS_OK;
+	if (!d->acc_prog) {
+		static const char *const files[1] = {"accumulate.glsl"};
+		st = rs_gles_program_compile(gl, "#version 300 es\n", files, 1, &d->acc_prog, err);
+		if (st != RS_OK)
+			return st;
+		gl->GenFramebuffers(1, &d->fbo);
+	}
+	if (!d->acc[0] || d->acc_w != w || d->acc_h != h) {
+		if (d->acc[0])
+			gl->DeleteTextures(2, d->acc);
+		gl->GenTextures(2, d->acc);
+		for (int i = 0; i < 2; ++i) {
+			gl->BindTexture(GL_TEXTURE_2D, d->acc[i]);
+			gl->TexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)w, (GLsizei)h);
+			/* float textures are not filterable in GLES 3.0: nearest keeps them
+			 * complete */
+			gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+			gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+		}
+		d->acc_w = w;
+		d->acc_h = h;
+		sample = 0; /* nothing to add to */
+		st = rs_gles_allocated(gl, "the refinement targets", GL_RGBA32F, (GLsizei)w,
+		                       (GLsizei)h, 2, err);
+		if (st != RS_OK)
+			return st;
+	}
+	int next = 1 - d->cur;
+	gl->Disable(GL_BLEND);
+	gl->Disable(GL_DEPTH_TEST);
+	gl->Disable(GL_SCISSOR_TEST);
+	gl->BindFramebuffer(GL_FRAMEBUFFER, d->fbo);
+	gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, d->acc[next],
+	                         0);
+	static const GLenum at0 = GL_COLOR_ATTACHMENT0;
+	gl->DrawBuffers(1, &at0);
+	if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                    "gles: the refinement target (RGBA32F) is not renderable");
+	gl->Viewport(0, 0, (GLsizei)w, (GLsizei)h);
+	gl->UseProgram(d->acc_prog);
+	gl->BindVertexArray(d->vao);
+	gl->ActiveTexture(GL_TEXTURE0);
+	gl->BindTexture(GL_TEXTURE_2D, tex);
+	gl->ActiveTexture(GL_TEXTURE1);
+	gl->BindTexture(GL_TEXTURE_2D, d->acc[d->cur]);
+	gl->Uniform1i(gl->GetUniformLocation(d->acc_prog, "u_frame"), 0);
+	gl->Uniform1i(gl->GetUniformLocation(d->acc_prog, "u_prev"), 1);
+	gl->Uniform1f(gl->GetUniformLocation(d->acc_prog, "u_weight"),
+	              1.0f / (float)((double)sample + 1.0));
+	gl->DrawArrays(GL_TRIANGLES, 0, 3);
+	gl->ActiveTexture(GL_TEXTURE0);
+	d->cur = next;
+	*out = d->acc[next];
+	return rs_gles_check(gl, "refinement: accumulating the frame", err);
+}
+
 enum rs_status rs_gles_present(struct gles *g, GLuint tex, uint32_t width, uint32_t height,
-                               struct rs_render_stats *stats, struct rs_error *err)
+                               uint32_t sample, struct rs_render_stats *stats, struct rs_error *err)
 {
 	double t0 = rs_now_ms();
 	if (!g->display) {
@@ -146,9 +222,12 @@ enum rs_status rs_gles_present(struct gles *g, GLuint tex, uint32_t width, uint3
 			return st;
 		}
 	}
+	GLuint shown = tex;
+	enum rs_status st = accumulate(g->display, tex, width, height, sample, &shown, err);
 	struct rs_gles_display_target t;
 	g->cops->display_target(g->ctx, &t);
-	enum rs_status st = draw(g->display, tex, width, height, &t, err);
+	if (st == RS_OK)
+		st = draw(g->display, shown, width, height, &t, err);
 	if (st == RS_OK && g->cops->swap)
 		st = g->cops->swap(g->ctx, err);
 	rs_gles_kernel_time(stats, "present", rs_now_ms() - t0);

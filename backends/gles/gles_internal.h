@@ -88,6 +88,7 @@ enum {
 	U_SIZE,
 	U_TAN,
 	U_SHIFT,
+	U_JITTER,
 	U_NEAR,
 	U_FAR,
 	U_ORIG,
@@ -360,10 +361,12 @@ enum rs_status rs_gles_allocated(const struct rs_gl *gl, const char *what, GLenu
 /* ---- 2 capture ------------------------------------------------------------------------ */
 
 /* gles_display.c (layer 3): show float colour texture `tex` (width x height texels, row 0 =
- * top) in the context's window (cops->display_target) and swap; its time is kernel "present".
+ * top) in the context's window (cops->display_target) and swap, through the still-pose
+ * refinement mean of the camera's `sample` (0 restarts it); its time is kernel "present".
  * rs_gles_display_free releases the step (context current). */
 enum rs_status rs_gles_present(struct gles *g, GLuint tex, uint32_t width, uint32_t height,
-                               struct rs_render_stats *stats, struct rs_error *err);
+                               uint32_t sample, struct rs_render_stats *stats,
+                               struct rs_error *err);
 void rs_gles_display_free(struct gles *g);
 
 /* gles_shadow.c: the cube shadow maps of every light (set_scene: lights and geometry are

@@ -95,6 +95,7 @@ static const char *const uniform_names[U_COUNT] = {
     [U_SIZE] = "u_size",
     [U_TAN] = "u_tan",
     [U_SHIFT] = "u_shift",
+    [U_JITTER] = "u_jitter",
     [U_NEAR] = "u_near",
     [U_FAR] = "u_far",
     [U_ORIG] = "u_orig",

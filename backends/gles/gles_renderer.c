@@ -262,7 +262,7 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 	/* A window context: the frame goes to the screen straight from the plan's colour. */
 	if (st == RS_OK && g->cops->display_target)
 		st = rs_gles_present(g, rs_gles_target(g, plan->result_acc), g->desc.width,
-		                     g->desc.height, stats, err);
+		                     g->desc.height, camera->sample, stats, err);
 	g->cops->release(g->ctx);
 	return st;
 }

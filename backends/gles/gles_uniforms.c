@@ -104,6 +104,9 @@ void rs_gles_camera_uniforms(const struct gles *g, const struct rs_gles_program 
 	rs_gles_uniform_f(gl, p, U_TAN, (GLfloat)v.tan_half_fov);
 	if (p->loc[U_SHIFT] >= 0)
 		gl->Uniform2f(p->loc[U_SHIFT], (GLfloat)v.shift[0], (GLfloat)v.shift[1]);
+	if (p->loc[U_JITTER] >= 0)
+		gl->Uniform2f(p->loc[U_JITTER], (GLfloat)v.pixel_offset[0],
+		              (GLfloat)v.pixel_offset[1]);
 }
 
 void rs_gles_envmap_uniforms(const struct gles *g, const struct rs_gles_program *p, uint32_t pass)

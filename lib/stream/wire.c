@@ -251,6 +251,7 @@ enum rs_status rs_stream_encode(const struct rs_stream_msg *msg, uint8_t *out, s
 		rs_le_put16(b + 16, u->u.frame.width);
 		rs_le_put16(b + 18, u->u.frame.height);
 		b[20] = u->u.frame.encoding;
+		rs_le_put16(b + 22, u->u.frame.samples);
 		rs_le_put32(b + 24, u->u.frame.render_us);
 		rs_le_put32(b + 28, u->u.frame.encode_us);
 		memcpy(b + RS_STREAM_FRAME_FIXED, u->u.frame.data, u->u.frame.size);
@@ -335,6 +336,7 @@ enum rs_status rs_stream_decode_body(uint32_t type, const uint8_t *b, uint32_t l
 		m.u.frame.width = rs_le_get16(b + 16);
 		m.u.frame.height = rs_le_get16(b + 18);
 		m.u.frame.encoding = b[20];
+		m.u.frame.samples = rs_le_get16(b + 22);
 		m.u.frame.render_us = rs_le_get32(b + 24);
 		m.u.frame.encode_us = rs_le_get32(b + 28);
 		m.u.frame.data = b + RS_STREAM_FRAME_FIXED;

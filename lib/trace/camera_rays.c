@@ -38,8 +38,21 @@ void rs_trace_view_init(const struct rs_camera *camera, const double origin[3], 
 	out->tan_half_fov = tan(c.fov_y_deg * (RS_PI / 360.0));
 	out->shift[0] = c.shift[0];
 	out->shift[1] = c.shift[1];
+	rs_trace_sample_offset(c.sample, out->pixel_offset);
 	out->width = width;
 	out->height = height;
+}
+
+void rs_trace_sample_offset(uint32_t sample, double out[2])
+{
+	RS_ASSERT(out);
+	/* R2: x_n = frac(0.5 + n / g), y_n = frac(0.5 + n / g^2), g the plastic number
+	 * (x^3 = x + 1); minus 0.5 so sample 0 is the pixel centre. n is exact in double. */
+	static const double a1 = 0.75487766624669276005, a2 = 0.56984029099805326591;
+	double n = (double)sample;
+	double x = 0.5 + n * a1, y = 0.5 + n * a2;
+	out[0] = x - floor(x) - 0.5;
+	out[1] = y - floor(y) - 0.5;
 }
 
 void rs_trace_view_ray(const struct rs_trace_view *view, double px, double py,
@@ -48,6 +61,8 @@ void rs_trace_view_ray(const struct rs_trace_view *view, double px, double py,
 	/* The lens shift moves the window off the axis (it adds exactly 0 when unset, so
 	 * centred rays are unchanged). */
 	double b = view->tan_half_fov, w = (double)view->width, h = (double)view->height;
+	px += view->pixel_offset[0]; /* 0 for sample 0: centred rays stay bit for bit */
+	py += view->pixel_offset[1];
 	double sx = ((2.0 * px / w - 1.0) * (w / h) + view->shift[0]) * b;
 	double sy = ((1.0 - 2.0 * py / h) + view->shift[1]) * b;
 	double dir[3];

@@ -23,6 +23,7 @@ struct options {
 	const char *scene, *out, *stats, *depth;
 	bool jpeg; /* --out ends in .jpg or .jpeg */
 	uint32_t frame, animate, fps;
+	uint32_t samples; /* --samples: refinement frames averaged (0 and 1: one frame) */
 	struct rs_render_desc desc;
 };
 
@@ -54,6 +55,9 @@ static int parse_args(int argc, char **argv, struct options *o)
 	    RS_CLI_U32_OPT("--animate", &o->animate, 0, 100000,
 	                   "frames to render from --frame (0: one, no numbered names)"),
 	    RS_CLI_U32_OPT("--fps", &o->fps, 1, 1000, "frames per second of the scene's motion"),
+	    RS_CLI_U32_OPT("--samples", &o->samples, 1, 4096,
+	                   "average N frames of the sub-pixel sequence (what a still viewer "
+	                   "converges to)"),
 	};
 	struct rs_cli cli = {.prog = prog.prog,
 	                     .usage = "--scene SCENE [options]",
@@ -186,6 +190,42 @@ static enum rs_status write_image(const struct options *o, const char *path,
 	return rs_image_write_png(path, f->rgb, w, h, err);
 }
 
+/* One sample as refinement averages it: what a frame shows, clamped to [0, 1] (NaN: 0). */
+static double shown(float c)
+{
+	return c > 0.0f ? (c < 1.0f ? (double)c : 1.0) : 0.0;
+}
+
+/* --samples N: frames 0..N-1 of the camera's sub-pixel sequence (rs_camera.sample) averaged
+ * in double, the image a still viewer's refinement converges to: the mean of what each
+ * frame shows (docs/view.md). `f` holds frame 0. */
+static enum rs_status average_samples(const struct options *o, const struct rs_scene *scene,
+                                      struct rs_renderer *renderer, const struct rs_frame *f,
+                                      uint32_t w, uint32_t h, struct rs_error *err)
+{
+	size_t n = (size_t)w * h * 3;
+	double *sum = malloc(n * sizeof *sum);
+	if (!sum)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for a %ux%u image", w, h);
+	for (size_t i = 0; i < n; ++i)
+		sum[i] = shown(f->rgb[i]);
+	struct rs_camera cam = *rs_scene_camera(scene);
+	struct rs_frame one = {.rgb = f->rgb};
+	enum rs_status st = RS_OK;
+	for (uint32_t k = 1; k < o->samples && st == RS_OK; ++k) {
+		cam.sample = k;
+		st = rs_renderer_render(renderer, &cam, &one, err);
+		for (size_t i = 0; st == RS_OK && i < n; ++i)
+			sum[i] += shown(f->rgb[i]);
+	}
+	for (size_t i = 0; st == RS_OK && i < n; ++i)
+		f->rgb[i] = (float)(sum[i] / o->samples);
+	if (st == RS_OK && f->rgba8)
+		rs_image_quantize(f->rgb, w, h, f->rgba8);
+	free(sum);
+	return st;
+}
+
 static int run(const struct options *o)
 {
 	struct rs_error err = {0}, note = {0};
@@ -233,6 +273,9 @@ static int run(const struct options *o)
 		}
 		double t0 = rs_now_ms();
 		if (rs_renderer_render(renderer, NULL, &frame, &err) != RS_OK)
+			goto done;
+		if (o->samples > 1 &&
+		    average_samples(o, scene, renderer, &frame, w, h, &err) != RS_OK)
 			goto done;
 		ms = rs_now_ms() - t0;
 		char names[2][4096];

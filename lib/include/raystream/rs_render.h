@@ -291,8 +291,9 @@ enum rs_status rs_render_scene_same_topology(const struct rs_scene *current,
                                              const struct rs_scene *next, struct rs_error *err);
 
 /**
- * Render a frame. `camera` NULL: the scene's camera; else its eye, target, up and fov are
- * used (its width/height are ignored: the size was fixed at set_scene). RS_ERR_INVALID
+ * Render a frame. `camera` NULL: the scene's camera; else its eye, target, up, fov, shift
+ * and sub-pixel sample are used (its width/height are ignored: the size was fixed at
+ * set_scene). RS_ERR_INVALID
  * before set_scene or for a camera rs_scene_set_camera() would refuse.
  */
 enum rs_status rs_renderer_render(struct rs_renderer *renderer, const struct rs_camera *camera,

@@ -71,6 +71,12 @@ struct rs_camera {
 	 */
 	double shift[2];
 	uint32_t width, height; /**< image size the scene was framed for; 0 means 512 */
+	/**
+	 * Which sub-pixel sample of the pixels this frame's primary rays take (still-pose
+	 * refinement, docs/view.md): 0 the pixel centres, n > 0 the centres moved by
+	 * rs_trace_sample_offset(n). Averaging frames 0..N-1 gives an N-sample image.
+	 */
+	uint32_t sample;
 };
 
 /** A white-or-coloured point light without fall-off. */

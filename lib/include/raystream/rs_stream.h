@@ -61,6 +61,9 @@ enum rs_stream_bye_reason {
 /** The viewer acknowledges frames: after each FRAME it sends a STATS whose `frames` counts
  *  the frames received, and the server keeps one unacknowledged frame on the way. */
 #define RS_STREAM_POSE_ACKS 2u
+/** The viewer wants still-pose refinement: a POSE with the camera of the one before is
+ *  rendered at the next sub-pixel sample and averaged (FRAME.samples counts them). */
+#define RS_STREAM_POSE_REFINE 4u
 
 struct rs_stream_hello {
 	uint16_t width, height;              /**< requested image size, 1..RS_STREAM_MAX_SIDE */
@@ -90,7 +93,10 @@ struct rs_stream_frame {
 	uint32_t pose_id;
 	uint64_t pose_time_us;
 	uint16_t width, height;
-	uint8_t encoding;    /**< enum rs_stream_encoding */
+	uint8_t encoding; /**< enum rs_stream_encoding */
+	/** Sub-pixel samples averaged in this image (still-pose refinement); 0 from a server
+	 *  that predates it, meaning 1. Bytes 22-23 of the fixed part, which were zero. */
+	uint16_t samples;
 	uint32_t render_us;  /**< server time rendering */
 	uint32_t encode_us;  /**< server time encoding */
 	const uint8_t *data; /**< image bytes (parser: points into its buffer) */

@@ -157,7 +157,8 @@ struct rs_trace_stats {
 
 /**
  * The primary ray through image position (px, py) in pixels, (0, 0) being the top-left
- * corner of the image and (x + 0.5, y + 0.5) the centre of pixel (x, y); row 0 = top.
+ * corner of the image and (x + 0.5, y + 0.5) the centre of pixel (x, y); row 0 = top;
+ * camera->sample's offset (rs_trace_sample_offset()) is added.
  * Pinhole at camera->eye (resolved with rs_camera_resolve()), vertical field of view
  * fov_y_deg over `height` pixels, square pixels. width/height 0: the camera's size.
  * The direction has unit length (so t is a distance); tmin 0, tmax +INFINITY, no skip slot.
@@ -317,6 +318,9 @@ struct rs_trace_view {
 	double fwd[3], right[3], up[3]; /**< unit forward and right; up = right x fwd */
 	double tan_half_fov;            /**< b = tan(fov_y / 2) */
 	double shift[2];                /**< lens shift */
+	/** Added to every image position (pixels, +x right, +y down): the camera's sample
+	 * offset, rs_trace_sample_offset(camera->sample); (0, 0) for sample 0. */
+	double pixel_offset[2];
 	uint32_t width, height;
 };
 
@@ -327,7 +331,16 @@ struct rs_trace_view {
 void rs_trace_view_init(const struct rs_camera *camera, const double origin[3], uint32_t width,
                         uint32_t height, struct rs_trace_view *out);
 
-/** The primary ray through image position (px, py), as rs_trace_camera_ray() describes. */
+/**
+ * The sub-pixel offset of refinement sample `sample`, in pixels, each coordinate in
+ * [-0.5, 0.5): the R2 low-discrepancy sequence (Roberts 2018, the plastic number's
+ * inverse powers) centred on the pixel, so sample 0 is (0, 0), the centre, and the first
+ * N samples cover the pixel evenly for every N (the running mean converges at each frame).
+ */
+void rs_trace_sample_offset(uint32_t sample, double out[2]);
+
+/** The primary ray through image position (px, py) + view->pixel_offset, as
+ * rs_trace_camera_ray() describes. */
 void rs_trace_view_ray(const struct rs_trace_view *view, double px, double py,
                        struct rs_ray *out_ray);
 
