@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "raystream/rs_image.h"
+#include "raystream/rs_status.h"
 
 int app_refine_is_still(const struct rs_pose *a, const struct rs_pose *b)
 {
@@ -14,7 +15,7 @@ int app_refine_is_still(const struct rs_pose *a, const struct rs_pose *b)
 	for (int i = 0; i < 4; ++i)
 		dot += a->orientation[i] * b->orientation[i];
 	/* the rotation between two unit quaternions: 2 acos |q1 . q2| */
-	double deg = 2.0 * acos(fmin(1.0, fabs(dot))) * (180.0 / 3.14159265358979323846);
+	double deg = 2.0 * acos(fmin(1.0, fabs(dot))) * (180.0 / RS_PI);
 	return isfinite(d2) && isfinite(deg) && sqrt(d2) * 1e3 <= APP_REFINE_STILL_MM &&
 	       deg <= APP_REFINE_STILL_DEG;
 }
