@@ -219,3 +219,15 @@ const struct rs_scene_instance *rs_scene_instances(const struct rs_scene *scene)
 {
 	return scene->instances;
 }
+
+void rs_scene_prototype_mesh(const struct rs_scene *scene, uint32_t id, struct rs_mesh_desc *out)
+{
+	RS_ASSERT(scene && out && id < scene->prototype_count);
+	const struct rs_scene_prototype *p = &scene->prototypes[id];
+	*out = (struct rs_mesh_desc){.positions_f64 = p->positions,
+	                             .vertex_count = p->vertex_count,
+	                             .normals = p->normals,
+	                             .indices = p->indices,
+	                             .triangle_count = p->triangle_count,
+	                             .material = p->material};
+}

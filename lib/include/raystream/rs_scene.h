@@ -184,6 +184,9 @@ enum rs_status rs_scene_add_prototype(struct rs_scene *scene, const struct rs_me
 enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_instance_desc *desc,
                                      uint32_t *out_id, struct rs_error *err);
 
+/** Prototype `id` (< rs_scene_prototype_count) as a mesh description pointing into the scene
+ * (double positions, normals, indices, material): valid until the scene changes. */
+void rs_scene_prototype_mesh(const struct rs_scene *scene, uint32_t id, struct rs_mesh_desc *out);
 size_t rs_scene_prototype_count(const struct rs_scene *scene);
 size_t rs_scene_instance_count(const struct rs_scene *scene);
 /** The instances in the order they were added (rs_scene_instance_count() of them). */
