@@ -1,9 +1,9 @@
 /* The two-level walk (rs_pack_instances + rs_trace_instances_closest) against the same
  * instances baked into world space and walked in one level: same triangle hit on >= 99.99 %
  * of rays, the same t and a geometric normal on the same side, for rotated, scaled,
- * non-uniformly scaled, mirrored and far-from-origin instances; a closed room of instanced
- * walls leaks no ray and shadows no interior point; wide4 and instance-less scenes are
- * refused. */
+ * non-uniformly scaled, mirrored and far-from-origin instances, with plain meshes between; a closed
+ * room of instanced walls leaks no ray and shadows no interior point; wide4 and instance-less
+ * scenes are refused. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -50,6 +50,19 @@ static uint32_t add_sphere(struct rs_scene *scene)
 	uint32_t id;
 	assert_int_equal(rs_scene_add_prototype(scene, &mesh, &id, NULL), RS_OK);
 	return id;
+}
+
+/* A plain (not instanced) quad at height y, x and z in [-6, 6]: the loose BLAS's. */
+static void add_floor(struct rs_scene *scene, double y, uint32_t material)
+{
+	const double p[4 * 3] = {-6, y, -6, 6, y, -6, 6, y, 6, -6, y, 6};
+	const uint32_t i[6] = {0, 2, 1, 0, 3, 2};
+	struct rs_mesh_desc mesh = {.positions_f64 = p,
+	                            .vertex_count = 4,
+	                            .indices = i,
+	                            .triangle_count = 2,
+	                            .material = material};
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
 }
 
 static struct rs_scene *new_scene(void)
@@ -183,12 +196,18 @@ static void transformed_instances_hit_as_baked(void **state)
 	    {tilt, 2.0, {1.2, -0.7, 0.9}, {3, 2.5, -1}},
 	    {x, 0.0, {0.5, 0.5, 0.5}, {0.7, 0.4, 1.3}}, /* overlaps the first: ties and order */
 	};
+	struct rs_material red = {.diffuse = {1, 0, 0}};
+	assert_int_equal(rs_scene_add_material(scene, &red, NULL, NULL), RS_OK);
+	add_floor(scene, -3.5, 0); /* plain meshes around the instances: the loose BLAS */
 	for (size_t i = 0; i < sizeof set / sizeof set[0]; i++) {
+		if (i == 3)
+			add_floor(scene, -3.0, 1);
 		struct rs_instance_desc d = {.mesh = sphere};
 		make_transform(set[i].axis, set[i].angle, set[i].scale, set[i].move, d.transform);
 		assert_int_equal(rs_scene_add_instance(scene, &d, NULL, NULL), RS_OK);
 	}
-	const double eye[3] = {0.3, 0.8, 12.0};
+	add_floor(scene, -2.5, 1);
+	const double eye[3] = {0.3, 6.0, 12.0};
 	compare_walks(scene, eye, 150);
 	rs_scene_destroy(&scene);
 }

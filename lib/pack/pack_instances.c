@@ -3,6 +3,7 @@
  * rs_pack_scene) on a scratch scene, so both levels have exactly the node formats, directional
  * orders and bounds the walks already read. */
 #include <float.h>
+#include <stdbool.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,7 +64,8 @@ static enum rs_status pack_meshes(const struct rs_scene *scene, const struct rs_
                                   struct rs_bounds *mesh_bounds, struct rs_error *err)
 {
 	enum rs_status status = RS_OK;
-	for (uint32_t k = 0; status == RS_OK && k < out->mesh_count; k++) {
+	uint32_t protos = (uint32_t)rs_scene_prototype_count(scene);
+	for (uint32_t k = 0; status == RS_OK && k < protos; k++) {
 		struct rs_scene *s = NULL;
 		struct rs_mesh_desc mesh;
 		rs_scene_prototype_mesh(scene, k, &mesh);
@@ -76,6 +78,75 @@ static enum rs_status pack_meshes(const struct rs_scene *scene, const struct rs_
 			rs_scene_bounds(s, &mesh_bounds[k]);
 		rs_scene_destroy(&s);
 	}
+	return status;
+}
+
+/* The triangles outside every instance as one more mesh (world space): runs of one material
+ * each become a mesh of their own vertices; loose_ids[local] = scene id. */
+static enum rs_status pack_loose(const struct rs_scene *scene, const bool *covered,
+                                 const struct rs_bvh_desc *bvh, const struct rs_pack_desc *pack,
+                                 struct rs_packed_instances *out, struct rs_bounds *bounds,
+                                 struct rs_error *err)
+{
+	size_t tris = rs_scene_triangle_count(scene), verts = rs_scene_vertex_count(scene);
+	const uint32_t *idx = rs_scene_indices(scene), *mat = rs_scene_triangle_materials(scene);
+	const double *pos = rs_scene_positions_f64(scene);
+	const float *nrm = rs_scene_normals(scene);
+	uint32_t *remap = malloc((verts ? verts : 1) * sizeof *remap);
+	size_t *stamp = calloc(verts ? verts : 1, sizeof *stamp);
+	double *rp = malloc((tris * 3 + 1) * 3 * sizeof *rp);
+	float *rn = malloc((tris * 3 + 1) * 3 * sizeof *rn);
+	uint32_t *ri = malloc((tris + 1) * 3 * sizeof *ri);
+	struct rs_scene *s = NULL;
+	enum rs_status status = RS_OK;
+	if (!remap || !stamp || !rp || !rn || !ri)
+		status =
+		    rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for loose triangles");
+	if (status == RS_OK)
+		status = scratch_scene(scene, &s, err);
+	size_t run = 0, local = 0;
+	for (size_t t = 0; status == RS_OK && t < tris;) {
+		if (covered[t]) {
+			t++;
+			continue;
+		}
+		/* one run: consecutive loose triangles of one material */
+		size_t nv = 0, nt = 0;
+		run++;
+		uint32_t m = mat[t];
+		for (; t < tris && !covered[t] && mat[t] == m; t++, nt++) {
+			out->loose_ids[local++] = (uint32_t)t;
+			for (int k = 0; k < 3; k++) {
+				uint32_t v = idx[t * 3 + k];
+				if (stamp[v] != run) {
+					stamp[v] = run;
+					remap[v] = (uint32_t)nv;
+					memcpy(rp + nv * 3, pos + (size_t)v * 3, 3 * sizeof *rp);
+					memcpy(rn + nv * 3, nrm + (size_t)v * 3, 3 * sizeof *rn);
+					nv++;
+				}
+				ri[nt * 3 + k] = remap[v];
+			}
+		}
+		struct rs_mesh_desc d = {.positions_f64 = rp,
+		                         .vertex_count = nv,
+		                         .normals = rn,
+		                         .indices = ri,
+		                         .triangle_count = nt,
+		                         .material = m};
+		status = rs_scene_add_mesh(s, &d, err);
+	}
+	if (status == RS_OK)
+		status = build_and_pack(s, bvh, pack, &out->meshes[out->mesh_count - 1],
+		                        &out->build_ms, err);
+	if (status == RS_OK)
+		rs_scene_bounds(s, bounds);
+	rs_scene_destroy(&s);
+	free(remap);
+	free(stamp);
+	free(rp);
+	free(rn);
+	free(ri);
 	return status;
 }
 
@@ -99,11 +170,11 @@ static void instance_box(const struct rs_scene_instance *inst, const struct rs_b
 	}
 }
 
-static enum rs_status pack_top(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
-                               const struct rs_pack_desc *pack, const struct rs_bounds *mesh_bounds,
-                               struct rs_packed_instances *out, struct rs_error *err)
+static enum rs_status pack_top(const struct rs_scene *scene, const struct rs_scene_instance *inst,
+                               const struct rs_bvh_desc *bvh, const struct rs_pack_desc *pack,
+                               const struct rs_bounds *mesh_bounds, struct rs_packed_instances *out,
+                               struct rs_error *err)
 {
-	const struct rs_scene_instance *inst = rs_scene_instances(scene);
 	uint32_t n = out->instance_count;
 	double *pos = malloc((size_t)n * 9 * sizeof *pos);
 	uint32_t *idx = malloc((size_t)n * 3 * sizeof *idx);
@@ -177,28 +248,54 @@ enum rs_status rs_pack_instances(const struct rs_scene *scene, const struct rs_b
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "pack: instances need threaded nodes (compact or paper), not "
 		                    "wide4");
-	size_t n = rs_scene_instance_count(scene);
-	if (n == 0)
+	size_t ns = rs_scene_instance_count(scene), tris = rs_scene_triangle_count(scene);
+	if (ns == 0)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: the scene has no instances");
-	if (n >= RS_PACK_MAX_ITEMS)
+	/* which triangles the instances bake (the rest go into the loose BLAS) */
+	const struct rs_scene_instance *sinst = rs_scene_instances(scene);
+	bool *covered = calloc(tris ? tris : 1, sizeof *covered);
+	if (!covered)
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for instances");
+	size_t loose = tris;
+	for (size_t i = 0; i < ns; i++)
+		for (uint32_t t = 0; t < sinst[i].triangle_count; t++, loose--)
+			covered[sinst[i].first_triangle + t] = true;
+	size_t n = ns + (loose > 0);
+	if (n >= RS_PACK_MAX_ITEMS) {
+		free(covered);
 		return rs_error_set(err, RS_ERR_LIMIT, "pack: %zu instances, over 2^24", n);
-	out->mesh_count = (uint32_t)rs_scene_prototype_count(scene);
+	}
+	uint32_t protos = (uint32_t)rs_scene_prototype_count(scene);
+	out->mesh_count = protos + (loose > 0);
 	out->instance_count = (uint32_t)n;
 	out->meshes = calloc(out->mesh_count, sizeof *out->meshes);
 	out->to_object = malloc(n * sizeof *out->to_object);
 	out->to_world_normal = malloc(n * sizeof *out->to_world_normal);
 	out->mesh = malloc(n * sizeof *out->mesh);
 	out->first_triangle = malloc(n * sizeof *out->first_triangle);
+	out->loose_ids = loose > 0 ? malloc(loose * sizeof *out->loose_ids) : NULL;
 	struct rs_bounds *mesh_bounds = calloc(out->mesh_count, sizeof *mesh_bounds);
+	struct rs_scene_instance *inst = malloc(n * sizeof *inst);
 	enum rs_status status = RS_OK;
 	if (!out->meshes || !out->to_object || !out->to_world_normal || !out->mesh ||
-	    !out->first_triangle || !mesh_bounds)
+	    !out->first_triangle || !mesh_bounds || !inst || (loose > 0 && !out->loose_ids))
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for instances");
+	if (status == RS_OK) {
+		memcpy(inst, sinst, ns * sizeof *inst);
+		if (loose > 0) {
+			/* the loose BLAS's instance: the identity */
+			struct rs_scene_instance id = {.mesh = protos};
+			for (int r = 0; r < 3; r++)
+				id.transform[r][r] = id.inverse[r][r] = 1.0;
+			inst[ns] = id;
+		}
+	}
 	if (status == RS_OK)
 		status = pack_meshes(scene, bvh, pack, out, mesh_bounds, err);
+	if (status == RS_OK && loose > 0)
+		status = pack_loose(scene, covered, bvh, pack, out, &mesh_bounds[protos], err);
 	if (status == RS_OK)
-		status = pack_top(scene, bvh, pack, mesh_bounds, out, err);
-	const struct rs_scene_instance *inst = rs_scene_instances(scene);
+		status = pack_top(scene, inst, bvh, pack, mesh_bounds, out, err);
 	for (size_t i = 0; status == RS_OK && i < n; i++) {
 		const double *o = out->meshes[inst[i].mesh].origin;
 		out->mesh[i] = inst[i].mesh;
@@ -211,6 +308,8 @@ enum rs_status rs_pack_instances(const struct rs_scene *scene, const struct rs_b
 				out->to_world_normal[i][r][k] = inst[i].inverse[k][r];
 		}
 	}
+	free(covered);
+	free(inst);
 	free(mesh_bounds);
 	if (status != RS_OK)
 		rs_pack_instances_free(out);
@@ -229,6 +328,7 @@ void rs_pack_instances_free(struct rs_packed_instances *packed)
 	free(packed->to_world_normal);
 	free(packed->mesh);
 	free(packed->first_triangle);
+	free(packed->loose_ids);
 	memset(packed, 0, sizeof *packed);
 }
 
@@ -246,6 +346,8 @@ size_t rs_pack_bytes(const struct rs_packed *packed)
 size_t rs_pack_instances_bytes(const struct rs_packed_instances *packed)
 {
 	size_t bytes = rs_pack_bytes(&packed->top) + (size_t)packed->instance_count * 6u * 16u;
+	if (packed->loose_ids) /* the loose ids a GPU would need beside their BLAS */
+		bytes += (size_t)packed->meshes[packed->mesh_count - 1].triangle_count * 4u;
 	for (uint32_t k = 0; k < packed->mesh_count; k++)
 		bytes += rs_pack_bytes(&packed->meshes[k]);
 	return bytes;

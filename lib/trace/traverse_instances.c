@@ -99,8 +99,11 @@ static bool walk_blas(const struct rs_packed_instances *pi, uint32_t i, const st
 			const float *t =
 			    rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, slot, 0);
 			uint32_t local = rs_pack_index(t[3]);
-			uint32_t id =
-			    local == UINT32_MAX ? UINT32_MAX : pi->first_triangle[i] + local;
+			/* the last instance walks the loose triangles, when there are some */
+			bool loose = pi->loose_ids && i == pi->instance_count - 1;
+			uint32_t id = local == UINT32_MAX ? UINT32_MAX
+			              : loose             ? pi->loose_ids[local]
+			                                  : pi->first_triangle[i] + local;
 			if (id == w->skip)
 				continue;
 			double v[3][3], th, u, vv;

@@ -198,6 +198,9 @@ struct rs_pack_wide {
  * shrinks it, with the instance id in t0.w; a TLAS leaf's items are instances, not triangles.
  * to_object[i] maps world to the BLAS frame of instance i's mesh (world -> object, minus the
  * mesh's packed origin), to_world_normal[i] the inverse transpose (object -> world normals).
+ * Triangles of the scene outside every instance (rs_scene_add_mesh) go into one more BLAS,
+ * meshes[mesh_count - 1] when `loose_ids` is set, walked through one more identity instance
+ * (the last); loose_ids maps its local triangle ids to scene ids.
  * Threaded node formats only (compact or paper); wide4 is refused.
  */
 struct rs_packed_instances {
@@ -209,7 +212,8 @@ struct rs_packed_instances {
 	double (*to_world_normal)[3][3]; /**< per instance: inverse transpose of the 3x3 part */
 	uint32_t *mesh;                  /**< per instance: its prototype */
 	uint32_t *first_triangle;        /**< per instance: scene id of its first triangle */
-	double build_ms;                 /**< BLAS + TLAS builds (without packing) */
+	uint32_t *loose_ids; /**< the loose BLAS's local -> scene triangle ids, or NULL */
+	double build_ms;     /**< BLAS + TLAS builds (without packing) */
 };
 
 /**
