@@ -24,6 +24,10 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 	if (strncmp(name, "cow", 3) != 0 || name[3] < '1' || name[3] > '9')
 		goto bad;
 	for (p = name + 3; *p != '\0'; p++) {
+		if (*p == 'i' && p[1] == '\0') {
+			out->instanced = true;
+			break;
+		}
 		if (*p < '0' || *p > '9')
 			goto bad;
 		n = n * 10 + (unsigned long)(*p - '0');
@@ -34,9 +38,10 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 	out->cows = (uint32_t)n;
 	return RS_OK;
 bad:
-	return rs_error_set(err, RS_ERR_INVALID,
-	                    "unknown scene '%.64s' (expected box, mirrors or cowN, N = 1..%u)",
-	                    name, RS_SCENEGEN_MAX_COWS);
+	return rs_error_set(
+	    err, RS_ERR_INVALID,
+	    "unknown scene '%.64s' (expected box, mirrors, cowN or cowNi, N = 1..%u)", name,
+	    RS_SCENEGEN_MAX_COWS);
 }
 
 enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size,
@@ -53,7 +58,8 @@ enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, 
 	else if (desc->kind == RS_SCENEGEN_MIRRORS)
 		n = snprintf(out, size, "mirrors");
 	else if (desc->kind == RS_SCENEGEN_COW)
-		n = snprintf(out, size, "cow%u", desc->cows == 0 ? 1u : (unsigned)desc->cows);
+		n = snprintf(out, size, "cow%u%s", desc->cows == 0 ? 1u : (unsigned)desc->cows,
+		             desc->instanced ? "i" : "");
 	else
 		return rs_error_set(err, RS_ERR_INVALID, "unknown scene kind %d", (int)desc->kind);
 	if (n < 0 || (size_t)n >= size)
@@ -89,7 +95,8 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 		    (st = rs_scenegen_data_path("cow.obj", found, sizeof found, err)) == RS_OK)
 			cow = found;
 		if (cow)
-			st = sg_build_cows(scene, cow, desc->cows == 0 ? 1 : desc->cows, err);
+			st = sg_build_cows(scene, cow, desc->cows == 0 ? 1 : desc->cows,
+			                   desc->instanced, err);
 	}
 	if (st != RS_OK) {
 		rs_scene_destroy(&scene);

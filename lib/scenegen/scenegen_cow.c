@@ -73,8 +73,29 @@ static enum rs_status add_copy(struct rs_scene *scene, const struct rs_scene *co
 	return RS_OK;
 }
 
+/* Instance i of the prototype cow: add_copy's turn and placement as a transform. */
+static enum rs_status add_instance(struct rs_scene *scene, const struct rs_scene *cow,
+                                   uint32_t proto, uint32_t i, uint32_t n, struct rs_error *err)
+{
+	struct rs_bounds b;
+	uint32_t cols, rows;
+	double a = (double)i * COW_TURN_DEG * RS_PI / 180.0, cs = cos(a), sn = sin(a), c[3];
+
+	grid_shape(n, &cols, &rows);
+	double gx = ((double)(i % cols) - 0.5 * (double)(cols - 1)) * GRID_DX;
+	double gz = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * GRID_DZ;
+	rs_scene_bounds(cow, &b);
+	sg_center(&b, c);
+	struct rs_instance_desc d = {.mesh = proto,
+	                             .transform = {{cs, 0.0, sn, gx - cs * c[0] - sn * c[2]},
+	                                           {0.0, 1.0, 0.0, COW_LIFT},
+	                                           {-sn, 0.0, cs, gz + sn * c[0] - cs * c[2]}}};
+	enum rs_status st = rs_scene_add_instance(scene, &d, NULL, err);
+	return st == RS_OK ? RS_OK : rs_error_prefix(err, st, "cow instance %u", i);
+}
+
 static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                               struct rs_error *err)
+                               bool instanced, struct rs_error *err)
 {
 	static const struct rs_material cow_mat = {.diffuse = {0.55f, 0.40f, 0.30f},
 	                                           .specular = 0.3f,
@@ -99,8 +120,19 @@ static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uin
 		if (buf == NULL || pos == NULL)
 			st = rs_error_set(err, RS_ERR_NO_MEMORY, "cow scene: out of memory");
 	}
+	uint32_t proto = 0;
+	if (st == RS_OK && instanced) {
+		struct rs_mesh_desc d = {.positions = rs_scene_positions(cow),
+		                         .vertex_count = rs_scene_vertex_count(cow),
+		                         .normals = rs_scene_normals(cow),
+		                         .indices = rs_scene_indices(cow),
+		                         .triangle_count = rs_scene_triangle_count(cow),
+		                         .material = mat};
+		st = rs_scene_add_prototype(scene, &d, &proto, err);
+	}
 	for (uint32_t i = 0; st == RS_OK && i < n; i++)
-		st = add_copy(scene, cow, i, n, mat, pos, buf, err);
+		st = instanced ? add_instance(scene, cow, proto, i, n, err)
+		               : add_copy(scene, cow, i, n, mat, pos, buf, err);
 	free(pos);
 	free(buf);
 	rs_scene_destroy(&cow);
@@ -149,11 +181,11 @@ static enum rs_status add_stage(struct rs_scene *scene, const struct rs_bounds *
 }
 
 enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                             struct rs_error *err)
+                             bool instanced, struct rs_error *err)
 {
 	struct rs_bounds herd;
 	double c[3];
-	enum rs_status st = add_herd(scene, cow_path, n, err);
+	enum rs_status st = add_herd(scene, cow_path, n, instanced, err);
 
 	if (st != RS_OK)
 		return st;

@@ -46,7 +46,7 @@ enum rs_status sg_finish(struct rs_scene *scene, const double lights[4][3], stru
 
 /* The scene builders, into an empty scene. */
 enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                             struct rs_error *err);
+                             bool instanced, struct rs_error *err);
 enum rs_status sg_build_box(struct rs_scene *scene, struct rs_error *err);
 enum rs_status sg_build_mirrors(struct rs_scene *scene, struct rs_error *err);
 

@@ -9,6 +9,7 @@
 #ifndef RS_SCENEGEN_H
 #define RS_SCENEGEN_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -44,12 +45,15 @@ struct rs_scenegen_desc {
 	/** Path of the cow model for RS_SCENEGEN_COW; NULL: the shipped cow.obj, found by
 	 * rs_scenegen_data_path(). */
 	const char *cow_path;
+	/** CowN as N instances of one prototype cow (rs_scene_add_instance) instead of N copies:
+	 * the same triangles in the same order (name "cowNi"), for two-level packing. */
+	bool instanced;
 };
 
 /**
  * Parse a scene name: "box", "mirrors", or "cowN" with N = 1..RS_SCENEGEN_MAX_COWS written without
- * leading zeros (lower case). Fills *out (cow_path NULL); on failure returns RS_ERR_INVALID
- * with a message naming the bad name.
+ * leading zeros (lower case), optionally followed by "i" (instanced). Fills *out (cow_path NULL);
+ * on failure returns RS_ERR_INVALID with a message naming the bad name.
  */
 enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
                                  struct rs_error *err);
