@@ -143,7 +143,7 @@ enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_ins
 	if (scene->instance_count >= UINT32_MAX)
 		return rs_error_set(err, RS_ERR_LIMIT, "too many instances");
 	struct rs_scene_instance inst = {.mesh = desc->mesh};
-	double det;
+	double det = 0.0;
 	enum rs_status status =
 	    check_transform(desc->transform, inst.transform, inst.inverse, &det, err);
 	if (status != RS_OK)

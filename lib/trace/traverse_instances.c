@@ -2,6 +2,7 @@
  * of the TLAS, and at each instance item the same walk of its mesh's BLAS with the ray in
  * that BLAS's frame, sharing the best hit. Double throughout, reading only the textures and
  * the per-instance transforms (as a kernel would). */
+#include <float.h>
 #include <math.h>
 
 #include "raystream/rs_trace.h"
@@ -84,8 +85,10 @@ static bool walk_blas(const struct rs_packed_instances *pi, uint32_t i, const st
 		 * shared by instances must reach the triangles that take it; flat boxes are common)
 		 */
 		for (int a = 0; a < 3; a++) {
-			node.lo[a] = nextafterf(node.lo[a], -INFINITY);
-			node.hi[a] = nextafterf(node.hi[a], INFINITY);
+			/* at least one float step each way (|x| eps is half a step or more),
+			 * without a libm call per bound */
+			node.lo[a] -= fabsf(node.lo[a]) * FLT_EPSILON + FLT_MIN;
+			node.hi[a] += fabsf(node.hi[a]) * FLT_EPSILON + FLT_MIN;
 		}
 		if (!rs_intersect_box(node.lo, node.hi, r.origin, inv, r.tmin, r.tmax)) {
 			k = node.escape;
