@@ -83,8 +83,8 @@ enum rs_status rs_scenegen_load(const char *name, struct rs_scene **out, struct 
 		return rs_scenegen_build(&gen, out, err);
 	if (!is_file(name))
 		return rs_error_set(err, RS_ERR_NOT_FOUND,
-		                    "scene '%s' is neither box, mirrors, cowN (N 1..%u) nor an "
-		                    "existing file",
+		                    "scene '%s' is neither box, mirrors, cowN (N 1..%u), cowNi "
+		                    "nor an existing file",
 		                    name, RS_SCENEGEN_MAX_COWS);
 	return rs_load_scene(NULL, name, out, err);
 }
