@@ -167,6 +167,15 @@ static void compare_walks(struct rs_scene *scene, const double eye[3], uint32_t 
 			baked_normal(scene, h1.triangle, n);
 			double d = n[0] * h2.normal[0] + n[1] * h2.normal[1] + n[2] * h2.normal[2];
 			assert_true(d > 0.0);
+			/* skip_slot is a scene triangle id here: a ray from just before the hit
+			 * that skips it never reports it */
+			struct rs_ray from = ray;
+			for (int a = 0; a < 3; a++)
+				from.origin[a] = ray.origin[a] + 0.999 * h1.t * ray.dir[a];
+			from.skip_slot = h2.hit.triangle;
+			struct rs_instance_hit h3;
+			rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &from, &h3, NULL);
+			assert_true(h3.hit.triangle != h2.hit.triangle);
 			/* occlusion agrees with the closest hit */
 			ray.tmax = h1.t * 1.0001;
 			assert_true(
