@@ -336,6 +336,12 @@ static void two_level_packing_refuses_what_it_cannot_walk(void **state)
 	struct rs_instance_hit h;
 	assert_true(rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray, &h, NULL));
 	assert_true(h.instance == 0 && h.normal[2] > 0.0);
+	/* rays with no defined answer miss, and say so */
+	ray.dir[1] = NAN;
+	assert_false(rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray, &h, NULL));
+	assert_true(h.instance == RS_NO_SLOT && h.hit.triangle == RS_NO_SLOT);
+	ray.dir[0] = ray.dir[1] = ray.dir[2] = 0.0;
+	assert_false(rs_trace_instances_occluded(&two, RS_TRIANGLE_WATERTIGHT, &ray, NULL));
 	rs_pack_instances_free(&two);
 	rs_scene_destroy(&scene);
 }
