@@ -47,6 +47,13 @@ void rs_scene_destroy(struct rs_scene **scene)
 	free(s->triangle_materials);
 	free(s->materials);
 	free(s->lights);
+	for (size_t i = 0; i < s->prototype_count; ++i) {
+		free(s->prototypes[i].positions);
+		free(s->prototypes[i].normals);
+		free(s->prototypes[i].indices);
+	}
+	free(s->prototypes);
+	free(s->instances);
 	free(s);
 	*scene = NULL;
 }
@@ -57,7 +64,7 @@ static int finite3(const float *v)
 }
 
 /* Vertex i of the mesh in double, whichever precision it was given in. */
-static void mesh_position(const struct rs_mesh_desc *mesh, size_t i, double out[3])
+void rs__scene_mesh_position(const struct rs_mesh_desc *mesh, size_t i, double out[3])
 {
 	if (mesh->positions_f64) {
 		size_t stride = mesh->position_stride ? mesh->position_stride : 3 * sizeof(double);
@@ -72,7 +79,7 @@ static void mesh_position(const struct rs_mesh_desc *mesh, size_t i, double out[
 }
 
 /* Grow an array to hold `count` elements of `size` bytes, doubling capacity. */
-static int grow(void **array, size_t *capacity, size_t count, size_t size)
+int rs__scene_grow(void **array, size_t *capacity, size_t count, size_t size)
 {
 	if (count <= *capacity)
 		return 1;
@@ -113,8 +120,8 @@ enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_mat
 		                    scene->material_count, (double)material->ior);
 	if (scene->material_count >= (1u << 24))
 		return rs_error_set(err, RS_ERR_LIMIT, "too many materials");
-	if (!grow((void **)&scene->materials, &scene->material_capacity, scene->material_count + 1,
-	          sizeof *scene->materials))
+	if (!rs__scene_grow((void **)&scene->materials, &scene->material_capacity,
+	                    scene->material_count + 1, sizeof *scene->materials))
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding a material");
 	scene->materials[scene->material_count] = *material;
 	if (out_id)
@@ -134,8 +141,8 @@ static const uint32_t *strided_u32(const uint32_t *base, size_t stride, size_t i
 	                          i * (stride ? stride : 3 * sizeof(uint32_t)));
 }
 
-static enum rs_status validate_mesh(const struct rs_scene *scene, const struct rs_mesh_desc *mesh,
-                                    struct rs_error *err)
+enum rs_status rs__scene_validate_mesh(const struct rs_scene *scene,
+                                       const struct rs_mesh_desc *mesh, struct rs_error *err)
 {
 	if (!mesh->positions == !mesh->positions_f64 || !mesh->indices)
 		return rs_error_set(
@@ -154,7 +161,7 @@ static enum rs_status validate_mesh(const struct rs_scene *scene, const struct r
 		                    scene->max_triangles);
 	for (size_t i = 0; i < mesh->vertex_count; ++i) {
 		double p[3];
-		mesh_position(mesh, i, p);
+		rs__scene_mesh_position(mesh, i, p);
 		/* also refuses doubles that would overflow to an infinite float */
 		for (int a = 0; a < 3; ++a)
 			if (!isfinite(p[a]) || fabs(p[a]) > FLT_MAX)
@@ -181,24 +188,27 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
                                  struct rs_error *err)
 {
 	RS_ASSERT(scene && mesh);
-	enum rs_status status = validate_mesh(scene, mesh, err);
+	enum rs_status status = rs__scene_validate_mesh(scene, mesh, err);
 	if (status != RS_OK)
 		return status;
 	size_t v0 = scene->vertex_count, t0 = scene->triangle_count;
 	size_t vn = v0 + mesh->vertex_count, tn = t0 + mesh->triangle_count;
 	if (vn > UINT32_MAX ||
-	    !grow((void **)&scene->positions, &scene->position_capacity, vn * 3, sizeof(float)) ||
-	    !grow((void **)&scene->positions_f64, &scene->position_f64_capacity, vn * 3,
-	          sizeof(double)) ||
-	    !grow((void **)&scene->normals, &scene->normal_capacity, vn * 3, sizeof(float)) ||
-	    !grow((void **)&scene->indices, &scene->index_capacity, tn * 3, sizeof(uint32_t)) ||
-	    !grow((void **)&scene->triangle_materials, &scene->triangle_material_capacity, tn,
-	          sizeof(uint32_t)))
+	    !rs__scene_grow((void **)&scene->positions, &scene->position_capacity, vn * 3,
+	                    sizeof(float)) ||
+	    !rs__scene_grow((void **)&scene->positions_f64, &scene->position_f64_capacity, vn * 3,
+	                    sizeof(double)) ||
+	    !rs__scene_grow((void **)&scene->normals, &scene->normal_capacity, vn * 3,
+	                    sizeof(float)) ||
+	    !rs__scene_grow((void **)&scene->indices, &scene->index_capacity, tn * 3,
+	                    sizeof(uint32_t)) ||
+	    !rs__scene_grow((void **)&scene->triangle_materials, &scene->triangle_material_capacity,
+	                    tn, sizeof(uint32_t)))
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding %zu triangles",
 		                    mesh->triangle_count);
 	for (size_t i = 0; i < mesh->vertex_count; ++i) {
 		double *p = scene->positions_f64 + (v0 + i) * 3;
-		mesh_position(mesh, i, p);
+		rs__scene_mesh_position(mesh, i, p);
 		for (int a = 0; a < 3; ++a)
 			scene->positions[(v0 + i) * 3 + a] = (float)p[a];
 	}

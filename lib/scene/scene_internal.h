@@ -4,6 +4,15 @@
 
 #include "raystream/rs_scene.h"
 
+/* A prototype mesh as copied in: double positions, unit normals, local indices. */
+struct rs_scene_prototype {
+	double *positions;
+	float *normals;
+	uint32_t *indices;
+	size_t vertex_count, triangle_count;
+	uint32_t material;
+};
+
 struct rs_scene {
 	size_t max_triangles;
 
@@ -22,6 +31,12 @@ struct rs_scene {
 	struct rs_light *lights;
 	size_t light_count, light_capacity;
 
+	/* Prototypes (object space) and the instances baked from them (rs_scene_add_instance). */
+	struct rs_scene_prototype *prototypes;
+	size_t prototype_count, prototype_capacity;
+	struct rs_scene_instance *instances;
+	size_t instance_count, instance_capacity;
+
 	struct rs_camera camera;
 	struct rs_environment environment;
 	double ambient;
@@ -35,6 +50,13 @@ struct rs_scene {
 int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
                                     size_t triangle_count, size_t first_vertex, size_t vertex_count,
                                     float *out);
+
+/* Shared by scene.c and scene_instances.c: vertex i of a mesh description in double, the
+ * checks of rs_scene_add_mesh(), and growing an array to `count` elements (0: no memory). */
+void rs__scene_mesh_position(const struct rs_mesh_desc *mesh, size_t i, double out[3]);
+enum rs_status rs__scene_validate_mesh(const struct rs_scene *scene,
+                                       const struct rs_mesh_desc *mesh, struct rs_error *err);
+int rs__scene_grow(void **array, size_t *capacity, size_t count, size_t size);
 
 /* Renormalise normals in place; zero-length ones become (0, 1, 0) so none is NaN. */
 void rs_scene_normalize_normals(float *normals, size_t count);

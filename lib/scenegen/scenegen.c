@@ -28,6 +28,10 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 	if (strncmp(name, "cow", 3) != 0 || name[3] < '1' || name[3] > '9')
 		goto bad;
 	for (p = name + 3; *p != '\0'; p++) {
+		if (*p == 'i' && p[1] == '\0') {
+			out->instanced = true;
+			break;
+		}
 		if (*p < '0' || *p > '9')
 			goto bad;
 		n = n * 10 + (unsigned long)(*p - '0');
@@ -38,10 +42,11 @@ enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
 	out->cows = (uint32_t)n;
 	return RS_OK;
 bad:
-	return rs_error_set(err, RS_ERR_INVALID,
-	                    "unknown scene '%.64s' (expected box, mirrors, animated or cowN, N = "
-	                    "1..%u)",
-	                    name, RS_SCENEGEN_MAX_COWS);
+	return rs_error_set(
+	    err, RS_ERR_INVALID,
+	    "unknown scene '%.64s' (expected box, mirrors, animated, cowN or cowNi, "
+	    "N = 1..%u)",
+	    name, RS_SCENEGEN_MAX_COWS);
 }
 
 enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, size_t size,
@@ -60,7 +65,8 @@ enum rs_status rs_scenegen_name(const struct rs_scenegen_desc *desc, char *out, 
 	else if (desc->kind == RS_SCENEGEN_ANIMATED)
 		n = snprintf(out, size, "animated");
 	else if (desc->kind == RS_SCENEGEN_COW)
-		n = snprintf(out, size, "cow%u", desc->cows == 0 ? 1u : (unsigned)desc->cows);
+		n = snprintf(out, size, "cow%u%s", desc->cows == 0 ? 1u : (unsigned)desc->cows,
+		             desc->instanced ? "i" : "");
 	else
 		return rs_error_set(err, RS_ERR_INVALID, "unknown scene kind %d", (int)desc->kind);
 	if (n < 0 || (size_t)n >= size)
@@ -86,6 +92,12 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "scene kind %d does not move (frame %u asked)", (int)desc->kind,
 		                    (unsigned)desc->frame);
+	if (desc->frame > 0 && desc->instanced)
+		return rs_error_set(
+		    err, RS_ERR_INVALID,
+		    "an instanced herd does not move yet (frame %u asked; per-frame "
+		    "instance transforms are not in the render interface)",
+		    (unsigned)desc->frame);
 	uint32_t fps = desc->fps ? desc->fps : RS_SCENEGEN_DEFAULT_FPS;
 	st = rs_scene_create(NULL, &scene, err);
 	if (st != RS_OK)
@@ -104,7 +116,7 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 			st = sg_build_animated(scene, cow, desc->frame, fps, err);
 		else if (cow)
 			st = sg_build_cows(scene, cow, desc->cows == 0 ? 1 : desc->cows,
-			                   desc->frame, fps, err);
+			                   desc->frame, fps, desc->instanced, err);
 	}
 	if (st != RS_OK) {
 		rs_scene_destroy(&scene);

@@ -122,8 +122,29 @@ enum rs_status sg_load_cow(const char *cow_path, struct rs_scene **out, double *
 	return st;
 }
 
+/* Instance i of the prototype cow: add_copy's turn and placement as a transform. */
+static enum rs_status add_instance(struct rs_scene *scene, const struct rs_scene *cow,
+                                   uint32_t proto, uint32_t i, uint32_t n, struct rs_error *err)
+{
+	struct rs_bounds b;
+	uint32_t cols, rows;
+	double a = (double)i * COW_TURN_DEG * RS_PI / 180.0, cs = cos(a), sn = sin(a), c[3];
+
+	grid_shape(n, &cols, &rows);
+	double gx = ((double)(i % cols) - 0.5 * (double)(cols - 1)) * GRID_DX;
+	double gz = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * GRID_DZ;
+	rs_scene_bounds(cow, &b);
+	sg_center(&b, c);
+	struct rs_instance_desc d = {.mesh = proto,
+	                             .transform = {{cs, 0.0, sn, gx - cs * c[0] - sn * c[2]},
+	                                           {0.0, 1.0, 0.0, COW_LIFT},
+	                                           {-sn, 0.0, cs, gz + sn * c[0] - cs * c[2]}}};
+	enum rs_status st = rs_scene_add_instance(scene, &d, NULL, err);
+	return st == RS_OK ? RS_OK : rs_error_prefix(err, st, "cow instance %u", i);
+}
+
 static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                               uint32_t frame, uint32_t fps, struct rs_error *err)
+                               uint32_t frame, uint32_t fps, bool instanced, struct rs_error *err)
 {
 	struct rs_scene *cow = NULL;
 	float *buf = NULL;
@@ -133,8 +154,19 @@ static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uin
 
 	if (st == RS_OK)
 		st = sg_material(scene, &sg_cow_material, &mat, err);
+	uint32_t proto = 0;
+	if (st == RS_OK && instanced) {
+		struct rs_mesh_desc d = {.positions = rs_scene_positions(cow),
+		                         .vertex_count = rs_scene_vertex_count(cow),
+		                         .normals = rs_scene_normals(cow),
+		                         .indices = rs_scene_indices(cow),
+		                         .triangle_count = rs_scene_triangle_count(cow),
+		                         .material = mat};
+		st = rs_scene_add_prototype(scene, &d, &proto, err);
+	}
 	for (uint32_t i = 0; st == RS_OK && i < n; i++)
-		st = add_copy(scene, cow, i, n, mat, frame, fps, pos, buf, err);
+		st = instanced ? add_instance(scene, cow, proto, i, n, err)
+		               : add_copy(scene, cow, i, n, mat, frame, fps, pos, buf, err);
 	free(pos);
 	free(buf);
 	rs_scene_destroy(&cow);
@@ -195,7 +227,7 @@ static enum rs_status rest_bounds(const char *cow_path, uint32_t n, struct rs_bo
 	enum rs_status st = rs_scene_create(NULL, &rest, err);
 
 	if (st == RS_OK)
-		st = add_herd(rest, cow_path, n, 0, 1, err);
+		st = add_herd(rest, cow_path, n, 0, 1, false, err);
 	if (st == RS_OK)
 		rs_scene_bounds(rest, out);
 	rs_scene_destroy(&rest);
@@ -203,11 +235,11 @@ static enum rs_status rest_bounds(const char *cow_path, uint32_t n, struct rs_bo
 }
 
 enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                             uint32_t frame, uint32_t fps, struct rs_error *err)
+                             uint32_t frame, uint32_t fps, bool instanced, struct rs_error *err)
 {
 	struct rs_bounds herd;
 	double c[3];
-	enum rs_status st = add_herd(scene, cow_path, n, frame, fps, err);
+	enum rs_status st = add_herd(scene, cow_path, n, frame, fps, instanced, err);
 
 	if (st != RS_OK)
 		return st;
@@ -234,7 +266,7 @@ enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint3
 		struct rs_environment env;
 		st = rs_scene_create(NULL, &rest, err);
 		if (st == RS_OK)
-			st = sg_build_cows(rest, cow_path, n, 0, fps, err);
+			st = sg_build_cows(rest, cow_path, n, 0, fps, false, err);
 		if (st == RS_OK) {
 			rs_scene_environment(rest, &env);
 			st = rs_scene_set_environment(scene, &env, err);

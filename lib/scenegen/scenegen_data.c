@@ -83,7 +83,8 @@ bool rs_scenegen_moves(const char *name)
 {
 	struct rs_scenegen_desc gen;
 	return name && rs_scenegen_parse(name, &gen, NULL) == RS_OK &&
-	       (gen.kind == RS_SCENEGEN_ANIMATED || gen.kind == RS_SCENEGEN_COW);
+	       (gen.kind == RS_SCENEGEN_ANIMATED ||
+	        (gen.kind == RS_SCENEGEN_COW && !gen.instanced));
 }
 
 enum rs_status rs_scenegen_load_frame(const char *name, uint32_t frame, uint32_t fps,
@@ -102,9 +103,10 @@ enum rs_status rs_scenegen_load_frame(const char *name, uint32_t frame, uint32_t
 		return rs_scenegen_build(&gen, out, err);
 	}
 	if (!is_file(name))
-		return rs_error_set(err, RS_ERR_NOT_FOUND,
-		                    "scene '%s' is neither box, mirrors, animated, cowN (N 1..%u) "
-		                    "nor an existing file",
-		                    name, RS_SCENEGEN_MAX_COWS);
+		return rs_error_set(
+		    err, RS_ERR_NOT_FOUND,
+		    "scene '%s' is neither box, mirrors, animated, cowN (N 1..%u), cowNi "
+		    "nor an existing file",
+		    name, RS_SCENEGEN_MAX_COWS);
 	return rs_load_scene(NULL, name, out, err);
 }

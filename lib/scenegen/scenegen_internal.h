@@ -60,7 +60,7 @@ enum rs_status sg_add_cow(struct rs_scene *scene, const struct rs_scene *cow, do
 /* The scene builders, into an empty scene. A CowN with frame > 0 has its cow n / 2 sway
  * (fps > 0); the stage is that of frame 0. */
 enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint32_t n,
-                             uint32_t frame, uint32_t fps, struct rs_error *err);
+                             uint32_t frame, uint32_t fps, bool instanced, struct rs_error *err);
 /* The animated scene (docs/scenes.md) at frame / fps seconds. */
 enum rs_status sg_build_animated(struct rs_scene *scene, const char *cow_path, uint32_t frame,
                                  uint32_t fps, struct rs_error *err);

@@ -89,6 +89,7 @@ void rs__ray_prepare(const struct rs_ray *ray, struct rs__ray_pre *out)
 	out->sx = d[kx] / d[kz];
 	out->sy = d[ky] / d[kz];
 	out->sz = 1.0 / d[kz];
+	out->edge_slack = 0.0;
 }
 
 /* Watertight rejection of zero-area triangles (exact: the normal of float vertices is
@@ -161,7 +162,8 @@ static bool watertight(const double v0[3], const double v1[3], const double v2[3
 	double u = cx * by - cy * bx;
 	double v = ax * cy - ay * cx;
 	double w = bx * ay - by * ax;
-	if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0))
+	double s = pre->edge_slack > 0.0 ? pre->edge_slack * (fabs(u) + fabs(v) + fabs(w)) : 0.0;
+	if ((u < -s || v < -s || w < -s) && (u > s || v > s || w > s))
 		return false;
 	double det = u + v + w;
 	if (det == 0.0)

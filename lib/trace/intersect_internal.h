@@ -11,7 +11,17 @@ struct rs__ray_pre {
 	double dir_max;           /* max |dir component| */
 	int kx, ky, kz;           /* watertight: dominant axis kz, winding-preserving kx, ky */
 	double sx, sy, sz;        /* watertight shear */
+	/* Watertight: edge functions down to -edge_slack * (|u| + |v| + |w|) count as inside.
+	 * 0 (rs__ray_prepare) in one level, where neighbours see the same ray; the two-level
+	 * walk sets RS__INSTANCE_EDGE_SLACK, as each instance sees its own rounding of it. */
+	double edge_slack;
 };
+
+/* Relative slack of the two-level walk's edge tests: well above the double rounding of a ray
+ * taken through a transform (~1e-16 times the condition and the offset), well below float
+ * vertex rounding (6e-8), so a shared edge or corner between instances never lets a ray
+ * through and no visible sliver is added (docs/tracer.md, "Instances"). */
+#define RS__INSTANCE_EDGE_SLACK 1e-9
 
 void rs__ray_prepare(const struct rs_ray *ray, struct rs__ray_pre *out);
 

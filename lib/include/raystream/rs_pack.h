@@ -189,6 +189,50 @@ struct rs_pack_wide {
 	uint32_t child[RS_PACK_WIDE_CHILDREN]; /**< RS_PACK_LEAF_BIT | first slot, or a node */
 };
 
+/**
+ * Two-level packing of a scene's instances (rs_scene_add_instance, docs/bvh.md "Instances"):
+ * one bottom-level tree (BLAS) per prototype mesh, built and packed once in the prototype's
+ * own space (origin: its centre), and a top-level tree (TLAS) over the instances' world boxes.
+ * The TLAS is packed as an ordinary rs_packed whose "triangles" are degenerate: item i holds
+ * instance i's box as (lo, hi, (lo + hi) / 2), widened so that rounding to float never
+ * shrinks it, with the instance id in t0.w; a TLAS leaf's items are instances, not triangles.
+ * to_object[i] maps world to the BLAS frame of instance i's mesh (world -> object, minus the
+ * mesh's packed origin), to_world_normal[i] the inverse transpose (object -> world normals).
+ * Triangles of the scene outside every instance (rs_scene_add_mesh) go into one more BLAS,
+ * meshes[mesh_count - 1] when `loose_ids` is set, walked through one more identity instance
+ * (the last); loose_ids maps its local triangle ids to scene ids.
+ * Threaded node formats only (compact or paper); wide4 is refused.
+ */
+struct rs_packed_instances {
+	struct rs_packed top;     /**< TLAS over instance boxes (its triangles are boxes) */
+	struct rs_packed *meshes; /**< BLAS per prototype mesh, mesh_count of them */
+	uint32_t mesh_count;
+	uint32_t instance_count;
+	double (*to_object)[3][4];       /**< per instance: world -> mesh's packed frame */
+	double (*to_world_normal)[3][3]; /**< per instance: inverse transpose of the 3x3 part */
+	uint32_t *mesh;                  /**< per instance: its prototype */
+	uint32_t *first_triangle;        /**< per instance: scene id of its first triangle */
+	uint32_t *loose_ids; /**< the loose BLAS's local -> scene triangle ids, or NULL */
+	double build_ms;     /**< BLAS + TLAS builds (without packing) */
+};
+
+/**
+ * Build and pack a scene's instances in two levels (see struct rs_packed_instances) with the
+ * given builder (NULL: defaults) and pack options (NULL: defaults). RS_ERR_INVALID when the
+ * scene has no instances or `pack` asks for wide4 nodes; errors of the builder and packer
+ * otherwise. Free with rs_pack_instances_free().
+ */
+enum rs_status rs_pack_instances(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
+                                 const struct rs_pack_desc *pack, struct rs_packed_instances *out,
+                                 struct rs_error *err);
+void rs_pack_instances_free(struct rs_packed_instances *packed);
+
+/** Bytes of a packed scene's four textures (width * height * 16 each). */
+size_t rs_pack_bytes(const struct rs_packed *packed);
+/** Bytes of a two-level packing: the TLAS's and every BLAS's textures, plus the instance
+ * transforms as a GPU would hold them (six RGBA32F texels an instance). */
+size_t rs_pack_instances_bytes(const struct rs_packed_instances *packed);
+
 /** Texture size for `items` items of `texels_per_item` texels each, `row_items` (> 0) per row:
  * min(items, row_items) items wide (at least 1), as many rows as needed (at least 1). */
 void rs_pack_texture_size(size_t items, uint32_t texels_per_item, uint32_t row_items,

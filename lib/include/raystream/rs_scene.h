@@ -9,6 +9,7 @@
 #ifndef RS_SCENE_H
 #define RS_SCENE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -134,6 +135,68 @@ enum rs_status rs_scene_add_material(struct rs_scene *scene, const struct rs_mat
  */
 enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
                                  struct rs_error *err);
+
+/** Most prototypes (rs_scene_add_prototype) a scene holds. */
+#define RS_SCENE_MAX_PROTOTYPES (1u << 20)
+
+/**
+ * An instance of a prototype mesh; zero-initialised is the identity transform of prototype 0
+ * with the prototype's own material.
+ */
+struct rs_instance_desc {
+	uint32_t mesh; /**< id returned by rs_scene_add_prototype() */
+	/**
+	 * Object -> world, 3x4 row-major: world = transform[.][0..2] * p + transform[.][3].
+	 * All twelve values zero means the identity (so a zero descriptor is valid). Mirrors
+	 * (negative determinant) are allowed; singular, NaN or infinite transforms are refused.
+	 */
+	double transform[3][4];
+	bool override_material; /**< use `material` instead of the prototype's */
+	uint32_t material; /**< id returned by rs_scene_add_material(), with override_material */
+};
+
+/** An instance as the scene keeps it (rs_scene_instances). */
+struct rs_scene_instance {
+	uint32_t mesh;           /**< prototype id */
+	double transform[3][4];  /**< object -> world, resolved (never all zero) */
+	double inverse[3][4];    /**< world -> object */
+	uint32_t material;       /**< material of its triangles (the override or the prototype's) */
+	uint32_t first_triangle; /**< its triangles are [first_triangle, + prototype's count) */
+	uint32_t triangle_count;
+};
+
+/**
+ * Copy a mesh in as a prototype for instances, in its own (object) space; it is not drawn by
+ * itself, each of its instances is. Its id (0, 1, ...) is written to out_id. The
+ * same checks and refusals as rs_scene_add_mesh() (the triangle limit applies to instances).
+ */
+enum rs_status rs_scene_add_prototype(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                      uint32_t *out_id, struct rs_error *err);
+
+/**
+ * Add an instance of a prototype; its id (0, 1, ...) is written to out_id (may be NULL).
+ * Refuses (RS_ERR_BAD_DATA, nothing added, one-line message) a prototype or material id that
+ * does not exist, a NaN or infinite transform, a singular one (|det A| <= 1e-12 * |A|^3 of its
+ * 3x3 part A, max-norm), and vertices that would leave the float range. RS_ERR_LIMIT beyond
+ * max_triangles.
+ *
+ * For now an instance is baked into the scene's world-space triangles when added (the scene's
+ * triangle arrays, packing and both tracers see it as ordinary geometry): positions
+ * transformed in double, normals by the inverse transpose and renormalised, and a mirrored
+ * instance's triangles wound the other way (v1 <-> v2) so their geometric normals keep facing
+ * out as the prototype's do. The instance records keep what a two-level (TLAS over
+ * per-prototype BLAS) packing needs; that packing is not built yet (docs/bvh.md).
+ */
+enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_instance_desc *desc,
+                                     uint32_t *out_id, struct rs_error *err);
+
+/** Prototype `id` (< rs_scene_prototype_count) as a mesh description pointing into the scene
+ * (double positions, normals, indices, material): valid until the scene changes. */
+void rs_scene_prototype_mesh(const struct rs_scene *scene, uint32_t id, struct rs_mesh_desc *out);
+size_t rs_scene_prototype_count(const struct rs_scene *scene);
+size_t rs_scene_instance_count(const struct rs_scene *scene);
+/** The instances in the order they were added (rs_scene_instance_count() of them). */
+const struct rs_scene_instance *rs_scene_instances(const struct rs_scene *scene);
 
 /** Set the camera (rejects eye == target, zero/parallel up, fov outside (0, 180)). */
 enum rs_status rs_scene_set_camera(struct rs_scene *scene, const struct rs_camera *camera,

@@ -58,12 +58,17 @@ struct rs_scenegen_desc {
 	 * the same topology (rs_renderer_update_vertices() takes any after any). */
 	uint32_t frame;
 	uint32_t fps; /**< 0 -> RS_SCENEGEN_DEFAULT_FPS */
+	/** CowN as N instances of one prototype cow (rs_scene_add_instance) instead of N copies:
+	 * the same triangles in the same order (name "cowNi"), for two-level packing. Still:
+	 * per-frame instance transforms are not in the render interface yet (frame > 0 is
+	 * refused). */
+	bool instanced;
 };
 
 /**
  * Parse a scene name: "box", "mirrors", "animated" or "cowN" with N = 1..RS_SCENEGEN_MAX_COWS
- * written without leading zeros (lower case). Fills *out (cow_path NULL); on failure returns
- * RS_ERR_INVALID with a message naming the bad name.
+ * written without leading zeros (lower case), optionally followed by "i" (instanced). Fills
+ * *out (cow_path NULL); on failure returns RS_ERR_INVALID with a message naming the bad name.
  */
 enum rs_status rs_scenegen_parse(const char *name, struct rs_scenegen_desc *out,
                                  struct rs_error *err);

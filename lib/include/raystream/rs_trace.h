@@ -95,6 +95,35 @@ bool rs_trace_occluded(const struct rs_packed *packed, enum rs_triangle_test tes
 bool rs_trace_closest_brute(const struct rs_packed *packed, enum rs_triangle_test test,
                             const struct rs_ray *ray, struct rs_hit *out_hit);
 
+/** A closest hit of the two-level walk (rs_trace_instances_closest). */
+struct rs_instance_hit {
+	struct rs_hit hit; /**< t (of the world ray), u, v, the BLAS slot, the scene triangle id */
+	uint32_t instance; /**< the instance hit, RS_NO_SLOT on a miss */
+	/** Unit geometric normal in world space: the object-space e1 x e2 through the inverse
+	 * transpose, so it faces the side the prototype's winding gives, mirrors included. */
+	double normal[3];
+};
+
+/**
+ * The CPU reference of the two-level walk (docs/bvh.md "Instances"), in double: the TLAS's
+ * threaded order of the world ray's major direction; at an instance item the ray goes into the
+ * mesh's BLAS frame (origin and direction through to_object, the direction not renormalised so
+ * t is the same), the BLAS is walked in the threaded order of the object-space direction with
+ * the best t so far as tmax, and the walk continues at the TLAS leaf's escape with the world
+ * ray. The closest-hit rule (R4) is on scene triangle ids. World ray; its skip_slot is here a
+ * scene triangle id to ignore (or RS_NO_SLOT). Counters: box tests of both levels (each BLAS
+ * entered starts with its root's box), triangle tests of the BLASes; the TLAS's items are not
+ * counted (their boxes are the leaf's). Threaded node formats only: false for wide4.
+ */
+bool rs_trace_instances_closest(const struct rs_packed_instances *packed,
+                                enum rs_triangle_test test, const struct rs_ray *ray,
+                                struct rs_instance_hit *out_hit,
+                                struct rs_trace_counters *counters);
+/** As rs_trace_instances_closest() but stops at the first hit (shadow rays). */
+bool rs_trace_instances_occluded(const struct rs_packed_instances *packed,
+                                 enum rs_triangle_test test, const struct rs_ray *ray,
+                                 struct rs_trace_counters *counters);
+
 /* ---- Part 2: rendering --------------------------------------------------------------- */
 
 /** Ray states, as the paper names them. */
