@@ -103,14 +103,6 @@ static bool chain_frame(const struct rs_render_desc *desc, const struct rs_scene
 	return gl_frame("egl", desc, scene, rgb, depth, stats);
 }
 
-static const struct rs_render_kernel_time *kernel(const struct rs_render_stats *s, const char *name)
-{
-	for (uint32_t k = 0; k < s->kernel_count; ++k)
-		if (strcmp(s->kernels[k].name, name) == 0)
-			return &s->kernels[k];
-	return NULL;
-}
-
 /* The paper's chain (environment, shading and next ray each a pass) against the fused one:
  * the same fp32 functions on the same values, the state kept in RGBA32F between passes, so
  * the images agree to float rounding (tolerance 1e-5 of linear colour; measured 0 on
@@ -135,21 +127,21 @@ static void paper_chain_matches_fused(const char *name, enum rs_shadow_mode shad
 	static const char *const names[] = {"raygen", "intersect", "environment", "shading",
 	                                    "next ray"};
 	for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
-		const struct rs_render_kernel_time *t = kernel(&sa, names[k]);
+		const struct rs_render_kernel_time *t = gl_kernel(&sa, names[k]);
 		assert_non_null(t);
 		if (k == 1 && primary == RS_PRIMARY_RASTER) {
-			assert_non_null(kernel(&sa, "raster"));
-			assert_int_equal(kernel(&sa, "raster")->calls, 1);
+			assert_non_null(gl_kernel(&sa, "raster"));
+			assert_int_equal(gl_kernel(&sa, "raster")->calls, 1);
 			assert_int_equal(t->calls, desc.passes - 1);
 			continue;
 		}
 		assert_int_equal(t->calls, k == 0 ? 1 : desc.passes);
 	}
-	assert_null(kernel(&sa, "trace"));
-	assert_null(kernel(&sa, "shade"));
+	assert_null(gl_kernel(&sa, "trace"));
+	assert_null(gl_kernel(&sa, "shade"));
 	desc.chain = RS_CHAIN_FUSED;
 	assert_true(chain_frame(&desc, scene, b, db, &sb));
-	assert_non_null(kernel(&sb, "trace"));
+	assert_non_null(gl_kernel(&sb, "trace"));
 	struct rs_image_diff diff;
 	rs_image_compare(a, b, SIZE, SIZE, 3, 1.0, 1e-5, &diff);
 	print_message("%s %s %s: paper vs fused max |diff| %g\n", name,
@@ -231,7 +223,8 @@ static void paper_chain_counts_cow1_as_the_separate_chain(void **state)
 
 /* Environment mapping switches tracing off from the second pass on, in the intersection
  * kernel, and reads the map in the environment kernel: the paper's chain gives the
- * separate chain's image (the default chain there). */
+ * separate chain's image (the fused chain's, one pass that reads the map at its end, is
+ * test_gl_envmap's). */
 static void paper_chain_renders_environment_maps_as_the_separate_chain(void **state)
 {
 	struct rs_render_desc desc = {.width = SIZE,
@@ -246,7 +239,7 @@ static void paper_chain_renders_environment_maps_as_the_separate_chain(void **st
 	desc.chain = RS_CHAIN_PAPER;
 	if (!chain_frame(&desc, scene, a, da, &sa))
 		gl_skip();
-	assert_int_equal(kernel(&sa, "environment")->calls, 2);
+	assert_int_equal(gl_kernel(&sa, "environment")->calls, 2);
 	desc.chain = RS_CHAIN_SEPARATE;
 	assert_true(chain_frame(&desc, scene, b, db, &sb));
 	struct rs_image_diff diff;
@@ -273,7 +266,7 @@ static void paper_chain_on_osmesa_renders_as_fused_on_egl(void **state)
 		rs_scene_destroy(&scene);
 		gl_skip();
 	}
-	assert_int_equal(kernel(&sa, "next ray")->calls, 2);
+	assert_int_equal(gl_kernel(&sa, "next ray")->calls, 2);
 	desc.chain = RS_CHAIN_FUSED;
 	if (!chain_frame(&desc, scene, b, NULL, &sb)) {
 		rs_scene_destroy(&scene);

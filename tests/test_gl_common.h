@@ -81,6 +81,16 @@ static inline void gl_render(struct rs_renderer *r, const struct rs_scene *scene
 		fail_msg("render: %s", err.message);
 }
 
+/* A frame's timing of the kernel named `name`, or NULL when the frame ran none. */
+static inline const struct rs_render_kernel_time *gl_kernel(const struct rs_render_stats *s,
+                                                            const char *name)
+{
+	for (uint32_t k = 0; k < s->kernel_count; ++k)
+		if (strcmp(s->kernels[k].name, name) == 0)
+			return &s->kernels[k];
+	return NULL;
+}
+
 /* A frame of `scene` on `backend` opened with `desc`: colour and depth (either may be NULL)
  * and, when `stats` is given, the stats copied out (zeroed when there is no frame). False
  * when this machine cannot make the context (the caller gl_skip()s). */

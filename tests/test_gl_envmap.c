@@ -1,8 +1,9 @@
 /* Classic environment mapping (RS_REFLECT_ENVMAP) on EGL: the cube map is captured the
  * right way round (a mirror sphere reflects the six differently coloured environment faces
  * as the tracer does), nothing changes at 1 pass, the CPU backend and a face side out of
- * range refuse it (a non-square frame does not), and on the mirrors scene it is measurably less
- * accurate than tracing (no inter- or self-reflection). */
+ * range refuse it (a non-square frame does not), on the mirrors scene it is measurably less
+ * accurate than tracing (no inter- or self-reflection), and the fused chain (one pass that
+ * reads the map at its end) gives the separate chain's image bit for bit. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -115,6 +116,56 @@ static void mirrors_lose_inter_reflection(void **state)
 	rs_scene_destroy(&s);
 }
 
+/* The fused chain ends after its first pass and reads the map for the rays that pass leaves;
+ * the separate chain runs a second pass that traces nothing and reads the map for every ray
+ * (a miss). The same fp32 functions on the same values (the state is RGBA32F between the
+ * separate chain's passes), so colour and depth agree bit for bit; a fused pass that did not
+ * read the map would leave the mirrors' reflections out (checked: the 1-pass image differs). */
+static void fused_chain_reads_the_map_as_the_separate_one(const struct rs_scene *s)
+{
+	enum { N = SIZE * SIZE };
+	static float fused[N * 3], separate[N * 3], one[N * 3], df[N], ds[N];
+	struct rs_render_desc desc = {
+	    .width = SIZE, .height = SIZE, .passes = 3, .reflections = RS_REFLECT_ENVMAP};
+	struct rs_render_stats st;
+	desc.chain = RS_CHAIN_SEPARATE;
+	if (!gl_frame("egl", &desc, s, separate, ds, &st))
+		gl_skip();
+	assert_non_null(gl_kernel(&st, "intersect"));
+	assert_int_equal(gl_kernel(&st, "intersect")->calls, 2);
+	desc.chain = RS_CHAIN_FUSED;
+	assert_true(gl_frame("egl", &desc, s, fused, df, &st));
+	assert_null(gl_kernel(&st, "intersect"));
+	assert_non_null(gl_kernel(&st, "trace"));
+	assert_int_equal(gl_kernel(&st, "trace")->calls, 1);
+	assert_memory_equal(fused, separate, sizeof fused);
+	assert_memory_equal(df, ds, sizeof df);
+	desc.passes = 1;
+	assert_true(gl_frame("egl", &desc, s, one, NULL, NULL));
+	size_t reflected = 0;
+	for (size_t i = 0; i < N * 3; ++i)
+		reflected += fused[i] != one[i];
+	print_message("classic map, fused = separate; %zu of %u channels differ from 1 pass\n",
+	              reflected, N * 3);
+	assert_true(reflected > N / 20);
+}
+
+static void fused_chain_equals_separate_on_the_sphere(void **state)
+{
+	(void)state;
+	struct rs_scene *s = sphere_scene();
+	fused_chain_reads_the_map_as_the_separate_one(s);
+	rs_scene_destroy(&s);
+}
+
+static void fused_chain_equals_separate_on_mirrors(void **state)
+{
+	(void)state;
+	struct rs_scene *s = gl_scene("mirrors");
+	fused_chain_reads_the_map_as_the_separate_one(s);
+	rs_scene_destroy(&s);
+}
+
 static void refused_where_it_cannot_work(void **state)
 {
 	(void)state;
@@ -148,6 +199,8 @@ int main(void)
 	    cmocka_unit_test(sphere_reflects_the_faces_as_tracing_does),
 	    cmocka_unit_test(one_pass_is_unchanged),
 	    cmocka_unit_test(mirrors_lose_inter_reflection),
+	    cmocka_unit_test(fused_chain_equals_separate_on_the_sphere),
+	    cmocka_unit_test(fused_chain_equals_separate_on_mirrors),
 	    cmocka_unit_test(refused_where_it_cannot_work),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));

@@ -1,7 +1,8 @@
 /* Inter-reflection environment mapping (RS_REFLECT_INTERREFLECT) on EGL: two mirror
  * spheres facing each other come out closer to the traced image than with the classic map,
- * a second bounce changes what they see of each other, nothing changes at 1 pass, and what
- * cannot work is refused. */
+ * a second bounce changes what they see of each other, nothing changes at 1 pass, the fused
+ * chain (captures and frame one pass each, the maps read at its end) gives the separate
+ * chain's image bit for bit, and what cannot work is refused. */
 #include <setjmp.h>
 #include <stdbool.h>
 #include <stdarg.h>
@@ -166,6 +167,33 @@ static void one_pass_is_tracing(void **state)
 	rs_scene_destroy(&s);
 }
 
+/* The separate chain's second passes trace nothing and read the maps; the fused chain reads
+ * them at the end of its only pass (frame and bounce captures alike): the same fp32
+ * functions on the same values, so the same image. */
+static void fused_chain_equals_separate(void **state)
+{
+	(void)state;
+	struct rs_scene *s = facing_spheres(0);
+	static float fused[PIXELS], separate[PIXELS], one[PIXELS];
+	struct rs_render_desc desc = {.width = SIZE,
+	                              .height = SIZE,
+	                              .passes = 3,
+	                              .reflections = RS_REFLECT_INTERREFLECT,
+	                              .reflection_bounces = 2,
+	                              .chain = RS_CHAIN_SEPARATE};
+	struct rs_render_stats st;
+	if (!gl_frame("egl", &desc, s, separate, NULL, &st))
+		gl_skip();
+	assert_int_equal(gl_kernel(&st, "intersect")->calls, 2);
+	desc.chain = RS_CHAIN_FUSED;
+	assert_true(gl_frame("egl", &desc, s, fused, NULL, &st));
+	assert_int_equal(gl_kernel(&st, "trace")->calls, 1);
+	assert_memory_equal(fused, separate, sizeof fused);
+	render(s, RS_REFLECT_INTERREFLECT, 1, 2, one);
+	assert_memory_not_equal(fused, one, sizeof fused);
+	rs_scene_destroy(&s);
+}
+
 static void refused_where_it_cannot_work(void **state)
 {
 	(void)state;
@@ -206,6 +234,7 @@ int main(void)
 	    cmocka_unit_test(second_bounce_shows_where_spheres_see_each_other),
 	    cmocka_unit_test(mirrors_closer_than_the_classic_map),
 	    cmocka_unit_test(one_pass_is_tracing),
+	    cmocka_unit_test(fused_chain_equals_separate),
 	    cmocka_unit_test(refused_where_it_cannot_work),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));

@@ -73,7 +73,7 @@ static void bind_inputs(const struct gles *g, const struct rs_gles_plan *plan,
 	if (s->bind & BIND_NEAR)
 		rs_gles_uniform_f(gl, p, U_NEAR, near);
 	if (s->bind & BIND_ENVMAP)
-		rs_gles_envmap_uniforms(g, p, s->pass);
+		rs_gles_envmap_uniforms(g, p, s->pass, s->mapped);
 	if (s->bind & BIND_STATE) {
 		static const int units[4] = {UNIT_ORIG, UNIT_DIR, UNIT_ACC, UNIT_CNT};
 		static const int names[4] = {U_ORIG, U_DIR, U_ACC, U_CNT};

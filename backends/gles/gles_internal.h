@@ -99,6 +99,7 @@ enum {
 	U_VIS,
 	U_ENVMAP,
 	U_ENVMAP_ON,
+	U_ENVMAP_AFTER,
 	U_OBJECTS,
 	U_OBJMAP_ON,
 	U_OBJMAP0, /* ... RS_RENDER_MAX_MIRROR_OBJECTS of them */
@@ -131,7 +132,8 @@ enum {
 	BIND_STATE = 8,   /* u_orig, u_dir, u_acc (u_cnt with counters) from in[] */
 	BIND_HIT = 16,    /* u_hit from in[4] */
 	BIND_VIS = 32,    /* u_vis: the visibility pass's output */
-	BIND_ENVMAP = 64, /* the captured cube maps (read from the second pass on) */
+	BIND_ENVMAP = 64, /* the captured cube maps (read from the second pass on, or after the
+	                   * fused chain's only pass: rs_gles_step.mapped) */
 };
 
 /* One draw of a plan: program, inputs, outputs. */
@@ -143,6 +145,9 @@ struct rs_gles_step {
 	uint8_t in[5];  /* REF_* of u_orig, u_dir, u_acc, u_cnt, u_hit */
 	uint8_t out[4]; /* REF_* of the colour targets (REF_NONE: not stored) */
 	uint8_t n_out;
+	/* The fused chain with cube maps: the rays this pass leaves read the maps at its end
+	 * (the second pass, which would only read them, is not run). */
+	bool mapped;
 	uint32_t pass;
 };
 
@@ -307,8 +312,10 @@ void rs_gles_scene_uniforms(const struct gles *g, const struct rs_gles_program *
  * lens shift. */
 void rs_gles_camera_uniforms(const struct gles *g, const struct rs_gles_program *p,
                              const struct rs_camera *c, uint32_t w, uint32_t h);
-/* The cube maps and whether pass `pass` reads them (RS_REFLECT_ENVMAP, _INTERREFLECT). */
-void rs_gles_envmap_uniforms(const struct gles *g, const struct rs_gles_program *p, uint32_t pass);
+/* The cube maps, whether pass `pass` reads them for its own rays (RS_REFLECT_ENVMAP,
+ * _INTERREFLECT), and whether for the rays it leaves (`after`, rs_gles_step.mapped). */
+void rs_gles_envmap_uniforms(const struct gles *g, const struct rs_gles_program *p, uint32_t pass,
+                             bool after);
 /* Light i of the frame in the packed frame (R1), rounded to fp32. */
 void rs_gles_light_position(const struct gles *g, uint32_t i, GLfloat out[3]);
 

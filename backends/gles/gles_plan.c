@@ -3,7 +3,10 @@
  * by gles_frame.c. The chain is chosen here and only here:
  *   fused     one trace pass per segment (the first one makes its own primary rays, or
  *             takes them from the visibility pass); only without counters (its fourth target
- *             carries the hit) and without cube maps (which switch tracing off per pass);
+ *             carries the hit). With cube maps only the first pass traces: the rays it
+ *             leaves read the maps at its end (step.mapped), so the frame is that one pass
+ *             (the separate chain's second pass traces nothing, yet costs two full-screen
+ *             kernels, docs/benchmarks.md);
  *   separate  ray generation, then per segment intersect (or the raster visibility and
  *             resolve passes) and shade;
  *   paper     as separate, with shade split into the paper's environment, shading and
@@ -61,7 +64,7 @@ static struct rs_gles_step *add(struct rs_gles_plan *plan, const char *name, int
 
 /* The fused chain's pass: intersection and path step in one kernel. */
 static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pass, bool last,
-                       bool rasterized)
+                       bool rasterized, uint8_t envmap, bool mapped)
 {
 	if (rasterized) {
 		struct rs_gles_step *v =
@@ -73,7 +76,10 @@ static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pas
 	int prog = pass > 0 ? PROG_FUSED : rasterized ? PROG_FUSED_RASTER : PROG_FUSED_FIRST;
 	uint8_t bind = BIND_SCENE;
 	bind |= pass == 0 ? BIND_CAMERA | BIND_NEAR | (rasterized ? BIND_VIS : 0) : BIND_STATE;
+	/* with cube maps bound on every pass: a samplerCube left on a 2D texture's unit fails */
+	bind |= envmap;
 	struct rs_gles_step *s = add(plan, "trace", prog, bind, pass);
+	s->mapped = mapped;
 	inputs(c, REF_NONE, s);
 	for (int k = 0; k < ST_COUNT; ++k)
 		s->out[k] = flip(c, k);
@@ -124,11 +130,15 @@ void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *o
 {
 	memset(out, 0, sizeof *out);
 	out->counters = d->counters;
-	bool fused = d->chain == RS_CHAIN_FUSED && !d->counters && !d->envmap;
+	bool fused = d->chain == RS_CHAIN_FUSED && !d->counters;
 	bool paper = d->chain == RS_CHAIN_PAPER;
 	uint8_t envmap = d->envmap ? BIND_ENVMAP : 0;
-	/* With cube maps every path ends in the second pass: later ones would be empty. */
+	/* With cube maps every path ends in the second pass: later ones would be empty. The
+	 * fused chain reads the maps at the end of the first (fused_pass). */
 	uint32_t passes = d->envmap && d->passes > 2 ? 2 : d->passes;
+	bool mapped = fused && d->envmap && passes == 2;
+	if (mapped)
+		passes = 1;
 	struct cursor c = {{0, 0, 0}, 0};
 	if (!fused) {
 		struct rs_gles_step *s =
@@ -142,7 +152,7 @@ void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *o
 		bool rasterized = pass == 0 && d->primary == RS_PRIMARY_RASTER;
 		uint8_t hit = (uint8_t)(REF_HIT + (pass == 0 ? 0 : 1));
 		if (fused) {
-			fused_pass(out, &c, pass, pass + 1 == passes, rasterized);
+			fused_pass(out, &c, pass, pass + 1 == passes, rasterized, envmap, mapped);
 			continue;
 		}
 		if (rasterized) {

@@ -106,6 +106,7 @@ static const char *const uniform_names[U_COUNT] = {
     [U_VIS] = "u_vis",
     [U_ENVMAP] = "u_envmap",
     [U_ENVMAP_ON] = "u_envmap_on",
+    [U_ENVMAP_AFTER] = "u_envmap_after",
     [U_OBJECTS] = "u_objects",
     [U_OBJMAP_ON] = "u_objmap_on",
     [U_OBJMAP0] = "u_objmap0",

@@ -109,11 +109,13 @@ void rs_gles_camera_uniforms(const struct gles *g, const struct rs_gles_program 
 		              (GLfloat)v.pixel_offset[1]);
 }
 
-void rs_gles_envmap_uniforms(const struct gles *g, const struct rs_gles_program *p, uint32_t pass)
+void rs_gles_envmap_uniforms(const struct gles *g, const struct rs_gles_program *p, uint32_t pass,
+                             bool after)
 {
 	const struct rs_gl *gl = &g->gl;
 	rs_gles_bind(gl, p, UNIT_ENVMAP, U_ENVMAP, GL_TEXTURE_CUBE_MAP, g->envmap);
 	rs_gles_uniform_i(gl, p, U_ENVMAP_ON, g->envmap_ready && pass > 0);
+	rs_gles_uniform_i(gl, p, U_ENVMAP_AFTER, g->envmap_ready && after);
 	if (g->desc.reflections != RS_REFLECT_INTERREFLECT)
 		return;
 	rs_gles_bind(gl, p, UNIT_OBJECTS, U_OBJECTS, GL_TEXTURE_2D, g->object_tex);

@@ -1,11 +1,13 @@
 // cubemaps.glsl: captured cube maps that stand in for traced rays from the second pass on
 // (RS_ENVMAP: the classic map from the scene's centre; RS_INTERREFLECT: one map per mirror
 // object, found through the ray's skip slot).
-// Inputs: u_envmap, u_envmap_on; with RS_INTERREFLECT u_objects, u_objmap0..3, u_objmap_on.
+// Inputs: u_envmap, u_envmap_on, u_envmap_after; with RS_INTERREFLECT u_objects, u_objmap0..3, u_objmap_on.
 
 #if RS_ENVMAP
 uniform samplerCube u_envmap; // RS_REFLECT_ENVMAP: the cube map captured at the centre
 uniform int u_envmap_on;      // 1 from the second pass on: misses read u_envmap
+uniform int u_envmap_after;   // 1: the rays this pass leaves read the maps at its end (the
+                              // fused chain's only pass; no later pass is run)
 #endif
 #if RS_INTERREFLECT
 uniform sampler2D u_objects;   // scene triangle id -> mirror object (-1: none), rows of 2048

@@ -6,6 +6,9 @@
 //      full-screen pass and three float targets fewer per frame. With RS_RASTER_FIRST too
 //      (rasterized primaries) the first hit is visibility.glsl's, not a walk: the resolve,
 //      ray generation and shading passes of the separate chain in one.
+// With RS_ENVMAP and u_envmap_after (cubemaps.glsl) the rays this pass leaves read the
+// captured maps at its end, as the separate chain's second pass does without tracing: the
+// classic method's whole frame is this one pass.
 // Out: 0 orig, 1 dir, 2 acc, 3 hit = (t, u, v, slot).
 #if RS_FIRST_PASS
 uniform float u_near;
@@ -44,6 +47,10 @@ void main()
 		rs_traverse(Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w)), false, h, c);
 #endif
 		rs_path_step(orig, dir, acc, h, cnt);
+#if RS_ENVMAP
+		if (u_envmap_after != 0 && acc.w == RS_STATE_ACTIVE)
+			rs_path_environment_from(orig, dir, acc, true);
+#endif
 	}
 	o_orig = orig;
 	o_dir = dir;

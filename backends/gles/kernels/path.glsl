@@ -4,24 +4,33 @@
 // cnt = (segments, shadow rays, box tests, triangle tests).
 
 // The paper's environment kernel: a missed ray (h.slot < 0) takes the environment's
-// colour where it leaves the cube (or a captured map's) and ends (state -2).
-// orig = (origin, skip slot), dir = (direction, throughput), acc = (rgb, state).
-void rs_path_environment(vec4 orig, vec4 dir, inout vec4 acc)
+// colour where it leaves the cube, or a captured map's where `mapped` (RS_ENVMAP), and
+// ends (state -2). orig = (origin, skip slot), dir = (direction, throughput), acc = (rgb,
+// state).
+void rs_path_environment_from(vec4 orig, vec4 dir, inout vec4 acc, bool mapped)
 {
 	Ray r = Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w));
 	float throughput = dir.w;
 #if RS_ENVMAP
 #if RS_INTERREFLECT
-	acc.rgb += throughput *
-	           (u_envmap_on != 0 ? rs_mapped(r.skip, r.d) : rs_environment(r.o, r.d));
+	acc.rgb += throughput * (mapped ? rs_mapped(r.skip, r.d) : rs_environment(r.o, r.d));
 #else
-	acc.rgb += throughput *
-	           (u_envmap_on != 0 ? texture(u_envmap, r.d).rgb : rs_environment(r.o, r.d));
+	acc.rgb += throughput * (mapped ? texture(u_envmap, r.d).rgb : rs_environment(r.o, r.d));
 #endif
 #else
 	acc.rgb += throughput * rs_environment(r.o, r.d);
 #endif
 	acc.w = RS_STATE_ENVIRONMENT;
+}
+
+// As above, the maps read from the second pass on (u_envmap_on).
+void rs_path_environment(vec4 orig, vec4 dir, inout vec4 acc)
+{
+#if RS_ENVMAP
+	rs_path_environment_from(orig, dir, acc, u_envmap_on != 0);
+#else
+	rs_path_environment_from(orig, dir, acc, false);
+#endif
 }
 
 // The paper's shading kernel: local Phong at the hit (surface s), weighted by the
