@@ -125,10 +125,11 @@ static void assert_same_for_every_thread_count(const struct mesh *m)
 	built_free(&one);
 }
 
-/* 40,000 triangles: past the threaded build's floor and the chunked binning and partition's
- * (the root only); 70,000: the root, its children and some grandchildren are binned and
- * partitioned in chunks on the threads (two passes, count then scatter) where one thread
- * partitions in one pass, and each must put every record in the same place. */
+/* 9,000 triangles: past the threaded build's floor and the chunked binning and partition's
+ * (the root only, in two chunks); 40,000 and 70,000: the root, its children and some
+ * grandchildren are binned and partitioned in chunks on the threads (each chunk within its
+ * own range, then its two blocks moved to their places) where one thread partitions in one
+ * pass, and each must put every record in the same place. */
 static void random_mesh_tree_is_independent_of_threads(void **state)
 {
 	(void)state;

@@ -7,6 +7,18 @@
 
 #include "bvh_internal.h"
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define CPU_RELAX() _mm_pause()
+#else
+#define CPU_RELAX() ((void)0)
+#endif
+
+/* How long a thread polls before it sleeps, in polls (a few tens of microseconds): the
+ * upper nodes of a build run loops back to back, each a fraction of a millisecond, and a
+ * condition variable's wake-up cost about as much as a loop's work. */
+#define SPIN_POLLS 4096
+
 struct rs_bvh__pool {
 	pthread_mutex_t lock;
 	pthread_cond_t wake, done;
@@ -17,6 +29,8 @@ struct rs_bvh__pool {
 	void *ctx;
 	uint32_t jobs;
 	uint64_t generation;
+	/* A copy of generation, polled without the lock by helpers about to sleep. */
+	_Atomic uint64_t published;
 	/* The next job and its loop's generation (high 32 bits) in one word: a helper that
 	 * woke late for a loop already over cannot take a job of the next one. */
 	_Atomic uint64_t ticket;
@@ -69,6 +83,10 @@ static void *worker_main(void *arg)
 		uint32_t jobs = p->jobs;
 		pthread_mutex_unlock(&p->lock);
 		run_jobs(p, fn, ctx, jobs, seen, a->worker);
+		for (int k = 0; k < SPIN_POLLS &&
+		                atomic_load_explicit(&p->published, memory_order_relaxed) == seen;
+		     k++)
+			CPU_RELAX();
 		pthread_mutex_lock(&p->lock);
 	}
 	pthread_mutex_unlock(&p->lock);
@@ -91,6 +109,7 @@ struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads)
 	pthread_cond_init(&p->done, NULL);
 	atomic_init(&p->ticket, 0);
 	atomic_init(&p->completed, 0);
+	atomic_init(&p->published, 0);
 	/* A helper that cannot be started only means fewer hands: the work is the same. */
 	for (uint32_t t = 1; t < threads; t++) {
 		struct worker_arg *a = malloc(sizeof *a);
@@ -125,9 +144,12 @@ void rs_bvh__pool_run(struct rs_bvh__pool *p, uint32_t jobs, rs_bvh__job_fn fn, 
 	uint64_t gen = ++p->generation;
 	atomic_store(&p->completed, 0);
 	atomic_store(&p->ticket, (gen & 0xffffffffu) << 32);
+	atomic_store(&p->published, gen);
 	pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
 	run_jobs(p, fn, ctx, jobs, gen, 0);
+	for (int k = 0; k < SPIN_POLLS && atomic_load(&p->completed) < jobs; k++)
+		CPU_RELAX();
 	pthread_mutex_lock(&p->lock);
 	while (atomic_load(&p->completed) < jobs)
 		pthread_cond_wait(&p->done, &p->lock);

@@ -26,8 +26,10 @@
 /* Nodes of at most this many records bin sparsely: only the bins their records fall in are
  * cleared, filled and swept (split_small()). */
 #define SMALL_NODE 12u
-/* Nodes of at least this many records bin in chunks of CHUNK on the pool. */
-#define PAR_BIN_MIN 16384u
+/* Nodes of at least this many records bin and partition in chunks of CHUNK on the pool
+ * (two chunks and up: the nodes just above the subtrees, n / (4 threads) records, would
+ * otherwise be binned and partitioned by one thread while the others wait). */
+#define PAR_BIN_MIN 8192u
 #define CHUNK 4096u
 
 static inline struct rs_bvh__item *task_items(const struct rs_bvh__sah *s,
@@ -451,19 +453,16 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		out->kind = SPLIT_LEAF;
 }
 
-/* How part_range() runs: count (and bound) only, scatter only, or both in one pass. */
-enum part_mode { PART_COUNT, PART_SCATTER, PART_BOTH };
-
 /* Records [begin, end) of src by the split: left ones to dst ascending from *l, right ones
  * descending from *r (the next goes to dst[*r - 1]), so the children's records are the
- * left ones in list order and then the right ones in reverse list order, whatever chunks
- * the range was cut into. Counts and centroid bounds go to *p. The one-pass form writes
- * every record to both ends and advances one (no branch to mispredict); it may only run
- * over a whole node, where both ends stay inside the node's range. */
+ * left ones in list order and then the right ones in reverse list order. Counts and
+ * centroid bounds go to *p. Every record is written to both ends and one end advances (no
+ * branch to mispredict), so both ends must stay inside [begin, end): *l = begin and
+ * *r = end. */
 static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__item *dst,
                               uint32_t begin, uint32_t end, uint32_t *l, uint32_t *r,
                               const struct node_scale *sc, const struct split *sp,
-                              struct rs_bvh__part *p, enum part_mode mode)
+                              struct rs_bvh__part *p)
 {
 	const rs_v4 pad[2] = {rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f),
 	                      rs_v4_set(INFINITY, INFINITY, INFINITY, INFINITY)};
@@ -488,25 +487,16 @@ static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__ite
 			go_left = !((rs_v4_ge_mask(f, plane) >> a) & 1);
 		}
 		left += (uint32_t)go_left;
-		if (mode != PART_SCATTER) {
-			/* Without a branch: c + 0 = c (a zero's sign aside), and c + inf = inf,
-			 * c - inf = -inf leave the other side's bounds as they are. */
-			lclo = rs_v4_min(lclo, rs_v4_add(c, pad[!go_left]));
-			lchi = rs_v4_max(lchi, rs_v4_sub(c, pad[!go_left]));
-			rclo = rs_v4_min(rclo, rs_v4_add(c, pad[go_left]));
-			rchi = rs_v4_max(rchi, rs_v4_sub(c, pad[go_left]));
-		}
-		if (mode == PART_BOTH) {
-			dst[li] = *it;
-			dst[ri - 1] = *it;
-			li += (uint32_t)go_left;
-			ri -= (uint32_t)!go_left;
-		} else if (mode == PART_SCATTER) {
-			if (go_left)
-				dst[li++] = *it;
-			else
-				dst[--ri] = *it;
-		}
+		/* Without a branch: c + 0 = c (a zero's sign aside), and c + inf = inf,
+		 * c - inf = -inf leave the other side's bounds as they are. */
+		lclo = rs_v4_min(lclo, rs_v4_add(c, pad[!go_left]));
+		lchi = rs_v4_max(lchi, rs_v4_sub(c, pad[!go_left]));
+		rclo = rs_v4_min(rclo, rs_v4_add(c, pad[go_left]));
+		rchi = rs_v4_max(rchi, rs_v4_sub(c, pad[go_left]));
+		dst[li] = *it;
+		dst[ri - 1] = *it;
+		li += (uint32_t)go_left;
+		ri -= (uint32_t)!go_left;
 	}
 	*l = li;
 	*r = ri;
@@ -524,35 +514,48 @@ struct part_job {
 	const struct node_scale *sc;
 	const struct split *sp;
 	uint32_t chunks;
-	enum part_mode mode;
 };
 
+/* Chunk c partitioned within its own range of the other buffer: its left records at the
+ * bottom, its right ones at the top, in the order the whole node's pass would give them. */
 static void part_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	const struct part_job *j = ctx;
 	const struct rs_bvh__sah *s = j->s;
-	struct rs_bvh__part *p = &s->chunk_part[c];
-	uint32_t l = 0, r = 0;
-	if (j->mode == PART_SCATTER) {
-		/* Where this chunk's records go: after the left ones of the chunks before it,
-		 * and below their right ones. */
-		l = j->t->begin;
-		r = j->t->end;
-		for (uint32_t k = 0; k < c; k++) {
-			l += s->chunk_part[k].left;
-			r -= s->chunk_part[k].right;
-		}
-	}
-	struct rs_bvh__part scratch;
-	part_range(task_items(s, j->t), j->t->buf ? s->items : s->tmp,
-	           chunk_edge(j->t, c, j->chunks), chunk_edge(j->t, c + 1, j->chunks), &l, &r,
-	           j->sc, j->sp, j->mode == PART_SCATTER ? &scratch : p, j->mode);
+	uint32_t begin = chunk_edge(j->t, c, j->chunks), end = chunk_edge(j->t, c + 1, j->chunks);
+	uint32_t l = begin, r = end;
+	part_range(task_items(j->s, j->t), j->t->buf ? s->items : s->tmp, begin, end, &l, &r, j->sc,
+	           j->sp, &s->chunk_part[c]);
 }
 
-/* Partition t's records by the split into the other buffer (big nodes in two passes over
- * chunks on the pool: count, then scatter; the records land in the same places either
- * way); fills the two child tasks, whose centroid bounds are gathered on the way. */
+/* Chunk c's two blocks copied back into the node's own buffer, where the whole node's pass
+ * would have put them: its left ones after the left ones of the chunks before it, its right
+ * ones below their right ones. */
+static void move_chunk(void *ctx, uint32_t c, uint32_t worker)
+{
+	(void)worker;
+	const struct part_job *j = ctx;
+	const struct rs_bvh__sah *s = j->s;
+	const struct rs_bvh__task *t = j->t;
+	uint32_t l = t->begin, r = t->end;
+	for (uint32_t k = 0; k < c; k++) {
+		l += s->chunk_part[k].left;
+		r -= s->chunk_part[k].right;
+	}
+	const struct rs_bvh__part *p = &s->chunk_part[c];
+	const struct rs_bvh__item *from = t->buf ? s->items : s->tmp;
+	struct rs_bvh__item *to = task_items(s, t);
+	uint32_t end = chunk_edge(t, c + 1, j->chunks);
+	memcpy(to + l, from + chunk_edge(t, c, j->chunks), p->left * sizeof *to);
+	memcpy(to + r - p->right, from + end - p->right, p->right * sizeof *to);
+}
+
+/* Partition t's records by the split into the other buffer; big nodes in chunks on the pool,
+ * each partitioned within its own range of the other buffer, then the chunks' blocks copied
+ * back to their places in t's own buffer (the records land in the same places either way,
+ * only the buffer differs). Fills the two child tasks, whose centroid bounds are gathered on
+ * the way. */
 static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
                       const struct node_scale *sc, const struct split *sp,
                       struct rs_bvh__task *left, struct rs_bvh__task *right)
@@ -594,12 +597,12 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 	if (chunks < 2) {
 		uint32_t l = t->begin, r = t->end;
 		part_range(task_items(s, t), t->buf ? s->items : s->tmp, t->begin, t->end, &l, &r,
-		           sc, sp, &p, PART_BOTH);
+		           sc, sp, &p);
+		left->buf = right->buf = !t->buf;
 	} else {
-		struct part_job job = {s, t, sc, sp, chunks, PART_COUNT};
+		struct part_job job = {s, t, sc, sp, chunks};
 		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
-		job.mode = PART_SCATTER;
-		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
+		rs_bvh__pool_run(s->pool, chunks, move_chunk, &job);
 		/* min, max and counts merge exactly, in any grouping. */
 		p = s->chunk_part[0];
 		for (uint32_t c = 1; c < chunks; c++) {
@@ -609,7 +612,6 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 			grow(p.rclo, p.rchi, o->rclo, o->rchi);
 		}
 	}
-	left->buf = right->buf = !t->buf;
 	left->end = right->begin = t->begin + p.left;
 	memcpy(left->clo, p.lclo, sizeof left->clo);
 	memcpy(left->chi, p.lchi, sizeof left->chi);

@@ -38,11 +38,16 @@ struct build {
 	/* The nodes above the subtrees, the subtrees (by size, largest first), where subtree
 	 * j was built (nodes[sub_at[j]...), parent links local) and its node count. */
 	struct rs_bvh__emit top;
-	uint32_t *map; /* top node -> output index */
+	uint32_t *top_sub; /* top entry -> 1 + its subtree, 0 for a top node */
 	struct by_size *by_size;
 	size_t *sub_at, *sub_count;
+	/* Subtree j's node count per level, levels[sub_at[j] ...] (its slot has room: a tree
+	 * over m records is at most m - 1 levels high), sub_levels[j] of them; then, in the
+	 * stitch, the nodes on each level before it in the pre-order. */
+	uint32_t *levels, *sub_levels, *rank;
 	struct rs_bvh_node *nodes;
 	uint32_t *parent;
+	uint32_t *order;
 };
 
 static uint32_t fill_edge(const struct build *b, uint32_t c)
@@ -59,6 +64,15 @@ static void fill_chunk(void *ctx, uint32_t c, uint32_t worker)
 	                       fill_edge(b, c), fill_edge(b, c + 1), &b->fill_bounds[c]);
 }
 
+/* The triangle order, read from the records, in chunks of FILL_CHUNK. */
+static void order_chunk(void *ctx, uint32_t c, uint32_t worker)
+{
+	(void)worker;
+	struct build *b = ctx;
+	for (uint32_t t = fill_edge(b, c); t < fill_edge(b, c + 1); t++)
+		b->order[t] = rs_bvh__item_id(&b->s.items[t]);
+}
+
 static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 {
 	struct build *b = ctx;
@@ -67,6 +81,13 @@ static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 	                         .parent = b->parent + b->sub_at[j]};
 	rs_bvh__build_subtree(&b->sub, &b->scratch[worker], &b->top.deferred[j], &e);
 	b->sub_count[j] = e.count;
+	/* Finished here, on this thread, as far as the subtree alone decides: boxes, levels,
+	 * escapes and ranks within it; the stitch adds where it lands. */
+	uint32_t top = rs_bvh__finalize_up(e.nodes, e.count, e.parent);
+	uint32_t *rank = b->levels + b->sub_at[j];
+	memset(rank, 0, ((size_t)top + 1) * sizeof *rank);
+	rs_bvh__finalize_rank(e.nodes, e.count, rank);
+	b->sub_levels[j] = top + 1;
 }
 
 /* Larger first; equal sizes in list order (qsort is not stable). */
@@ -98,29 +119,66 @@ static void place_subtrees(struct build *b)
 	}
 }
 
-/* One sweep in pre-order: top nodes written, subtrees moved left to their final places
- * (never onto a slot still to be read: see place_subtrees()), parent links made global. */
+/* The top tree finished bottom-up as rs_bvh__finalize_up() would (a placeholder stands for
+ * its subtree's finished root), then one sweep in pre-order: top nodes written, subtrees
+ * moved left to their final places (never onto a slot still to be read: see
+ * place_subtrees()), their escapes and ranks offset by what precedes them. */
 static size_t stitch(struct build *b)
 {
 	const struct rs_bvh__emit *top = &b->top;
+	uint32_t max_level = 0;
+	for (size_t i = 0; i < top->count; i++) {
+		struct rs_bvh_node *node = &top->nodes[i];
+		b->top_sub[i] = 0;
+		if (node->level == RS_BVH_DEFERRED) {
+			uint32_t j = node->first;
+			const struct rs_bvh_node *root = &b->nodes[b->sub_at[j]];
+			b->top_sub[i] = j + 1;
+			memcpy(node->lo, root->lo, sizeof node->lo);
+			memcpy(node->hi, root->hi, sizeof node->hi);
+			node->level = root->level;
+			node->escape = (uint32_t)b->sub_count[j];
+		} else {
+			node->level = 0;
+			node->escape = 1;
+		}
+	}
+	for (size_t i = top->count; i-- > 0;) {
+		const struct rs_bvh_node *n = &top->nodes[i];
+		max_level = n->level > max_level ? n->level : max_level;
+		if (top->parent[i] == RS_BVH_NO_PARENT)
+			continue;
+		struct rs_bvh_node *p = &top->nodes[top->parent[i]];
+		p->escape += n->escape;
+		if (p->level < n->level + 1)
+			p->level = n->level + 1;
+		for (int a = 0; a < 3; a++) {
+			p->lo[a] = n->lo[a] < p->lo[a] ? n->lo[a] : p->lo[a];
+			p->hi[a] = n->hi[a] > p->hi[a] ? n->hi[a] : p->hi[a];
+		}
+	}
+	uint32_t *rank = b->rank;
+	memset(rank, 0, ((size_t)max_level + 1) * sizeof *rank);
 	size_t out = 0;
 	for (size_t i = 0; i < top->count; i++) {
-		b->map[i] = (uint32_t)out;
-		uint32_t up =
-		    top->parent[i] == RS_BVH_NO_PARENT ? RS_BVH_NO_PARENT : b->map[top->parent[i]];
-		const struct rs_bvh_node *node = &top->nodes[i];
-		if (node->level != RS_BVH_DEFERRED) {
-			b->nodes[out] = *node;
-			b->parent[out++] = up;
+		if (b->top_sub[i] == 0) {
+			struct rs_bvh_node node = top->nodes[i];
+			node.escape += (uint32_t)out;
+			node.order = rank[node.level]++;
+			b->nodes[out++] = node;
 			continue;
 		}
-		size_t from = b->sub_at[node->first], count = b->sub_count[node->first];
+		uint32_t j = b->top_sub[i] - 1;
+		size_t from = b->sub_at[j], count = b->sub_count[j];
+		const uint32_t *levels = b->levels + from;
 		memmove(b->nodes + out, b->nodes + from, count * sizeof *b->nodes);
-		/* Forward, reading at or after where it writes (out <= from). */
 		for (size_t k = 0; k < count; k++) {
-			uint32_t p = b->parent[from + k];
-			b->parent[out + k] = p == RS_BVH_NO_PARENT ? up : p + (uint32_t)out;
+			struct rs_bvh_node *n = &b->nodes[out + k];
+			n->escape += (uint32_t)out;
+			n->order += rank[n->level];
 		}
+		for (uint32_t l = 0; l < b->sub_levels[j]; l++)
+			rank[l] += levels[l];
 		out += count;
 	}
 	return out;
@@ -159,7 +217,10 @@ static void free_build(struct build *b)
 	free(b->top.nodes);
 	free(b->top.parent);
 	free(b->top.deferred);
-	free(b->map);
+	free(b->top_sub);
+	free(b->levels);
+	free(b->sub_levels);
+	free(b->rank);
 	free(b->by_size);
 	free(b->sub_at);
 	free(b->sub_count);
@@ -188,12 +249,15 @@ static int alloc_parallel(struct build *b, uint32_t nbins)
 	b->top.nodes = malloc(cap * sizeof *b->top.nodes);
 	b->top.parent = malloc(cap * sizeof *b->top.parent);
 	b->top.deferred = malloc(n * sizeof *b->top.deferred);
-	b->map = malloc(cap * sizeof *b->map);
+	b->top_sub = malloc(cap * sizeof *b->top_sub);
+	b->levels = malloc(cap * sizeof *b->levels);
+	b->sub_levels = malloc(n * sizeof *b->sub_levels);
+	b->rank = malloc((n + 1) * sizeof *b->rank);
 	b->by_size = malloc(n * sizeof *b->by_size);
 	b->sub_at = malloc(n * sizeof *b->sub_at);
 	b->sub_count = malloc(n * sizeof *b->sub_count);
-	return b->top.nodes && b->top.parent && b->top.deferred && b->map && b->by_size &&
-	       b->sub_at && b->sub_count;
+	return b->top.nodes && b->top.parent && b->top.deferred && b->top_sub && b->by_size &&
+	       b->sub_at && b->sub_count && b->levels && b->sub_levels && b->rank;
 }
 
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
@@ -205,7 +269,8 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	                  .vertex_count = vertex_count,
 	                  .indices = indices,
 	                  .n = (uint32_t)triangle_count,
-	                  .nodes = nodes};
+	                  .nodes = nodes,
+	                  .order = order};
 	b.s.nbins = desc->sah_bins;
 	b.s.leaf_size = desc->leaf_size;
 	b.s.ct = desc->traversal_cost;
@@ -263,7 +328,9 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	root.end = b.n;
 	root.buf = 0;
 	size_t count;
+	int finished = 1;
 	if (b.workers > 1) {
+		/* The subtrees finish themselves on their threads, the stitch the rest. */
 		b.top.defer = defer;
 		b.sub = b.s;
 		b.sub.pool = NULL;
@@ -272,15 +339,15 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		struct rs_bvh__emit e = {.nodes = nodes, .parent = b.parent};
 		rs_bvh__build_subtree(&b.s, &b.scratch[0], &root, &e);
 		count = e.count;
+		finished = rs_bvh__finalize(nodes, count, b.parent);
 	}
 	enum rs_status status = RS_OK;
-	if (!rs_bvh__finalize(nodes, count, b.parent)) {
+	if (!finished) {
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory");
 	} else {
 		/* Leaves own contiguous record ranges; when the right child is emitted first
 		 * the ranges are no longer increasing in pre-order, which the layout allows. */
-		for (size_t t = 0; t < triangle_count; t++)
-			order[t] = rs_bvh__item_id(&b.s.items[t]);
+		rs_bvh__pool_run(b.s.pool, b.fill_chunks, order_chunk, &b);
 		*out_count = count;
 	}
 	free_build(&b);
