@@ -16,7 +16,7 @@
 
 /* How long a thread polls before it sleeps, in polls (a few tens of microseconds): the
  * upper nodes of a build run loops back to back, each a fraction of a millisecond, and a
- * condition variable's wake-up cost about as much as a loop's work. */
+ * sleeping thread must first be woken and then scheduled. */
 #define SPIN_POLLS 4096
 
 struct rs_bvh__pool {
