@@ -751,8 +751,10 @@ uint32_t rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, 
 int rs_bvh__scratch_init(struct rs_bvh__scratch *w, uint32_t nbins, size_t max_items)
 {
 	memset(w, 0, sizeof *w);
-	w->binning.bins = malloc(3 * (size_t)nbins * sizeof *w->binning.bins);
-	w->binning.counts = malloc(3 * (size_t)nbins * sizeof *w->binning.counts);
+	w->binning.bins = aligned_alloc(
+	    RS_BVH_LINE, rs_bvh__line_up(3 * (size_t)nbins * sizeof *w->binning.bins));
+	w->binning.counts = aligned_alloc(
+	    RS_BVH_LINE, rs_bvh__line_up(3 * (size_t)nbins * sizeof *w->binning.counts));
 	/* Each pop pushes at most two tasks, so the stack never holds more than the depth
 	 * plus one, and the depth is below the record count. */
 	w->stack_cap = max_items + 1;

@@ -232,18 +232,27 @@ static int alloc_parallel(struct build *b, uint32_t nbins)
 {
 	size_t n = b->n, cap = 2 * n;
 	b->s.max_chunks = MAX_CHUNKS;
-	b->s.chunk_bins = calloc(MAX_CHUNKS, sizeof *b->s.chunk_bins);
-	b->s.chunk_part = malloc(MAX_CHUNKS * sizeof *b->s.chunk_part);
-	struct rs_bvh__bin *bins = malloc((size_t)MAX_CHUNKS * 3 * nbins * sizeof *bins);
-	uint32_t *counts = malloc((size_t)MAX_CHUNKS * 3 * nbins * sizeof *counts);
+	/* Each chunk's results on cache lines of their own (rs_bvh__line_up()). */
+	size_t bin_stride = rs_bvh__line_up(3 * (size_t)nbins * sizeof(struct rs_bvh__bin)) /
+	                    sizeof(struct rs_bvh__bin);
+	size_t count_stride =
+	    rs_bvh__line_up(3 * (size_t)nbins * sizeof(uint32_t)) / sizeof(uint32_t);
+	b->s.max_chunks = MAX_CHUNKS;
+	b->s.chunk_bins = aligned_alloc(RS_BVH_LINE, MAX_CHUNKS * sizeof *b->s.chunk_bins);
+	b->s.chunk_part = aligned_alloc(RS_BVH_LINE, MAX_CHUNKS * sizeof *b->s.chunk_part);
+	struct rs_bvh__bin *bins =
+	    aligned_alloc(RS_BVH_LINE, MAX_CHUNKS * bin_stride * sizeof(struct rs_bvh__bin));
+	uint32_t *counts = aligned_alloc(RS_BVH_LINE, MAX_CHUNKS * count_stride * sizeof(uint32_t));
+	if (b->s.chunk_bins)
+		memset(b->s.chunk_bins, 0, MAX_CHUNKS * sizeof *b->s.chunk_bins);
 	if (!b->s.chunk_bins || !b->s.chunk_part || !bins || !counts) {
 		free(bins);
 		free(counts);
 		return 0;
 	}
 	for (uint32_t c = 0; c < MAX_CHUNKS; c++) {
-		b->s.chunk_bins[c].bins = bins + (size_t)c * 3 * nbins;
-		b->s.chunk_bins[c].counts = counts + (size_t)c * 3 * nbins;
+		b->s.chunk_bins[c].bins = bins + c * bin_stride;
+		b->s.chunk_bins[c].counts = counts + c * count_stride;
 	}
 	/* Sized for the worst case; pages are only touched as far as they are used. */
 	b->top.nodes = malloc(cap * sizeof *b->top.nodes);
@@ -290,7 +299,10 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	b.s.items = malloc(triangle_count * sizeof *b.s.items);
 	b.s.tmp = malloc(triangle_count * sizeof *b.s.tmp);
 	b.parent = malloc((2 * triangle_count - 1) * sizeof *b.parent);
-	b.scratch = calloc(b.workers, sizeof *b.scratch);
+	/* On cache lines of their own (rs_bvh__line_up()). */
+	b.scratch = aligned_alloc(RS_BVH_LINE, b.workers * sizeof *b.scratch);
+	if (b.scratch)
+		memset(b.scratch, 0, b.workers * sizeof *b.scratch);
 	b.fill_chunks = (b.n + FILL_CHUNK - 1) / FILL_CHUNK;
 	b.fill_bounds = malloc(b.fill_chunks * sizeof *b.fill_bounds);
 	b.fill_stop = malloc(b.fill_chunks * sizeof *b.fill_stop);
