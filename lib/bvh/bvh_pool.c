@@ -162,6 +162,8 @@ void rs_bvh__pool_stop(struct rs_bvh__pool *p)
 		return;
 	pthread_mutex_lock(&p->lock);
 	p->quit = 1;
+	/* Polling helpers stop polling now, not after SPIN_POLLS. */
+	atomic_store(&p->published, p->generation + 1);
 	pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
 	for (uint32_t t = 0; t < p->started; t++)
