@@ -164,7 +164,7 @@ static void repeated_builds_are_independent_of_earlier_ones(void **state)
 	}
 }
 
-/* 300,000 triangles on two threads: subtrees of n / 8 records, above the size at which the
+/* 300,000 triangles on two threads: subtrees of n / 16 records, above the size at which the
  * upper nodes bin in chunks on the threads; a subtree, already on a thread, must bin on its
  * own (two threads, one build each: a nested loop on the threads would hang or race). */
 static void big_subtrees_bin_on_their_own_thread(void **state)

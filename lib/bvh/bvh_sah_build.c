@@ -284,12 +284,14 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		ok = b.s.pool != NULL;
 	}
 	b.workers = rs_bvh__pool_workers(b.s.pool);
-	/* Subtrees of at most `defer` records: at least four per worker, so the largest-first
-	 * order keeps every worker busy to the end, while the upper nodes (whose partition
-	 * is serial) stay few. Measured on Cow17, two threads (callgrind, per thread): n / 16
-	 * left the caller 158 M instructions against the helper's 124 M, n / 8 141 M against
-	 * 141 M. */
-	uint32_t defer = b.workers > 1 ? b.n / (4 * b.workers) : 0;
+	/* Subtrees of at most `defer` records: at least eight per worker, so the largest-first
+	 * order keeps every worker busy to the end, while the upper nodes (binned and
+	 * partitioned in chunks on every thread) stay few. Measured on Cow17, two threads,
+	 * against Embree alternately (docs/benchmarks.md): n / 8 threads 1.00-1.02x Embree's
+	 * time, n / 4 1.02-1.03x, n / 2 1.09-1.11x. (Before the upper nodes were partitioned on
+	 * the threads, callgrind per thread put n / 16 at 158 M instructions on the caller
+	 * against 124 M on the helper, n / 8 at 141 M on each.) */
+	uint32_t defer = b.workers > 1 ? b.n / (8 * b.workers) : 0;
 	b.fill_chunks = (b.n + FILL_CHUNK - 1) / FILL_CHUNK;
 	char *block = ok ? aligned_alloc(RS_BVH_LINE, layout(&b, NULL)) : NULL;
 	ok = block != NULL;
