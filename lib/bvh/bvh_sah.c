@@ -247,6 +247,18 @@ static void bin_chunk(void *ctx, uint32_t c, uint32_t worker)
 	          chunk_edge(j->t, c + 1, j->chunks), j->sc, j->s->nbins, &j->s->chunk_bins[c]);
 }
 
+/* o's bins into b's (min, max and counts: exact in any grouping). */
+static void merge_bins(struct rs_bvh__binning *b, const struct rs_bvh__binning *o, uint32_t nb)
+{
+	for (uint32_t j = 0; j < 3 * nb; j++) {
+		grow(b->bins[j].lo, b->bins[j].hi, o->bins[j].lo, o->bins[j].hi);
+		b->counts[j] += o->counts[j];
+	}
+	grow(b->blo, b->bhi, o->blo, o->bhi);
+	grow(b->slo, b->shi, o->slo, o->shi);
+	b->large += o->large;
+}
+
 /* Bin a node, in chunks on the pool when it is big; min, max and counts merge exactly, so
  * the bins are the same however the records were chunked. */
 static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
@@ -265,14 +277,7 @@ static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
 	rs_bvh__pool_run(s->pool, chunks, bin_chunk, &job);
 	struct rs_bvh__binning *b = &s->chunk_bins[0];
 	for (uint32_t c = 1; c < chunks; c++) {
-		const struct rs_bvh__binning *o = &s->chunk_bins[c];
-		for (uint32_t j = 0; j < 3 * nb; j++) {
-			grow(b->bins[j].lo, b->bins[j].hi, o->bins[j].lo, o->bins[j].hi);
-			b->counts[j] += o->counts[j];
-		}
-		grow(b->blo, b->bhi, o->blo, o->bhi);
-		grow(b->slo, b->shi, o->slo, o->shi);
-		b->large += o->large;
+		merge_bins(b, &s->chunk_bins[c], nb);
 	}
 	return b;
 }
@@ -415,6 +420,21 @@ static int leaf_is_cheapest(const struct rs_bvh__sah *s, const struct rs_bvh__ta
 	return (double)(t->end - t->begin) * area <= bound * (1.0 - 1e-9);
 }
 
+/* Task t's bins if they were made while its parent's records were moved (the slot is
+ * freed: only the thread that builds the upper nodes partitions in chunks). */
+static const struct rs_bvh__binning *prebinned(const struct rs_bvh__sah *s,
+                                               const struct rs_bvh__task *t)
+{
+	for (uint32_t i = 0; i < s->prebins; i++) {
+		struct rs_bvh__prebin *p = &s->prebin[i];
+		if (p->used && p->begin == t->begin && p->end == t->end) {
+			p->used = 0;
+			return &p->b;
+		}
+	}
+	return NULL;
+}
+
 /* Best split of task t, or SPLIT_LEAF when making a leaf is better (or required). */
 static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
                        const struct rs_bvh__task *t, struct node_scale *sc, struct split *out)
@@ -443,7 +463,9 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		split_small(s, w, t, sc, area, out);
 		price_size_split(s, &w->binning, n, area, out);
 	} else {
-		const struct rs_bvh__binning *b = bin_node(s, w, t, sc);
+		const struct rs_bvh__binning *b = prebinned(s, t);
+		if (!b)
+			b = bin_node(s, w, t, sc);
 		for (int a = 0; a < 3; a++)
 			if (sc->k[a] != 0.0f)
 				sweep_axis(s, b, a, area, out);
@@ -514,6 +536,9 @@ struct part_job {
 	const struct node_scale *sc;
 	const struct split *sp;
 	uint32_t chunks;
+	/* Whether the left and right child are binned as their records are moved. */
+	int bin_child[2];
+	struct node_scale child_sc[2];
 };
 
 /* Chunk c partitioned within its own range of the other buffer: its left records at the
@@ -549,6 +574,57 @@ static void move_chunk(void *ctx, uint32_t c, uint32_t worker)
 	uint32_t end = chunk_edge(t, c + 1, j->chunks);
 	memcpy(to + l, from + chunk_edge(t, c, j->chunks), p->left * sizeof *to);
 	memcpy(to + r - p->right, from + end - p->right, p->right * sizeof *to);
+	if (j->bin_child[0])
+		bin_range(to, l, l + p->left, &j->child_sc[0], s->nbins, &s->child_bins[2 * c]);
+	if (j->bin_child[1])
+		bin_range(to, r - p->right, r, &j->child_sc[1], s->nbins,
+		          &s->child_bins[2 * c + 1]);
+}
+
+/* Child k's chunk bins merged in chunk order into a free prebin slot. */
+static void keep_child_bins(const struct rs_bvh__sah *s, const struct rs_bvh__task *child,
+                            uint32_t k, uint32_t chunks, struct rs_bvh__prebin *slot)
+{
+	uint32_t nb = s->nbins;
+	struct rs_bvh__binning *b = &s->child_bins[k];
+	for (uint32_t c = 1; c < chunks; c++) {
+		merge_bins(b, &s->child_bins[2 * c + k], nb);
+	}
+	memcpy(slot->b.bins, b->bins, 3 * (size_t)nb * sizeof *b->bins);
+	memcpy(slot->b.counts, b->counts, 3 * (size_t)nb * sizeof *b->counts);
+	memcpy(slot->b.blo, b->blo, sizeof b->blo);
+	memcpy(slot->b.bhi, b->bhi, sizeof b->bhi);
+	memcpy(slot->b.slo, b->slo, sizeof b->slo);
+	memcpy(slot->b.shi, b->shi, sizeof b->shi);
+	slot->b.large = b->large;
+	slot->begin = child->begin;
+	slot->end = child->end;
+	slot->used = 1;
+}
+
+static struct rs_bvh__prebin *free_slot(const struct rs_bvh__sah *s,
+                                        const struct rs_bvh__prebin * not )
+{
+	for (uint32_t i = 0; i < s->prebins; i++)
+		if (!s->prebin[i].used && &s->prebin[i] != not )
+			return &s->prebin[i];
+	return NULL;
+}
+
+/* The children's ranges and bounds from the partition's counts and the split. */
+static void child_tasks(const struct rs_bvh__task *t, const struct split *sp,
+                        const struct rs_bvh__part *p, struct rs_bvh__task *left,
+                        struct rs_bvh__task *right)
+{
+	left->end = right->begin = t->begin + p->left;
+	memcpy(left->clo, p->lclo, sizeof left->clo);
+	memcpy(left->chi, p->lchi, sizeof left->chi);
+	memcpy(right->clo, p->rclo, sizeof right->clo);
+	memcpy(right->chi, p->rchi, sizeof right->chi);
+	memcpy(left->lo, sp->llo, sizeof left->lo);
+	memcpy(left->hi, sp->lhi, sizeof left->hi);
+	memcpy(right->lo, sp->rlo, sizeof right->lo);
+	memcpy(right->hi, sp->rhi, sizeof right->hi);
 }
 
 /* Partition t's records by the split into the other buffer; big nodes in chunks on the pool,
@@ -600,9 +676,10 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 		           sc, sp, &p);
 		left->buf = right->buf = !t->buf;
 	} else {
-		struct part_job job = {s, t, sc, sp, chunks};
+		struct part_job job;
+		memset(&job, 0, sizeof job);
+		job = (struct part_job){.s = s, .t = t, .sc = sc, .sp = sp, .chunks = chunks};
 		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
-		rs_bvh__pool_run(s->pool, chunks, move_chunk, &job);
 		/* min, max and counts merge exactly, in any grouping. */
 		p = s->chunk_part[0];
 		for (uint32_t c = 1; c < chunks; c++) {
@@ -611,16 +688,24 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 			grow(p.lclo, p.lchi, o->lclo, o->lchi);
 			grow(p.rclo, p.rchi, o->rclo, o->rchi);
 		}
+		child_tasks(t, sp, &p, left, right);
+		struct rs_bvh__task *child[2] = {left, right};
+		struct rs_bvh__prebin *slot[2] = {NULL, NULL};
+		for (int k = 0; k < 2; k++) {
+			uint32_t m = child[k]->end - child[k]->begin;
+			if (m < PAR_BIN_MIN || m < s->prebin_min || m <= SMALL_NODE)
+				continue;
+			node_scale(s->nbins, child[k], &job.child_sc[k]);
+			slot[k] = job.child_sc[k].axes ? free_slot(s, slot[0]) : NULL;
+			job.bin_child[k] = slot[k] != NULL;
+		}
+		rs_bvh__pool_run(s->pool, chunks, move_chunk, &job);
+		for (int k = 0; k < 2; k++)
+			if (slot[k])
+				keep_child_bins(s, child[k], (uint32_t)k, chunks, slot[k]);
+		return;
 	}
-	left->end = right->begin = t->begin + p.left;
-	memcpy(left->clo, p.lclo, sizeof left->clo);
-	memcpy(left->chi, p.lchi, sizeof left->chi);
-	memcpy(right->clo, p.rclo, sizeof right->clo);
-	memcpy(right->chi, p.rchi, sizeof right->chi);
-	memcpy(left->lo, sp->llo, sizeof left->lo);
-	memcpy(left->hi, sp->lhi, sizeof left->hi);
-	memcpy(right->lo, sp->rlo, sizeof right->lo);
-	memcpy(right->hi, sp->rhi, sizeof right->hi);
+	child_tasks(t, sp, &p, left, right);
 }
 
 /* Which child comes first in the pre-order (the walk meets it first: for closest hit its
