@@ -125,10 +125,11 @@ static void assert_same_for_every_thread_count(const struct mesh *m)
 	built_free(&one);
 }
 
-/* 40,000 triangles: past the threaded build's floor and the chunked binning and partition's
- * (the root only); 70,000: the root, its children and some grandchildren are binned and
- * partitioned in chunks on the threads (two passes, count then scatter) where one thread
- * partitions in one pass, and each must put every record in the same place. */
+/* 9,000 triangles: past the threaded build's floor and the chunked binning and partition's
+ * (the root only, in two chunks); 40,000 and 70,000: the root, its children and some
+ * grandchildren are binned and partitioned in chunks on the threads (each chunk within its
+ * own range, then its two blocks moved to their places) where one thread partitions in one
+ * pass, and each must put every record in the same place. */
 static void random_mesh_tree_is_independent_of_threads(void **state)
 {
 	(void)state;
@@ -163,7 +164,7 @@ static void repeated_builds_are_independent_of_earlier_ones(void **state)
 	}
 }
 
-/* 300,000 triangles on two threads: subtrees of n / 8 records, above the size at which the
+/* 300,000 triangles on two threads: subtrees of n / 16 records, above the size at which the
  * upper nodes bin in chunks on the threads; a subtree, already on a thread, must bin on its
  * own (two threads, one build each: a nested loop on the threads would hang or race). */
 static void big_subtrees_bin_on_their_own_thread(void **state)

@@ -201,7 +201,7 @@ double rs_bvh__box_area(const float lo[3], const float hi[3])
 	return 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
 }
 
-int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_t *parent)
+uint32_t rs_bvh__finalize_up(struct rs_bvh_node *nodes, size_t node_count, const uint32_t *parent)
 {
 	/* escape doubles as the subtree size while sizes flow up in reverse pre-order (each
 	 * parent precedes its children, so one backward sweep is a bottom-up pass). */
@@ -225,13 +225,24 @@ int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_
 			p->hi[a] = n->hi[a] > p->hi[a] ? n->hi[a] : p->hi[a];
 		}
 	}
-	uint32_t *rank = calloc((size_t)max_level + 1, sizeof *rank);
-	if (!rank)
-		return 0;
+	return max_level;
+}
+
+void rs_bvh__finalize_rank(struct rs_bvh_node *nodes, size_t node_count, uint32_t *rank)
+{
 	for (size_t i = 0; i < node_count; i++) {
 		nodes[i].escape += (uint32_t)i;
 		nodes[i].order = rank[nodes[i].level]++;
 	}
+}
+
+int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_t *parent)
+{
+	uint32_t max_level = rs_bvh__finalize_up(nodes, node_count, parent);
+	uint32_t *rank = calloc((size_t)max_level + 1, sizeof *rank);
+	if (!rank)
+		return 0;
+	rs_bvh__finalize_rank(nodes, node_count, rank);
 	free(rank);
 	return 1;
 }

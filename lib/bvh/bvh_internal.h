@@ -30,6 +30,12 @@ double rs_bvh__box_area(const float lo[3], const float hi[3]);
  * as the union of the children, bottom-up. Returns false when out of memory.
  */
 int rs_bvh__finalize(struct rs_bvh_node *nodes, size_t node_count, const uint32_t *parent);
+/* rs_bvh__finalize() in two steps, for a subtree finished on its own thread: the bottom-up
+ * pass (escape holds the subtree size, not yet i + size; returns the highest level), then
+ * escape += i and order from rank[level]++ (rank[] zeroed by the caller, one per level;
+ * it ends holding the number of nodes on each level). */
+uint32_t rs_bvh__finalize_up(struct rs_bvh_node *nodes, size_t node_count, const uint32_t *parent);
+void rs_bvh__finalize_rank(struct rs_bvh_node *nodes, size_t node_count, uint32_t *rank);
 
 /* Worker threads of one build (bvh_pool.c). A loop runs fn(ctx, job, worker) for every job
  * in [0, jobs), worker in [0, rs_bvh__pool_workers()); the caller's thread is worker 0.

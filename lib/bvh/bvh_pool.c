@@ -4,8 +4,21 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "bvh_internal.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define CPU_RELAX() _mm_pause()
+#else
+#define CPU_RELAX() ((void)0)
+#endif
+
+/* How long a thread polls before it sleeps, in polls (a few tens of microseconds): the
+ * upper nodes of a build run loops back to back, each a fraction of a millisecond, and a
+ * sleeping thread must first be woken and then scheduled. */
+#define SPIN_POLLS 4096
 
 struct rs_bvh__pool {
 	pthread_mutex_t lock;
@@ -17,6 +30,13 @@ struct rs_bvh__pool {
 	void *ctx;
 	uint32_t jobs;
 	uint64_t generation;
+	/* A copy of generation, polled without the lock by helpers about to sleep. */
+	_Atomic uint64_t published;
+	/* Polls before sleeping: SPIN_POLLS, or 0 with more threads than online cores (a
+	 * polling thread would hold a core that a thread with work is waiting for: Cow17 on
+	 * four threads of two cores measured 1.24-1.33x Embree's time polling, 1.13-1.18x
+	 * not). */
+	int spin;
 	/* The next job and its loop's generation (high 32 bits) in one word: a helper that
 	 * woke late for a loop already over cannot take a job of the next one. */
 	_Atomic uint64_t ticket;
@@ -69,6 +89,10 @@ static void *worker_main(void *arg)
 		uint32_t jobs = p->jobs;
 		pthread_mutex_unlock(&p->lock);
 		run_jobs(p, fn, ctx, jobs, seen, a->worker);
+		for (int k = 0; k < p->spin &&
+		                atomic_load_explicit(&p->published, memory_order_relaxed) == seen;
+		     k++)
+			CPU_RELAX();
 		pthread_mutex_lock(&p->lock);
 	}
 	pthread_mutex_unlock(&p->lock);
@@ -91,6 +115,9 @@ struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads)
 	pthread_cond_init(&p->done, NULL);
 	atomic_init(&p->ticket, 0);
 	atomic_init(&p->completed, 0);
+	atomic_init(&p->published, 0);
+	long cores = sysconf(_SC_NPROCESSORS_ONLN);
+	p->spin = cores > 0 && threads <= (uint32_t)cores ? SPIN_POLLS : 0;
 	/* A helper that cannot be started only means fewer hands: the work is the same. */
 	for (uint32_t t = 1; t < threads; t++) {
 		struct worker_arg *a = malloc(sizeof *a);
@@ -125,9 +152,12 @@ void rs_bvh__pool_run(struct rs_bvh__pool *p, uint32_t jobs, rs_bvh__job_fn fn, 
 	uint64_t gen = ++p->generation;
 	atomic_store(&p->completed, 0);
 	atomic_store(&p->ticket, (gen & 0xffffffffu) << 32);
+	atomic_store(&p->published, gen);
 	pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
 	run_jobs(p, fn, ctx, jobs, gen, 0);
+	for (int k = 0; k < p->spin && atomic_load(&p->completed) < jobs; k++)
+		CPU_RELAX();
 	pthread_mutex_lock(&p->lock);
 	while (atomic_load(&p->completed) < jobs)
 		pthread_cond_wait(&p->done, &p->lock);
@@ -140,6 +170,8 @@ void rs_bvh__pool_stop(struct rs_bvh__pool *p)
 		return;
 	pthread_mutex_lock(&p->lock);
 	p->quit = 1;
+	/* Polling helpers stop polling now, not after SPIN_POLLS. */
+	atomic_store(&p->published, p->generation + 1);
 	pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
 	for (uint32_t t = 0; t < p->started; t++)

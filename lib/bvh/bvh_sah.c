@@ -26,8 +26,10 @@
 /* Nodes of at most this many records bin sparsely: only the bins their records fall in are
  * cleared, filled and swept (split_small()). */
 #define SMALL_NODE 12u
-/* Nodes of at least this many records bin in chunks of CHUNK on the pool. */
-#define PAR_BIN_MIN 16384u
+/* Nodes of at least this many records bin and partition in chunks of CHUNK on the pool
+ * (two chunks and up: the nodes just above the subtrees, n / (4 threads) records, would
+ * otherwise be binned and partitioned by one thread while the others wait). */
+#define PAR_BIN_MIN 8192u
 #define CHUNK 4096u
 
 static inline struct rs_bvh__item *task_items(const struct rs_bvh__sah *s,
@@ -245,6 +247,18 @@ static void bin_chunk(void *ctx, uint32_t c, uint32_t worker)
 	          chunk_edge(j->t, c + 1, j->chunks), j->sc, j->s->nbins, &j->s->chunk_bins[c]);
 }
 
+/* o's bins into b's (min, max and counts: exact in any grouping). */
+static void merge_bins(struct rs_bvh__binning *b, const struct rs_bvh__binning *o, uint32_t nb)
+{
+	for (uint32_t j = 0; j < 3 * nb; j++) {
+		grow(b->bins[j].lo, b->bins[j].hi, o->bins[j].lo, o->bins[j].hi);
+		b->counts[j] += o->counts[j];
+	}
+	grow(b->blo, b->bhi, o->blo, o->bhi);
+	grow(b->slo, b->shi, o->slo, o->shi);
+	b->large += o->large;
+}
+
 /* Bin a node, in chunks on the pool when it is big; min, max and counts merge exactly, so
  * the bins are the same however the records were chunked. */
 static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
@@ -263,14 +277,7 @@ static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
 	rs_bvh__pool_run(s->pool, chunks, bin_chunk, &job);
 	struct rs_bvh__binning *b = &s->chunk_bins[0];
 	for (uint32_t c = 1; c < chunks; c++) {
-		const struct rs_bvh__binning *o = &s->chunk_bins[c];
-		for (uint32_t j = 0; j < 3 * nb; j++) {
-			grow(b->bins[j].lo, b->bins[j].hi, o->bins[j].lo, o->bins[j].hi);
-			b->counts[j] += o->counts[j];
-		}
-		grow(b->blo, b->bhi, o->blo, o->bhi);
-		grow(b->slo, b->shi, o->slo, o->shi);
-		b->large += o->large;
+		merge_bins(b, &s->chunk_bins[c], nb);
 	}
 	return b;
 }
@@ -413,6 +420,21 @@ static int leaf_is_cheapest(const struct rs_bvh__sah *s, const struct rs_bvh__ta
 	return (double)(t->end - t->begin) * area <= bound * (1.0 - 1e-9);
 }
 
+/* Task t's bins if they were made while its parent's records were moved (the slot is
+ * freed: only the thread that builds the upper nodes partitions in chunks). */
+static const struct rs_bvh__binning *prebinned(const struct rs_bvh__sah *s,
+                                               const struct rs_bvh__task *t)
+{
+	for (uint32_t i = 0; i < s->prebins; i++) {
+		struct rs_bvh__prebin *p = &s->prebin[i];
+		if (p->used && p->begin == t->begin && p->end == t->end) {
+			p->used = 0;
+			return &p->b;
+		}
+	}
+	return NULL;
+}
+
 /* Best split of task t, or SPLIT_LEAF when making a leaf is better (or required). */
 static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
                        const struct rs_bvh__task *t, struct node_scale *sc, struct split *out)
@@ -441,7 +463,9 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		split_small(s, w, t, sc, area, out);
 		price_size_split(s, &w->binning, n, area, out);
 	} else {
-		const struct rs_bvh__binning *b = bin_node(s, w, t, sc);
+		const struct rs_bvh__binning *b = prebinned(s, t);
+		if (!b)
+			b = bin_node(s, w, t, sc);
 		for (int a = 0; a < 3; a++)
 			if (sc->k[a] != 0.0f)
 				sweep_axis(s, b, a, area, out);
@@ -451,19 +475,16 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		out->kind = SPLIT_LEAF;
 }
 
-/* How part_range() runs: count (and bound) only, scatter only, or both in one pass. */
-enum part_mode { PART_COUNT, PART_SCATTER, PART_BOTH };
-
 /* Records [begin, end) of src by the split: left ones to dst ascending from *l, right ones
  * descending from *r (the next goes to dst[*r - 1]), so the children's records are the
- * left ones in list order and then the right ones in reverse list order, whatever chunks
- * the range was cut into. Counts and centroid bounds go to *p. The one-pass form writes
- * every record to both ends and advances one (no branch to mispredict); it may only run
- * over a whole node, where both ends stay inside the node's range. */
+ * left ones in list order and then the right ones in reverse list order. Counts and
+ * centroid bounds go to *p. Every record is written to both ends and one end advances (no
+ * branch to mispredict), so both ends must stay inside [begin, end): *l = begin and
+ * *r = end. */
 static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__item *dst,
                               uint32_t begin, uint32_t end, uint32_t *l, uint32_t *r,
                               const struct node_scale *sc, const struct split *sp,
-                              struct rs_bvh__part *p, enum part_mode mode)
+                              struct rs_bvh__part *p)
 {
 	const rs_v4 pad[2] = {rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f),
 	                      rs_v4_set(INFINITY, INFINITY, INFINITY, INFINITY)};
@@ -488,25 +509,16 @@ static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__ite
 			go_left = !((rs_v4_ge_mask(f, plane) >> a) & 1);
 		}
 		left += (uint32_t)go_left;
-		if (mode != PART_SCATTER) {
-			/* Without a branch: c + 0 = c (a zero's sign aside), and c + inf = inf,
-			 * c - inf = -inf leave the other side's bounds as they are. */
-			lclo = rs_v4_min(lclo, rs_v4_add(c, pad[!go_left]));
-			lchi = rs_v4_max(lchi, rs_v4_sub(c, pad[!go_left]));
-			rclo = rs_v4_min(rclo, rs_v4_add(c, pad[go_left]));
-			rchi = rs_v4_max(rchi, rs_v4_sub(c, pad[go_left]));
-		}
-		if (mode == PART_BOTH) {
-			dst[li] = *it;
-			dst[ri - 1] = *it;
-			li += (uint32_t)go_left;
-			ri -= (uint32_t)!go_left;
-		} else if (mode == PART_SCATTER) {
-			if (go_left)
-				dst[li++] = *it;
-			else
-				dst[--ri] = *it;
-		}
+		/* Without a branch: c + 0 = c (a zero's sign aside), and c + inf = inf,
+		 * c - inf = -inf leave the other side's bounds as they are. */
+		lclo = rs_v4_min(lclo, rs_v4_add(c, pad[!go_left]));
+		lchi = rs_v4_max(lchi, rs_v4_sub(c, pad[!go_left]));
+		rclo = rs_v4_min(rclo, rs_v4_add(c, pad[go_left]));
+		rchi = rs_v4_max(rchi, rs_v4_sub(c, pad[go_left]));
+		dst[li] = *it;
+		dst[ri - 1] = *it;
+		li += (uint32_t)go_left;
+		ri -= (uint32_t)!go_left;
 	}
 	*l = li;
 	*r = ri;
@@ -524,35 +536,102 @@ struct part_job {
 	const struct node_scale *sc;
 	const struct split *sp;
 	uint32_t chunks;
-	enum part_mode mode;
+	/* Whether the left and right child are binned as their records are moved. */
+	int bin_child[2];
+	struct node_scale child_sc[2];
 };
 
+/* Chunk c partitioned within its own range of the other buffer: its left records at the
+ * bottom, its right ones at the top, in the order the whole node's pass would give them. */
 static void part_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	const struct part_job *j = ctx;
 	const struct rs_bvh__sah *s = j->s;
-	struct rs_bvh__part *p = &s->chunk_part[c];
-	uint32_t l = 0, r = 0;
-	if (j->mode == PART_SCATTER) {
-		/* Where this chunk's records go: after the left ones of the chunks before it,
-		 * and below their right ones. */
-		l = j->t->begin;
-		r = j->t->end;
-		for (uint32_t k = 0; k < c; k++) {
-			l += s->chunk_part[k].left;
-			r -= s->chunk_part[k].right;
-		}
-	}
-	struct rs_bvh__part scratch;
-	part_range(task_items(s, j->t), j->t->buf ? s->items : s->tmp,
-	           chunk_edge(j->t, c, j->chunks), chunk_edge(j->t, c + 1, j->chunks), &l, &r,
-	           j->sc, j->sp, j->mode == PART_SCATTER ? &scratch : p, j->mode);
+	uint32_t begin = chunk_edge(j->t, c, j->chunks), end = chunk_edge(j->t, c + 1, j->chunks);
+	uint32_t l = begin, r = end;
+	part_range(task_items(j->s, j->t), j->t->buf ? s->items : s->tmp, begin, end, &l, &r, j->sc,
+	           j->sp, &s->chunk_part[c]);
 }
 
-/* Partition t's records by the split into the other buffer (big nodes in two passes over
- * chunks on the pool: count, then scatter; the records land in the same places either
- * way); fills the two child tasks, whose centroid bounds are gathered on the way. */
+/* Chunk c's two blocks copied back into the node's own buffer, where the whole node's pass
+ * would have put them: its left ones after the left ones of the chunks before it, its right
+ * ones below their right ones. */
+static void move_chunk(void *ctx, uint32_t c, uint32_t worker)
+{
+	(void)worker;
+	const struct part_job *j = ctx;
+	const struct rs_bvh__sah *s = j->s;
+	const struct rs_bvh__task *t = j->t;
+	uint32_t l = t->begin, r = t->end;
+	for (uint32_t k = 0; k < c; k++) {
+		l += s->chunk_part[k].left;
+		r -= s->chunk_part[k].right;
+	}
+	const struct rs_bvh__part *p = &s->chunk_part[c];
+	const struct rs_bvh__item *from = t->buf ? s->items : s->tmp;
+	struct rs_bvh__item *to = task_items(s, t);
+	uint32_t end = chunk_edge(t, c + 1, j->chunks);
+	memcpy(to + l, from + chunk_edge(t, c, j->chunks), p->left * sizeof *to);
+	memcpy(to + r - p->right, from + end - p->right, p->right * sizeof *to);
+	if (j->bin_child[0])
+		bin_range(to, l, l + p->left, &j->child_sc[0], s->nbins, &s->child_bins[2 * c]);
+	if (j->bin_child[1])
+		bin_range(to, r - p->right, r, &j->child_sc[1], s->nbins,
+		          &s->child_bins[2 * c + 1]);
+}
+
+/* Child k's chunk bins merged in chunk order into a free prebin slot. */
+static void keep_child_bins(const struct rs_bvh__sah *s, const struct rs_bvh__task *child,
+                            uint32_t k, uint32_t chunks, struct rs_bvh__prebin *slot)
+{
+	uint32_t nb = s->nbins;
+	struct rs_bvh__binning *b = &s->child_bins[k];
+	for (uint32_t c = 1; c < chunks; c++) {
+		merge_bins(b, &s->child_bins[2 * c + k], nb);
+	}
+	memcpy(slot->b.bins, b->bins, 3 * (size_t)nb * sizeof *b->bins);
+	memcpy(slot->b.counts, b->counts, 3 * (size_t)nb * sizeof *b->counts);
+	memcpy(slot->b.blo, b->blo, sizeof b->blo);
+	memcpy(slot->b.bhi, b->bhi, sizeof b->bhi);
+	memcpy(slot->b.slo, b->slo, sizeof b->slo);
+	memcpy(slot->b.shi, b->shi, sizeof b->shi);
+	slot->b.large = b->large;
+	slot->begin = child->begin;
+	slot->end = child->end;
+	slot->used = 1;
+}
+
+static struct rs_bvh__prebin *free_slot(const struct rs_bvh__sah *s,
+                                        const struct rs_bvh__prebin * not )
+{
+	for (uint32_t i = 0; i < s->prebins; i++)
+		if (!s->prebin[i].used && &s->prebin[i] != not )
+			return &s->prebin[i];
+	return NULL;
+}
+
+/* The children's ranges and bounds from the partition's counts and the split. */
+static void child_tasks(const struct rs_bvh__task *t, const struct split *sp,
+                        const struct rs_bvh__part *p, struct rs_bvh__task *left,
+                        struct rs_bvh__task *right)
+{
+	left->end = right->begin = t->begin + p->left;
+	memcpy(left->clo, p->lclo, sizeof left->clo);
+	memcpy(left->chi, p->lchi, sizeof left->chi);
+	memcpy(right->clo, p->rclo, sizeof right->clo);
+	memcpy(right->chi, p->rchi, sizeof right->chi);
+	memcpy(left->lo, sp->llo, sizeof left->lo);
+	memcpy(left->hi, sp->lhi, sizeof left->hi);
+	memcpy(right->lo, sp->rlo, sizeof right->lo);
+	memcpy(right->hi, sp->rhi, sizeof right->hi);
+}
+
+/* Partition t's records by the split into the other buffer; big nodes in chunks on the pool,
+ * each partitioned within its own range of the other buffer, then the chunks' blocks copied
+ * back to their places in t's own buffer (the records land in the same places either way,
+ * only the buffer differs). Fills the two child tasks, whose centroid bounds are gathered on
+ * the way. */
 static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
                       const struct node_scale *sc, const struct split *sp,
                       struct rs_bvh__task *left, struct rs_bvh__task *right)
@@ -594,11 +673,12 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 	if (chunks < 2) {
 		uint32_t l = t->begin, r = t->end;
 		part_range(task_items(s, t), t->buf ? s->items : s->tmp, t->begin, t->end, &l, &r,
-		           sc, sp, &p, PART_BOTH);
+		           sc, sp, &p);
+		left->buf = right->buf = !t->buf;
 	} else {
-		struct part_job job = {s, t, sc, sp, chunks, PART_COUNT};
-		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
-		job.mode = PART_SCATTER;
+		struct part_job job;
+		memset(&job, 0, sizeof job);
+		job = (struct part_job){.s = s, .t = t, .sc = sc, .sp = sp, .chunks = chunks};
 		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
 		/* min, max and counts merge exactly, in any grouping. */
 		p = s->chunk_part[0];
@@ -608,17 +688,24 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 			grow(p.lclo, p.lchi, o->lclo, o->lchi);
 			grow(p.rclo, p.rchi, o->rclo, o->rchi);
 		}
+		child_tasks(t, sp, &p, left, right);
+		struct rs_bvh__task *child[2] = {left, right};
+		struct rs_bvh__prebin *slot[2] = {NULL, NULL};
+		for (int k = 0; k < 2; k++) {
+			uint32_t m = child[k]->end - child[k]->begin;
+			if (m < PAR_BIN_MIN || m < s->prebin_min || m <= SMALL_NODE)
+				continue;
+			node_scale(s->nbins, child[k], &job.child_sc[k]);
+			slot[k] = job.child_sc[k].axes ? free_slot(s, slot[0]) : NULL;
+			job.bin_child[k] = slot[k] != NULL;
+		}
+		rs_bvh__pool_run(s->pool, chunks, move_chunk, &job);
+		for (int k = 0; k < 2; k++)
+			if (slot[k])
+				keep_child_bins(s, child[k], (uint32_t)k, chunks, slot[k]);
+		return;
 	}
-	left->buf = right->buf = !t->buf;
-	left->end = right->begin = t->begin + p.left;
-	memcpy(left->clo, p.lclo, sizeof left->clo);
-	memcpy(left->chi, p.lchi, sizeof left->chi);
-	memcpy(right->clo, p.rclo, sizeof right->clo);
-	memcpy(right->chi, p.rchi, sizeof right->chi);
-	memcpy(left->lo, sp->llo, sizeof left->lo);
-	memcpy(left->hi, sp->lhi, sizeof left->hi);
-	memcpy(right->lo, sp->rlo, sizeof right->lo);
-	memcpy(right->hi, sp->rhi, sizeof right->hi);
+	child_tasks(t, sp, &p, left, right);
 }
 
 /* Which child comes first in the pre-order (the walk meets it first: for closest hit its
@@ -749,8 +836,10 @@ uint32_t rs_bvh__items_fill(struct rs_bvh__item *items, const float *positions, 
 int rs_bvh__scratch_init(struct rs_bvh__scratch *w, uint32_t nbins, size_t max_items)
 {
 	memset(w, 0, sizeof *w);
-	w->binning.bins = malloc(3 * (size_t)nbins * sizeof *w->binning.bins);
-	w->binning.counts = malloc(3 * (size_t)nbins * sizeof *w->binning.counts);
+	w->binning.bins = aligned_alloc(
+	    RS_BVH_LINE, rs_bvh__line_up(3 * (size_t)nbins * sizeof *w->binning.bins));
+	w->binning.counts = aligned_alloc(
+	    RS_BVH_LINE, rs_bvh__line_up(3 * (size_t)nbins * sizeof *w->binning.counts));
 	/* Each pop pushes at most two tasks, so the stack never holds more than the depth
 	 * plus one, and the depth is below the record count. */
 	w->stack_cap = max_items + 1;

@@ -14,6 +14,9 @@
 /* Record setup chunk, and the most chunks a big node is binned in. */
 #define FILL_CHUNK 16384u
 #define MAX_CHUNKS 64u
+/* Children binned ahead that may wait at once (pending upper nodes; beyond, a child is
+ * binned when its turn comes). */
+#define MAX_PREBINS 64u
 
 struct by_size {
 	uint32_t size, index;
@@ -38,11 +41,17 @@ struct build {
 	/* The nodes above the subtrees, the subtrees (by size, largest first), where subtree
 	 * j was built (nodes[sub_at[j]...), parent links local) and its node count. */
 	struct rs_bvh__emit top;
-	uint32_t *map; /* top node -> output index */
+	uint32_t *top_sub; /* top entry -> 1 + its subtree, 0 for a top node */
 	struct by_size *by_size;
 	size_t *sub_at, *sub_count;
+	/* Subtree j's node count per level, levels[sub_at[j] ...] (its slot has room: a tree
+	 * over m records is at most m - 1 levels high), sub_levels[j] of them; then, in the
+	 * stitch, the nodes on each level before it in the pre-order. */
+	uint32_t *levels, *sub_levels, *rank;
 	struct rs_bvh_node *nodes;
 	uint32_t *parent;
+	uint32_t *order;
+	char *block; /* every array above, in one allocation (layout()) */
 };
 
 static uint32_t fill_edge(const struct build *b, uint32_t c)
@@ -59,6 +68,15 @@ static void fill_chunk(void *ctx, uint32_t c, uint32_t worker)
 	                       fill_edge(b, c), fill_edge(b, c + 1), &b->fill_bounds[c]);
 }
 
+/* The triangle order, read from the records, in chunks of FILL_CHUNK. */
+static void order_chunk(void *ctx, uint32_t c, uint32_t worker)
+{
+	(void)worker;
+	struct build *b = ctx;
+	for (uint32_t t = fill_edge(b, c); t < fill_edge(b, c + 1); t++)
+		b->order[t] = rs_bvh__item_id(&b->s.items[t]);
+}
+
 static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 {
 	struct build *b = ctx;
@@ -67,6 +85,13 @@ static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 	                         .parent = b->parent + b->sub_at[j]};
 	rs_bvh__build_subtree(&b->sub, &b->scratch[worker], &b->top.deferred[j], &e);
 	b->sub_count[j] = e.count;
+	/* Finished here, on this thread, as far as the subtree alone decides: boxes, levels,
+	 * escapes and ranks within it; the stitch adds where it lands. */
+	uint32_t top = rs_bvh__finalize_up(e.nodes, e.count, e.parent);
+	uint32_t *rank = b->levels + b->sub_at[j];
+	memset(rank, 0, ((size_t)top + 1) * sizeof *rank);
+	rs_bvh__finalize_rank(e.nodes, e.count, rank);
+	b->sub_levels[j] = top + 1;
 }
 
 /* Larger first; equal sizes in list order (qsort is not stable). */
@@ -98,29 +123,66 @@ static void place_subtrees(struct build *b)
 	}
 }
 
-/* One sweep in pre-order: top nodes written, subtrees moved left to their final places
- * (never onto a slot still to be read: see place_subtrees()), parent links made global. */
+/* The top tree finished bottom-up as rs_bvh__finalize_up() would (a placeholder stands for
+ * its subtree's finished root), then one sweep in pre-order: top nodes written, subtrees
+ * moved left to their final places (never onto a slot still to be read: see
+ * place_subtrees()), their escapes and ranks offset by what precedes them. */
 static size_t stitch(struct build *b)
 {
 	const struct rs_bvh__emit *top = &b->top;
+	uint32_t max_level = 0;
+	for (size_t i = 0; i < top->count; i++) {
+		struct rs_bvh_node *node = &top->nodes[i];
+		b->top_sub[i] = 0;
+		if (node->level == RS_BVH_DEFERRED) {
+			uint32_t j = node->first;
+			const struct rs_bvh_node *root = &b->nodes[b->sub_at[j]];
+			b->top_sub[i] = j + 1;
+			memcpy(node->lo, root->lo, sizeof node->lo);
+			memcpy(node->hi, root->hi, sizeof node->hi);
+			node->level = root->level;
+			node->escape = (uint32_t)b->sub_count[j];
+		} else {
+			node->level = 0;
+			node->escape = 1;
+		}
+	}
+	for (size_t i = top->count; i-- > 0;) {
+		const struct rs_bvh_node *n = &top->nodes[i];
+		max_level = n->level > max_level ? n->level : max_level;
+		if (top->parent[i] == RS_BVH_NO_PARENT)
+			continue;
+		struct rs_bvh_node *p = &top->nodes[top->parent[i]];
+		p->escape += n->escape;
+		if (p->level < n->level + 1)
+			p->level = n->level + 1;
+		for (int a = 0; a < 3; a++) {
+			p->lo[a] = n->lo[a] < p->lo[a] ? n->lo[a] : p->lo[a];
+			p->hi[a] = n->hi[a] > p->hi[a] ? n->hi[a] : p->hi[a];
+		}
+	}
+	uint32_t *rank = b->rank;
+	memset(rank, 0, ((size_t)max_level + 1) * sizeof *rank);
 	size_t out = 0;
 	for (size_t i = 0; i < top->count; i++) {
-		b->map[i] = (uint32_t)out;
-		uint32_t up =
-		    top->parent[i] == RS_BVH_NO_PARENT ? RS_BVH_NO_PARENT : b->map[top->parent[i]];
-		const struct rs_bvh_node *node = &top->nodes[i];
-		if (node->level != RS_BVH_DEFERRED) {
-			b->nodes[out] = *node;
-			b->parent[out++] = up;
+		if (b->top_sub[i] == 0) {
+			struct rs_bvh_node node = top->nodes[i];
+			node.escape += (uint32_t)out;
+			node.order = rank[node.level]++;
+			b->nodes[out++] = node;
 			continue;
 		}
-		size_t from = b->sub_at[node->first], count = b->sub_count[node->first];
+		uint32_t j = b->top_sub[i] - 1;
+		size_t from = b->sub_at[j], count = b->sub_count[j];
+		const uint32_t *levels = b->levels + from;
 		memmove(b->nodes + out, b->nodes + from, count * sizeof *b->nodes);
-		/* Forward, reading at or after where it writes (out <= from). */
 		for (size_t k = 0; k < count; k++) {
-			uint32_t p = b->parent[from + k];
-			b->parent[out + k] = p == RS_BVH_NO_PARENT ? up : p + (uint32_t)out;
+			struct rs_bvh_node *n = &b->nodes[out + k];
+			n->escape += (uint32_t)out;
+			n->order += rank[n->level];
 		}
+		for (uint32_t l = 0; l < b->sub_levels[j]; l++)
+			rank[l] += levels[l];
 		out += count;
 	}
 	return out;
@@ -144,56 +206,81 @@ static void free_build(struct build *b)
 {
 	for (uint32_t w = 0; b->scratch && w < b->workers; w++)
 		rs_bvh__scratch_free(&b->scratch[w]);
-	free(b->scratch);
 	rs_bvh__pool_stop(b->s.pool);
-	if (b->s.chunk_bins) {
-		free(b->s.chunk_bins[0].bins);
-		free(b->s.chunk_bins[0].counts);
-	}
-	free(b->s.chunk_bins);
-	free(b->s.items);
-	free(b->s.tmp);
-	free(b->s.chunk_part);
-	free(b->fill_bounds);
-	free(b->fill_stop);
-	free(b->top.nodes);
-	free(b->top.parent);
-	free(b->top.deferred);
-	free(b->map);
-	free(b->by_size);
-	free(b->sub_at);
-	free(b->sub_count);
-	free(b->parent);
+	free(b->block);
 }
 
-/* Everything the threaded build needs beyond the records and worker 0's scratch. */
-static int alloc_parallel(struct build *b, uint32_t nbins)
+/* `bytes` more of the block, on cache lines of their own (rs_bvh__line_up()); NULL while
+ * only the size is being found (block NULL). */
+static void *take(char *block, size_t *at, size_t bytes)
 {
-	size_t n = b->n, cap = 2 * n;
+	size_t from = *at;
+	*at += rs_bvh__line_up(bytes);
+	return block ? block + from : NULL;
+}
+
+/* Every array of the build in one block (pass NULL to get its size, then the block). One
+ * allocation instead of twenty: freed separately, the threaded build's arrays (~30 MB for
+ * Cow17, mostly the worst-case sizes of the upper tree's, barely touched) left glibc's
+ * heap top above its trim threshold, so every build gave the heap back to the kernel and
+ * the next one faulted its records in again (0.7-1 ms of a 13 ms two-thread build). One
+ * block's size sets the trim threshold above itself. */
+static size_t layout(struct build *b, char *block)
+{
+	size_t at = 0, n = b->n, cap = 2 * n;
+	b->block = block;
+	b->s.items = take(block, &at, n * sizeof *b->s.items);
+	b->s.tmp = take(block, &at, n * sizeof *b->s.tmp);
+	b->parent = take(block, &at, (2 * n - 1) * sizeof *b->parent);
+	b->scratch = take(block, &at, b->workers * sizeof *b->scratch);
+	b->fill_bounds = take(block, &at, b->fill_chunks * sizeof *b->fill_bounds);
+	b->fill_stop = take(block, &at, b->fill_chunks * sizeof *b->fill_stop);
+	if (b->workers < 2)
+		return at;
+	/* Each chunk's results on cache lines of their own. */
+	uint32_t nb = b->s.nbins;
+	size_t bin_stride = rs_bvh__line_up(3 * (size_t)nb * sizeof(struct rs_bvh__bin)) /
+	                    sizeof(struct rs_bvh__bin);
+	size_t count_stride = rs_bvh__line_up(3 * (size_t)nb * sizeof(uint32_t)) / sizeof(uint32_t);
 	b->s.max_chunks = MAX_CHUNKS;
-	b->s.chunk_bins = calloc(MAX_CHUNKS, sizeof *b->s.chunk_bins);
-	b->s.chunk_part = malloc(MAX_CHUNKS * sizeof *b->s.chunk_part);
-	struct rs_bvh__bin *bins = malloc((size_t)MAX_CHUNKS * 3 * nbins * sizeof *bins);
-	uint32_t *counts = malloc((size_t)MAX_CHUNKS * 3 * nbins * sizeof *counts);
-	if (!b->s.chunk_bins || !b->s.chunk_part || !bins || !counts) {
-		free(bins);
-		free(counts);
-		return 0;
+	b->s.chunk_bins = take(block, &at, MAX_CHUNKS * sizeof *b->s.chunk_bins);
+	b->s.chunk_part = take(block, &at, MAX_CHUNKS * sizeof *b->s.chunk_part);
+	struct rs_bvh__bin *bins =
+	    take(block, &at, MAX_CHUNKS * bin_stride * sizeof(struct rs_bvh__bin));
+	uint32_t *counts = take(block, &at, MAX_CHUNKS * count_stride * sizeof(uint32_t));
+	for (uint32_t c = 0; block && c < MAX_CHUNKS; c++) {
+		b->s.chunk_bins[c].bins = bins + c * bin_stride;
+		b->s.chunk_bins[c].counts = counts + c * count_stride;
 	}
-	for (uint32_t c = 0; c < MAX_CHUNKS; c++) {
-		b->s.chunk_bins[c].bins = bins + (size_t)c * 3 * nbins;
-		b->s.chunk_bins[c].counts = counts + (size_t)c * 3 * nbins;
+	/* Both children of each chunk, and the slots the merged bins wait in. */
+	b->s.child_bins = take(block, &at, 2 * MAX_CHUNKS * sizeof *b->s.child_bins);
+	bins = take(block, &at, 2 * MAX_CHUNKS * bin_stride * sizeof(struct rs_bvh__bin));
+	counts = take(block, &at, 2 * MAX_CHUNKS * count_stride * sizeof(uint32_t));
+	for (uint32_t c = 0; block && c < 2 * MAX_CHUNKS; c++) {
+		b->s.child_bins[c].bins = bins + c * bin_stride;
+		b->s.child_bins[c].counts = counts + c * count_stride;
+	}
+	b->s.prebins = MAX_PREBINS;
+	b->s.prebin = take(block, &at, MAX_PREBINS * sizeof *b->s.prebin);
+	bins = take(block, &at, MAX_PREBINS * bin_stride * sizeof(struct rs_bvh__bin));
+	counts = take(block, &at, MAX_PREBINS * count_stride * sizeof(uint32_t));
+	for (uint32_t i = 0; block && i < MAX_PREBINS; i++) {
+		b->s.prebin[i].b.bins = bins + i * bin_stride;
+		b->s.prebin[i].b.counts = counts + i * count_stride;
+		b->s.prebin[i].used = 0;
 	}
 	/* Sized for the worst case; pages are only touched as far as they are used. */
-	b->top.nodes = malloc(cap * sizeof *b->top.nodes);
-	b->top.parent = malloc(cap * sizeof *b->top.parent);
-	b->top.deferred = malloc(n * sizeof *b->top.deferred);
-	b->map = malloc(cap * sizeof *b->map);
-	b->by_size = malloc(n * sizeof *b->by_size);
-	b->sub_at = malloc(n * sizeof *b->sub_at);
-	b->sub_count = malloc(n * sizeof *b->sub_count);
-	return b->top.nodes && b->top.parent && b->top.deferred && b->map && b->by_size &&
-	       b->sub_at && b->sub_count;
+	b->top.nodes = take(block, &at, cap * sizeof *b->top.nodes);
+	b->top.parent = take(block, &at, cap * sizeof *b->top.parent);
+	b->top.deferred = take(block, &at, n * sizeof *b->top.deferred);
+	b->top_sub = take(block, &at, cap * sizeof *b->top_sub);
+	b->levels = take(block, &at, cap * sizeof *b->levels);
+	b->sub_levels = take(block, &at, n * sizeof *b->sub_levels);
+	b->rank = take(block, &at, (n + 1) * sizeof *b->rank);
+	b->by_size = take(block, &at, n * sizeof *b->by_size);
+	b->sub_at = take(block, &at, n * sizeof *b->sub_at);
+	b->sub_count = take(block, &at, n * sizeof *b->sub_count);
+	return at;
 }
 
 enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *positions,
@@ -205,7 +292,8 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	                  .vertex_count = vertex_count,
 	                  .indices = indices,
 	                  .n = (uint32_t)triangle_count,
-	                  .nodes = nodes};
+	                  .nodes = nodes,
+	                  .order = order};
 	b.s.nbins = desc->sah_bins;
 	b.s.leaf_size = desc->leaf_size;
 	b.s.ct = desc->traversal_cost;
@@ -216,24 +304,25 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		ok = b.s.pool != NULL;
 	}
 	b.workers = rs_bvh__pool_workers(b.s.pool);
-	/* Subtrees of at most `defer` records: at least four per worker, so the largest-first
-	 * order keeps every worker busy to the end, while the upper nodes (whose partition
-	 * is serial) stay few. Measured on Cow17, two threads (callgrind, per thread): n / 16
-	 * left the caller 158 M instructions against the helper's 124 M, n / 8 141 M against
-	 * 141 M. */
-	uint32_t defer = b.workers > 1 ? b.n / (4 * b.workers) : 0;
-	b.s.items = malloc(triangle_count * sizeof *b.s.items);
-	b.s.tmp = malloc(triangle_count * sizeof *b.s.tmp);
-	b.parent = malloc((2 * triangle_count - 1) * sizeof *b.parent);
-	b.scratch = calloc(b.workers, sizeof *b.scratch);
+	/* Subtrees of at most `defer` records: at least eight per worker, so the largest-first
+	 * order keeps every worker busy to the end, while the upper nodes (binned and
+	 * partitioned in chunks on every thread) stay few. Measured on Cow17, two threads,
+	 * against Embree alternately (docs/benchmarks.md): n / 8 threads 1.00-1.02x Embree's
+	 * time, n / 4 1.02-1.03x, n / 2 1.09-1.11x. (Before the upper nodes were partitioned on
+	 * the threads, callgrind per thread put n / 16 at 158 M instructions on the caller
+	 * against 124 M on the helper, n / 8 at 141 M on each.) */
+	uint32_t defer = b.workers > 1 ? b.n / (8 * b.workers) : 0;
+	b.s.prebin_min = defer + 1;
 	b.fill_chunks = (b.n + FILL_CHUNK - 1) / FILL_CHUNK;
-	b.fill_bounds = malloc(b.fill_chunks * sizeof *b.fill_bounds);
-	b.fill_stop = malloc(b.fill_chunks * sizeof *b.fill_stop);
-	ok = ok && b.s.items && b.s.tmp && b.parent && b.scratch && b.fill_bounds && b.fill_stop;
+	char *block = ok ? aligned_alloc(RS_BVH_LINE, layout(&b, NULL)) : NULL;
+	ok = block != NULL;
+	if (ok) {
+		layout(&b, block);
+		/* Zeroed: a scratch not yet made is freed as empty. */
+		memset(b.scratch, 0, b.workers * sizeof *b.scratch);
+	}
 	for (uint32_t w = 0; ok && w < b.workers; w++)
 		ok = rs_bvh__scratch_init(&b.scratch[w], b.s.nbins, w == 0 ? b.n : defer);
-	if (ok && b.workers > 1)
-		ok = alloc_parallel(&b, b.s.nbins);
 	if (!ok) {
 		free_build(&b);
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory (%zu triangles)",
@@ -263,24 +352,27 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	root.end = b.n;
 	root.buf = 0;
 	size_t count;
+	int finished = 1;
 	if (b.workers > 1) {
+		/* The subtrees finish themselves on their threads, the stitch the rest. */
 		b.top.defer = defer;
 		b.sub = b.s;
 		b.sub.pool = NULL;
+		b.sub.prebins = 0; /* no subtree root is binned ahead (prebin_min) */
 		count = build_parallel(&b, &root);
 	} else {
 		struct rs_bvh__emit e = {.nodes = nodes, .parent = b.parent};
 		rs_bvh__build_subtree(&b.s, &b.scratch[0], &root, &e);
 		count = e.count;
+		finished = rs_bvh__finalize(nodes, count, b.parent);
 	}
 	enum rs_status status = RS_OK;
-	if (!rs_bvh__finalize(nodes, count, b.parent)) {
+	if (!finished) {
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory");
 	} else {
 		/* Leaves own contiguous record ranges; when the right child is emitted first
 		 * the ranges are no longer increasing in pre-order, which the layout allows. */
-		for (size_t t = 0; t < triangle_count; t++)
-			order[t] = rs_bvh__item_id(&b.s.items[t]);
+		rs_bvh__pool_run(b.s.pool, b.fill_chunks, order_chunk, &b);
 		*out_count = count;
 	}
 	free_build(&b);
