@@ -28,11 +28,12 @@ struct options {
 };
 
 static const char about[] =
-    "Renders SCENE (box, mirrors, animated, cowN with N 1..1024, or an OBJ/PLY file; a FILE.json\n"
-    "beside it, from raystream-scene, sets camera, lights and environment) and names every\n"
-    "file it writes on stdout. The backend auto renders on the GPU where a GL context\n"
-    "opens and says so on stderr when it falls back to cpu, the double-precision\n"
-    "reference. Render options are the library's (rs_render_desc_set), docs/render.md.\n"
+    "Renders SCENE (box, mirrors, animated, cowN with N 1..1024, cowNi: CowN as instances of\n"
+    "one cow, or an OBJ/PLY file; a FILE.json beside it, from raystream-scene, sets camera,\n"
+    "lights and environment) and names every file it writes on stdout. The backend auto\n"
+    "renders on the GPU where a GL context opens and says so on stderr when it falls back\n"
+    "to cpu, the double-precision reference. Render options are the library's\n"
+    "(rs_render_desc_set), docs/render.md.\n"
     "Scenes that move (animated, cowN): --frame N renders frame N; --animate COUNT renders\n"
     "COUNT frames from it, moving the vertices between frames (refit, partial upload), and\n"
     "names each image and depth FILE-NNNN.ext; frame N of a run is --frame N's image.\n";

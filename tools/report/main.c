@@ -204,7 +204,8 @@ static int parse(int argc, char **argv, struct options *o, struct rs_render_desc
 	const struct rs_cli_option opts[] = {
 	    RS_CLI_STRING_OPT("--out", &o->out, "DIR", "the report's folder (required; made)"),
 	    RS_CLI_FLAG_OPT("--quick", &quick, "box, 32x32, 1 frame, 2 passes: the plumbing"),
-	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE", "box, mirrors, cowN or a mesh file"),
+	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE",
+	                      "box, mirrors, animated, cowN, cowNi or a mesh file"),
 	    RS_CLI_U32_OPT("--size", &o->size, 8, 4096, "image side, pixels"),
 	    RS_CLI_U32_OPT("--frames", &o->frames, 1, 64, "timed frames per setting"),
 	    RS_CLI_U32_OPT("--lights", &o->lights, 1, 4, "the scene's first N lights"),

@@ -213,7 +213,8 @@ static int parse(int argc, char **argv, struct opts *o, struct rs_render_desc *r
 	*render = (struct rs_render_desc){.passes = 2};
 	uint32_t wh[2] = {o->w, o->h};
 	const struct rs_cli_option opts[] = {
-	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE", "box, mirrors, cowN or a mesh file"),
+	    RS_CLI_STRING_OPT("--scene", &o->scene, "SCENE",
+	                      "box, mirrors, animated, cowN, cowNi or a mesh file"),
 	    {.name = "--size",
 	     .kind = RS_CLI_CALL,
 	     .out = wh,
