@@ -54,10 +54,11 @@ for b in cpu egl osmesa; do
 done
 # motion restarts: held still for 0.4 s, then walked (and again): the accumulation that
 # the still part built is restarted by the walk (refine_restarts counts restarts of an
-# accumulation of more than one sample)
+# accumulation of more than one sample). 1.5 s of the tracker's clock, not a frame count,
+# so that a fast machine still reaches the walk.
 moving='sim:realtime=1&noise=0&script=still:0.4,walk:0.6'
 timeout 120 "$viewer" --tracker "$moving" --view camera --size $size --threads 1 --headless \
-  --frames 12 --stats walk.json --local --backend cpu > walk.out 2> walk.err ||
+  --duration 1.5 --stats walk.json --local --backend cpu > walk.out 2> walk.err ||
   bad "still then walking: $(head -c 300 walk.err)"
 restarts=$(sed -n 's/.*"refine_restarts":[[:space:]]*\([0-9]*\).*/\1/p' walk.json)
 [ "${restarts:-0}" -ge 1 ] && ok "still then walking: $restarts restart(s) of the accumulation" ||
