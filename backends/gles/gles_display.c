@@ -14,9 +14,12 @@ struct rs_gles_display {
 	struct rs_gl own; /* loaded here when standalone (rs_gles_display_create) */
 	const struct rs_gl *gl;
 	GLuint prog, vao, tex;
+	/* present.glsl's uniforms, looked up once at compile (the step runs every frame) */
+	GLint u_size, u_origin, u_scale;
 	uint32_t tex_w, tex_h;
 	/* refinement (window contexts only): acc[cur] holds the mean */
 	GLuint acc_prog, fbo, acc[2];
+	GLint u_weight;
 	uint32_t acc_w, acc_h;
 	int cur;
 };
@@ -29,6 +32,12 @@ static enum rs_status make(const struct rs_gl *gl, struct rs_gles_display *d, st
 	    rs_gles_program_compile(gl, "#version 300 es\n", files, 1, &d->prog, err);
 	if (st != RS_OK)
 		return st;
+	d->u_size = gl->GetUniformLocation(d->prog, "u_size");
+	d->u_origin = gl->GetUniformLocation(d->prog, "u_origin");
+	d->u_scale = gl->GetUniformLocation(d->prog, "u_scale");
+	/* the sampler reads unit 0 for good */
+	gl->UseProgram(d->prog);
+	gl->Uniform1i(gl->GetUniformLocation(d->prog, "u_image"), 0);
 	gl->GenVertexArrays(1, &d->vao);
 	return rs_gles_check(gl, "making the display step", err);
 }
@@ -75,15 +84,11 @@ static enum rs_status draw(struct rs_gles_display *d, GLuint tex, uint32_t w, ui
 	gl->BindVertexArray(d->vao);
 	gl->ActiveTexture(GL_TEXTURE0);
 	gl->BindTexture(GL_TEXTURE_2D, tex);
-	GLint loc = gl->GetUniformLocation(d->prog, "u_image");
-	gl->Uniform1i(loc, 0);
-	loc = gl->GetUniformLocation(d->prog, "u_size");
-	gl->Uniform2f(loc, (GLfloat)w, (GLfloat)h);
-	loc = gl->GetUniformLocation(d->prog, "u_origin");
-	gl->Uniform2f(loc, (GLfloat)t->x, (GLfloat)gy);
+	gl->Uniform2f(d->u_size, (GLfloat)w, (GLfloat)h);
+	gl->Uniform2f(d->u_origin, (GLfloat)t->x, (GLfloat)gy);
 	/* exactly 1.0 at scale 1, so texel centres land on integers */
-	loc = gl->GetUniformLocation(d->prog, "u_scale");
-	gl->Uniform2f(loc, (GLfloat)((double)w / t->width), (GLfloat)((double)h / t->height));
+	gl->Uniform2f(d->u_scale, (GLfloat)((double)w / t->width),
+	              (GLfloat)((double)h / t->height));
 	gl->DrawArrays(GL_TRIANGLES, 0, 3);
 	return rs_gles_check(gl, "window: drawing the frame", err);
 }
@@ -156,6 +161,11 @@ static enum rs_status accumulate(struct rs_gles_display *d, GLuint tex, uint32_t
 		st = rs_gles_program_compile(gl, "#version 300 es\n", files, 1, &d->acc_prog, err);
 		if (st != RS_OK)
 			return st;
+		d->u_weight = gl->GetUniformLocation(d->acc_prog, "u_weight");
+		/* the samplers' units never change */
+		gl->UseProgram(d->acc_prog);
+		gl->Uniform1i(gl->GetUniformLocation(d->acc_prog, "u_frame"), 0);
+		gl->Uniform1i(gl->GetUniformLocation(d->acc_prog, "u_prev"), 1);
 		gl->GenFramebuffers(1, &d->fbo);
 	}
 	if (!d->acc[0] || d->acc_w != w || d->acc_h != h) {
@@ -197,10 +207,7 @@ static enum rs_status accumulate(struct rs_gles_display *d, GLuint tex, uint32_t
 	gl->BindTexture(GL_TEXTURE_2D, tex);
 	gl->ActiveTexture(GL_TEXTURE1);
 	gl->BindTexture(GL_TEXTURE_2D, d->acc[d->cur]);
-	gl->Uniform1i(gl->GetUniformLocation(d->acc_prog, "u_frame"), 0);
-	gl->Uniform1i(gl->GetUniformLocation(d->acc_prog, "u_prev"), 1);
-	gl->Uniform1f(gl->GetUniformLocation(d->acc_prog, "u_weight"),
-	              1.0f / (float)((double)sample + 1.0));
+	gl->Uniform1f(d->u_weight, 1.0f / (float)((double)sample + 1.0));
 	gl->DrawArrays(GL_TRIANGLES, 0, 3);
 	gl->ActiveTexture(GL_TEXTURE0);
 	d->cur = next;
