@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Under Xvfb, every way the viewer shows a frame in its window (issue 17): local egl (the
 # renderer draws straight into the window), local egl through a readback, local osmesa,
-# local cpu, and remote (raw frames from raystream-server) at 128x128. A still, noiseless
-# tracker in camera view shows the scene's own camera: an xwd screenshot of the window must
-# be within 40 dB of raystream-render's CPU reference of that camera and equal the bytes
-# the viewer last rendered or received (--last); a black window fails the first, a stale
-# one the second (moving runs of egl and remote check that too).
+# local cpu, and remote (raw frames from raystream-server on egl, osmesa and cpu) at
+# 128x128. A still, noiseless tracker in camera view shows the scene's own camera: an xwd
+# screenshot of the window must be within 40 dB of raystream-render's CPU reference of that
+# camera and equal the bytes the viewer last rendered or received (--last); a black window
+# fails the first, a stale one the second (moving runs of egl and remote check that too).
 #   window_local_xvfb.sh VIEWER WORK_DIR SERVER XWD_COMPARE RENDER
 source "$(dirname "$0")/cli_harness.sh"
 viewer=$bin
@@ -59,6 +59,18 @@ check_ref local-egl-readback
 show remote "$still" --server 127.0.0.1:"$port"
 check_ref remote
 check_last remote
+# the server's other backends (the one above is auto: egl here): a server that renders
+# black on osmesa or cpu would show a black window
+for b in osmesa cpu; do
+  "$server" --port 0 --port-file "port-$b.json" --size $size --threads 1 --encoding raw \
+    --backend $b 2> "server-$b.log" &
+  pids+=($!)
+  for _ in $(seq 100); do [ -s "port-$b.json" ] && break; sleep 0.1; done
+  p=$(sed -n 's/.*"port":[[:space:]]*\([0-9]*\).*/\1/p' "port-$b.json")
+  show "remote-$b" "$still" --server 127.0.0.1:"$p"
+  check_ref "remote-$b"
+  check_last "remote-$b"
+done
 # moving: a stale window would show an older frame than the last one
 show moving-egl 'sim:realtime=1' --local --backend egl
 check_last moving-egl
