@@ -64,8 +64,8 @@ static void refused_transforms_change_nothing(void **state)
 	bad[1][2][3] = INFINITY;
 	for (int c = 0; c < 3; c++)
 		bad[2][2][c] = bad[2][0][c]; /* two equal rows: singular */
-	bad[3][0][3] = 1e39;             /* vertices beyond the float range */
-	bad[4][0][0] *= 1e-13; /* det 1e-13 of the scale cubed: refused as singular */
+	bad[3][0][3] = 1e39;                 /* vertices beyond the float range */
+	bad[4][0][0] *= 1e-13;               /* det 1e-13 of the scale cubed: refused as singular */
 	bad[4][1][0] *= 1e-13;
 	bad[4][2][0] *= 1e-13;
 	for (int r = 0; r < 3; r++) /* instance 0 is not mirrored: a mirror is another topology */
@@ -125,8 +125,8 @@ static void assert_same_packed(const struct rs_packed *a, const struct rs_packed
 {
 	assert_int_equal(a->node_count, b->node_count);
 	assert_memory_equal(a->origin, b->origin, sizeof a->origin);
-	const struct rs_texture *ta[2] = {&a->nodes, &a->triangles}, *tb[2] = {&b->nodes,
-	                                                                      &b->triangles};
+	const struct rs_texture *ta[2] = {&a->nodes, &a->triangles},
+	                        *tb[2] = {&b->nodes, &b->triangles};
 	for (int t = 0; t < 2; t++) {
 		assert_int_equal(ta[t]->width, tb[t]->width);
 		assert_int_equal(ta[t]->height, tb[t]->height);
@@ -146,7 +146,8 @@ static void pack_update_equals_fresh_pack(void **state)
 		struct rs_packed *blas = moved.meshes;
 		for (uint32_t k = 1; k <= 4; k++) {
 			assert_int_equal(fix_move(scene, k + 4u * (uint32_t)d), RS_OK);
-			assert_int_equal(rs_pack_instances_update(&moved, scene, NULL, NULL), RS_OK);
+			assert_int_equal(rs_pack_instances_update(&moved, scene, NULL, NULL),
+			                 RS_OK);
 		}
 		assert_ptr_equal(moved.meshes, blas); /* BLASes untouched */
 		assert_int_equal(rs_pack_instances(scene, NULL, &descs[d], &fresh, NULL), RS_OK);
@@ -163,9 +164,10 @@ static void pack_update_equals_fresh_pack(void **state)
 		for (int e = 0; e < 3; e++)
 			for (uint32_t y = 0; y < 40; y++)
 				for (uint32_t x = 0; x < 40; x++) {
-					const double eye[3] = {-12.0 + 12.0 * e, 6.0 - 4.0 * e, 15.0};
-					struct rs_ray ray = {
-					    .tmax = INFINITY, .skip_slot = RS_NO_SLOT};
+					const double eye[3] = {-12.0 + 12.0 * e, 6.0 - 4.0 * e,
+					                       15.0};
+					struct rs_ray ray = {.tmax = INFINITY,
+					                     .skip_slot = RS_NO_SLOT};
 					double target[3] = {
 					    b.lo[0] + (b.hi[0] - b.lo[0]) * (x + 0.5) / 40.0,
 					    b.lo[1] + (b.hi[1] - b.lo[1]) * (y + 0.5) / 40.0,
@@ -266,7 +268,8 @@ static void cpu_update_instances_renders_as_set_scene(void **state)
 	assert_int_equal(st->instance_updates, 2);
 	assert_int_equal(st->updates, 2);
 	assert_true(st->instance_update_baked); /* the CPU backend has no update_instances op */
-	struct image *a = calloc(1, sizeof *a), *b = calloc(1, sizeof *b), *c = calloc(1, sizeof *c);
+	struct image *a = calloc(1, sizeof *a), *b = calloc(1, sizeof *b),
+	             *c = calloc(1, sizeof *c);
 	assert_non_null(a);
 	assert_non_null(b);
 	assert_non_null(c);

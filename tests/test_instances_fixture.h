@@ -59,8 +59,8 @@ static inline struct rs_scene *fix_scene(uint32_t k)
 	for (uint32_t r = 0; r < FIX_RINGS; r++)
 		for (uint32_t sg = 0; sg < FIX_SEGMENTS; sg++) {
 			uint32_t a = r * FIX_SEGMENTS + sg,
-			         b = r * FIX_SEGMENTS + (sg + 1) % FIX_SEGMENTS, c = a + FIX_SEGMENTS,
-			         d = b + FIX_SEGMENTS;
+			         b = r * FIX_SEGMENTS + (sg + 1) % FIX_SEGMENTS,
+			         c = a + FIX_SEGMENTS, d = b + FIX_SEGMENTS;
 			const uint32_t t[6] = {a, b, c, b, d, c};
 			memcpy(idx + nt * 3, t, sizeof t);
 			nt += 2;
