@@ -359,6 +359,18 @@ static void update_instances_refuses_other_changes(void **state)
 	assert_int_equal(rs_renderer_update_instances(r, baked, &err), RS_ERR_INVALID);
 	print_message("%s\n", err.message);
 	assert_non_null(strstr(err.message, "no instances"));
+	/* plain triangles that moved: the same topology, but only instances may move */
+	struct rs_scene *low = fix_scene_floor(0, -1.5);
+	assert_non_null(low);
+	assert_int_equal(rs_renderer_set_scene(r, fix, NULL), RS_OK);
+	struct rs_scene *fix1 = scene_at(1);
+	assert_int_equal(rs_renderer_update_instances(r, low, &err), RS_ERR_INVALID);
+	print_message("%s\n", err.message);
+	assert_non_null(strstr(err.message, "plain"));
+	assert_int_equal(rs_renderer_update_instances(r, fix1, &err), RS_OK);
+	assert_int_equal(rs_renderer_set_scene(r, scene, NULL), RS_OK);
+	rs_scene_destroy(&low);
+	rs_scene_destroy(&fix1);
 	/* a topology change is refused as update_vertices refuses it */
 	assert_int_equal(rs_renderer_update_instances(r, fix, &err), RS_ERR_INVALID);
 	assert_non_null(strstr(err.message, "changed"));

@@ -19,7 +19,41 @@ struct rs_renderer {
 	 * here, since the caller may change the current scene itself before the update). */
 	size_t prototype_count, instance_count;
 	uint32_t *instance_keys; /* 3 per instance */
+	uint64_t plain_hash;     /* of the plain (non-instance) vertices: they may not move */
 };
+
+static uint64_t fnv1a(uint64_t h, const void *data, size_t bytes)
+{
+	const unsigned char *p = data;
+	for (size_t i = 0; i < bytes; i++)
+		h = (h ^ p[i]) * 1099511628211ull;
+	return h;
+}
+
+/* A hash of the positions and normals of the vertices outside every instance (an instance's
+ * baked vertices are one run, runs in instance order): O(those vertices + instances). */
+static uint64_t plain_vertices_hash(const struct rs_scene *scene)
+{
+	const double *pos = rs_scene_positions_f64(scene);
+	const float *nrm = rs_scene_normals(scene);
+	const uint32_t *idx = rs_scene_indices(scene);
+	const struct rs_scene_instance *inst = rs_scene_instances(scene);
+	uint64_t h = 14695981039346656037ull;
+	size_t v = 0, n = rs_scene_instance_count(scene);
+	for (size_t i = 0; i <= n; i++) {
+		size_t start = rs_scene_vertex_count(scene), count = 0;
+		if (i < n) {
+			struct rs_mesh_desc proto;
+			rs_scene_prototype_mesh(scene, inst[i].mesh, &proto);
+			start = idx[(size_t)inst[i].first_triangle * 3] - proto.indices[0];
+			count = proto.vertex_count;
+		}
+		h = fnv1a(h, pos + v * 3, (start - v) * 3 * sizeof *pos);
+		h = fnv1a(h, nrm + v * 3, (start - v) * 3 * sizeof *nrm);
+		v = start + count;
+	}
+	return h;
+}
 
 /* Remember the instances of `scene` (update_instances compares against them). */
 static enum rs_status keep_instances(struct rs_renderer *r, const struct rs_scene *scene,
@@ -41,6 +75,7 @@ static enum rs_status keep_instances(struct rs_renderer *r, const struct rs_scen
 	}
 	r->instance_count = n;
 	r->prototype_count = rs_scene_prototype_count(scene);
+	r->plain_hash = n ? plain_vertices_hash(scene) : 0;
 	return RS_OK;
 }
 
@@ -297,7 +332,7 @@ enum rs_status rs_renderer_update_instances(struct rs_renderer *renderer,
 	size_t n = rs_scene_instance_count(scene);
 	const struct rs_scene_instance *inst = rs_scene_instances(scene);
 	if (n == 0)
-		what = "the scene has no instances (update_vertices moves plain meshes)";
+		what = "the scene has no instances";
 	else if (n != r->instance_count)
 		what = "the instance count changed";
 	else if (rs_scene_prototype_count(scene) != r->prototype_count)
@@ -307,6 +342,8 @@ enum rs_status rs_renderer_update_instances(struct rs_renderer *renderer,
 		    inst[i].material != r->instance_keys[i * 3 + 1] ||
 		    inst[i].first_triangle != r->instance_keys[i * 3 + 2])
 			what = "an instance's prototype, material or triangles changed";
+	if (!what && plain_vertices_hash(scene) != r->plain_hash)
+		what = "plain (non-instance) vertices moved";
 	if (what)
 		return fail(r,
 		            rs_error_set(&r->error, RS_ERR_INVALID,

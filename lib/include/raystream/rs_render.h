@@ -307,12 +307,13 @@ enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
 /**
  * Move the current scene's instances for the next frame: `scene` has the current scene's
  * topology (as update_vertices), prototypes and instances (the same count, each with the
- * same prototype, material and triangles); only instance transforms differ, so `scene` may be
- * the current scene itself after rs_scene_set_instance_transform() calls, or another scene
- * built the same way (a frame of "cowNi"). It replaces the current scene as update_vertices'
- * does. A backend with an update_instances op rebuilds and uploads only its top-level tree
- * and the transforms; the others (every backend today) take the update_vertices path, as
- * the baked triangles moved, so every backend shows the image a set_scene of `scene`
+ * same prototype, material and triangles) and its plain triangles (rs_scene_add_mesh: their
+ * vertices and normals, compared by a hash kept at set_scene); only instance transforms
+ * differ, so `scene` may be the current scene itself after rs_scene_set_instance_transform()
+ * calls, or another scene built the same way (a frame of "cowNi"). It replaces the current scene as
+ * update_vertices' does. A backend with an update_instances op rebuilds and uploads only its
+ * top-level tree and the transforms; the others (every backend today) take the update_vertices
+ * path, as the baked triangles moved, so every backend shows the image a set_scene of `scene`
  * shows. RS_ERR_INVALID before set_scene, for a scene with no instances, and for any other
  * change (one line naming it; the current scene stays); RS_ERR_UNSUPPORTED as
  * update_vertices. Stats: instance_updates, instance_update_baked, tlas_build_ms, and the
