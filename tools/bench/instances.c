@@ -48,7 +48,8 @@ static enum rs_status make_scene(uint32_t n, struct rs_scene **out, struct rs_er
 	size_t nv = 0, nt = 0;
 	for (uint32_t r = 0; r <= SPHERE_RINGS; r++)
 		for (uint32_t g = 0; g < SPHERE_SEGMENTS; g++, nv++) {
-			double th = RS_PI * r / SPHERE_RINGS, ph = 2.0 * RS_PI * g / SPHERE_SEGMENTS;
+			double th = RS_PI * r / SPHERE_RINGS,
+			       ph = 2.0 * RS_PI * g / SPHERE_SEGMENTS;
 			pos[nv * 3] = sin(th) * cos(ph);
 			pos[nv * 3 + 1] = 0.8 * cos(th);
 			pos[nv * 3 + 2] = sin(th) * sin(ph);
@@ -57,8 +58,8 @@ static enum rs_status make_scene(uint32_t n, struct rs_scene **out, struct rs_er
 		for (uint32_t g = 0; g < SPHERE_SEGMENTS; g++, nt += 2) {
 			uint32_t a = r * SPHERE_SEGMENTS + g,
 			         b = r * SPHERE_SEGMENTS + (g + 1) % SPHERE_SEGMENTS;
-			const uint32_t t[6] = {a, b, a + SPHERE_SEGMENTS, b, b + SPHERE_SEGMENTS,
-			                       a + SPHERE_SEGMENTS};
+			const uint32_t t[6] = {
+			    a, b, a + SPHERE_SEGMENTS, b, b + SPHERE_SEGMENTS, a + SPHERE_SEGMENTS};
 			memcpy(idx + nt * 3, t, sizeof t);
 		}
 	uint32_t cols = (uint32_t)ceil(sqrt((double)n));
@@ -203,8 +204,9 @@ static void report(const struct bench_options *o, uint32_t n, const char *render
 	struct bench_summary set = bench_summarize(f->set_ms, k);
 	printf("%9u %9zu %8.2f | %8.3f %8.3f %10zu | %-6s %5s %9.1f %9.1f %8.1f %8.1f %11.0f | "
 	       "%9.1f %5.1fx\n",
-	       n, f->triangles, move, tb, tp, f->tlas_bytes, o->backend, f->baked ? "baked" : "tlas",
-	       up.median, refit, pack, upload, bytes, set.median, set.median / up.median);
+	       n, f->triangles, move, tb, tp, f->tlas_bytes, o->backend,
+	       f->baked ? "baked" : "tlas", up.median, refit, pack, upload, bytes, set.median,
+	       set.median / up.median);
 	fflush(stdout);
 	if (!o->json)
 		return;
@@ -255,9 +257,8 @@ int bench_instance_updates(const struct bench_options *o)
 	for (size_t i = 0; i < nc; i++) {
 		struct instance_figures *f = calloc(1, sizeof *f);
 		char renderer[128] = "";
-		enum rs_status st =
-		    f ? run_count(o, counts[i], f, renderer, sizeof renderer, &err)
-		      : rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
+		enum rs_status st = f ? run_count(o, counts[i], f, renderer, sizeof renderer, &err)
+		                      : rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
 		if (st == RS_OK)
 			report(o, counts[i], renderer, f);
 		free(f);
