@@ -145,7 +145,7 @@ if "$bin" --instance-updates --backend cpu --size 16 --repeats 2 --json iu.json 
 else
   bad "instance-updates: exit $? ($(head -c 300 iu_err.txt))"
 fi
-expect_fail "instance-updates: a bad count" 1 "not an instance count" --instance-updates \
+expect_fail "instance-updates: a bad count" 2 "not an instance count" --instance-updates \
   --backend cpu 0
 expect_fail "instance-updates and --animate" 2 "separate runs" --instance-updates --animate 2 cow1
 finish

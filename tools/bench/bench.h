@@ -11,6 +11,8 @@
 
 /* Frames timed per setting, at most (--repeats). */
 #define BENCH_MAX_FRAMES 32
+/* Instances of one --instance-updates row, at most (the scene's triangle limit). */
+#define BENCH_MAX_INSTANCES 65535u
 /* Scenes of one --times run, at most. */
 #define BENCH_MAX_SCENES 16
 

@@ -135,6 +135,13 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	if (!o->times && !o->animate && !o->instance_updates && cli.positional_count)
 		return rs_cli_usage_error(&cli, "unexpected argument '%s' (scenes go with --times)",
 		                          positional[0]);
+	for (size_t i = 0; o->instance_updates && i < cli.positional_count; ++i) {
+		uint32_t n;
+		if (!rs_tool_parse_u32(positional[i], 1, BENCH_MAX_INSTANCES, &n))
+			return rs_cli_usage_error(
+			    &cli, "--instance-updates: '%s' is not an instance count 1..%u",
+			    positional[i], BENCH_MAX_INSTANCES);
+	}
 	memcpy(o->scenes, positional, cli.positional_count * sizeof *positional);
 	o->scene_count = cli.positional_count;
 	const char *b = o->render.backend ? o->render.backend : "auto";
