@@ -63,6 +63,8 @@ grep -Eq '^\| box +\| tree BVH, 1 pass \| [0-9.]+ .*\| [0-9.]+ \| .*443\.34|^\| 
   bad "Table 2 row: $(grep '^| box' tables.md | tail -1)"
 grep -Eq '^\| ours, fps \| [0-9.]+ \| .* \| [0-9.]+ \(hit numbers [0-9.]+\) \| [0-9.]+ \|' tables.md &&
   ok "Table 3 has the ray tracer's fps" || bad "Table 3 row: $(grep '^| ours' tables.md)"
+grep -q "^Classic environment mapping: rasterized primary hits" tables.md &&
+  ok "Table 3's classic column named as rasterized" || bad "Table 3's classic method not named"
 grep -q "^Machine: " tables.md && grep -q "llvmpipe\|Renderers: egl: [^;]" tables.md &&
   ok "machine and renderer named" || bad "machine or renderer missing"
 [ "$(grep -c '^paper-tables: Table' stderr.txt)" -ge 5 ] && ok "progress shown" ||
