@@ -135,9 +135,11 @@ static void compare_walks(struct rs_scene *scene, const double eye[3], uint32_t 
 	struct rs_packed_instances two;
 	pack_flat(scene, &flat);
 	assert_int_equal(rs_pack_instances(scene, NULL, NULL, &two, NULL), RS_OK);
+	struct rs_packed_two_level merged;
+	assert_int_equal(rs_pack_two_level(scene, &two, &merged, NULL), RS_OK);
 	struct rs_bounds b;
 	rs_scene_bounds(scene, &b);
-	uint32_t same = 0, rays = 0, hits = 0;
+	uint32_t same = 0, rays = 0, hits = 0, same_merged = 0;
 	struct rs_trace_counters c1 = {0}, c2 = {0};
 	for (uint32_t y = 0; y < grid; y++)
 		for (uint32_t x = 0; x < grid; x++) {
@@ -155,6 +157,28 @@ static void compare_walks(struct rs_scene *scene, const double eye[3], uint32_t 
 			bool f1 = rs_trace_closest(&flat, RS_TRIANGLE_WATERTIGHT, &ray, &h1, &c1);
 			bool f2 = rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray,
 			                                     &h2, &c2);
+			/* the merged layout the kernels read, rays in its frame */
+			struct rs_ray local = ray;
+			for (int a = 0; a < 3; a++)
+				local.origin[a] -= merged.all.origin[a];
+			struct rs_instance_hit h4;
+			bool f4 = rs_trace_two_level_closest(&merged, RS_TRIANGLE_WATERTIGHT,
+			                                     &local, &h4, NULL);
+			same_merged += f1 == f4 && (!f1 || h1.triangle == h4.hit.triangle);
+			if (f4) {
+				assert_true(fabs(h2.hit.t - h4.hit.t) <= 1e-5 * h2.hit.t);
+				local.tmax = h4.hit.t * 1.0001;
+				assert_true(rs_trace_two_level_occluded(
+				    &merged, RS_TRIANGLE_WATERTIGHT, &local, NULL));
+				local.skip_slot = h4.hit.triangle;
+				for (int a = 0; a < 3; a++)
+					local.origin[a] += 0.999 * h4.hit.t * ray.dir[a];
+				local.tmax = INFINITY;
+				struct rs_instance_hit h5;
+				rs_trace_two_level_closest(&merged, RS_TRIANGLE_WATERTIGHT, &local,
+				                           &h5, NULL);
+				assert_true(h5.hit.triangle != h4.hit.triangle);
+			}
 			rays++;
 			hits += f1;
 			if (f1 != f2 || (f1 && h1.triangle != h2.hit.triangle))
@@ -183,7 +207,11 @@ static void compare_walks(struct rs_scene *scene, const double eye[3], uint32_t 
 		}
 	assert_true(hits > rays / 4); /* the grid does see the instances */
 	assert_true((double)same >= 0.9999 * rays);
+	print_message("%u rays, %u hits: %u the same triangle two-level, %u merged\n", rays, hits,
+	              same, same_merged);
+	assert_true((double)same_merged >= 0.9999 * rays);
 	assert_true(c2.triangle_tests > 0 && c2.box_tests > 0);
+	rs_pack_two_level_free(&merged);
 	rs_pack_instances_free(&two);
 	rs_pack_free(&flat);
 }
@@ -274,8 +302,10 @@ static void room_of_instanced_walls_is_closed(void **state)
 	}
 	struct rs_packed_instances two;
 	assert_int_equal(rs_pack_instances(scene, NULL, NULL, &two, NULL), RS_OK);
+	struct rs_packed_two_level merged;
+	assert_int_equal(rs_pack_two_level(scene, &two, &merged, NULL), RS_OK);
 	uint64_t seed = 12345;
-	uint32_t leaks = 0, shadows = 0;
+	uint32_t leaks = 0, shadows = 0, merged_leaks = 0, merged_shadows = 0;
 	for (int i = 0; i < 20000; i++) {
 		double p[2][3];
 		for (int q = 0; q < 2; q++) {
@@ -302,14 +332,24 @@ static void room_of_instanced_walls_is_closed(void **state)
 				             turn[r][2] * corner[2] + turn[r][3] - p[0][r];
 			}
 		struct rs_instance_hit h;
-		leaks += !rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray, &h, NULL);
-		ray.tmax = 1.0;
+		struct rs_ray local = ray;
 		for (int a = 0; a < 3; a++)
-			ray.dir[a] = p[1][a] - p[0][a];
+			local.origin[a] -= merged.all.origin[a];
+		leaks += !rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray, &h, NULL);
+		merged_leaks +=
+		    !rs_trace_two_level_closest(&merged, RS_TRIANGLE_WATERTIGHT, &local, &h, NULL);
+		ray.tmax = local.tmax = 1.0;
+		for (int a = 0; a < 3; a++)
+			ray.dir[a] = local.dir[a] = p[1][a] - p[0][a];
 		shadows += rs_trace_instances_occluded(&two, RS_TRIANGLE_WATERTIGHT, &ray, NULL);
+		merged_shadows +=
+		    rs_trace_two_level_occluded(&merged, RS_TRIANGLE_WATERTIGHT, &local, NULL);
 	}
 	assert_int_equal(leaks, 0);
 	assert_int_equal(shadows, 0);
+	assert_int_equal(merged_leaks, 0);
+	assert_int_equal(merged_shadows, 0);
+	rs_pack_two_level_free(&merged);
 	rs_pack_instances_free(&two);
 	rs_scene_destroy(&scene);
 }

@@ -111,7 +111,21 @@ static enum rs_status cpu_set_scene(void *impl, const struct rs_scene *scene,
 	rs_render_accel_free(&cpu->accel);
 	cpu->scene = NULL;
 	struct rs_bvh_desc bvh = rs_render_bvh_desc(desc);
-	enum rs_status status = rs_render_accel_build(scene, &bvh, &desc->pack, &cpu->accel, err);
+	bool two_level = false;
+	enum rs_status status = rs_render_two_level(desc, scene, &two_level, err);
+	if (status == RS_OK && two_level && cpu->intersector) {
+		/* a peer intersector answers in the slots of one flattened tree */
+		if (desc->instances == RS_INSTANCES_TWO_LEVEL)
+			return rs_error_set(err, RS_ERR_UNSUPPORTED,
+			                    "render: instances two-level: an intersector walks the "
+			                    "flattened scene");
+		two_level = false;
+	}
+	if (status == RS_OK)
+		status = two_level
+		             ? rs_render_accel_build_two_level(scene, &bvh, &desc->pack,
+		                                               &cpu->accel, err)
+		             : rs_render_accel_build(scene, &bvh, &desc->pack, &cpu->accel, err);
 	if (status == RS_OK && cpu->intersector && cpu->intersector->prepare)
 		status = cpu->intersector->prepare(cpu->intersector->user, &cpu->accel.packed, err);
 	if (status != RS_OK) {
@@ -147,8 +161,18 @@ static void primary_ids(const struct cpu_renderer *cpu, const struct rs_camera *
 			struct rs_ray ray;
 			struct rs_hit hit;
 			rs_trace_camera_ray(camera, w, h, x + 0.5, y + 0.5, &ray);
-			rs_trace_closest(&cpu->accel.packed, cpu->desc.triangle_test, &ray, &hit,
-			                 NULL);
+			if (cpu->accel.two_level.instance_count) {
+				struct rs_instance_hit ih;
+				for (int a = 0; a < 3; ++a) /* R1: the merged packing's frame */
+					ray.origin[a] -= cpu->accel.packed.origin[a];
+				rs_trace_two_level_closest(&cpu->accel.two_level,
+				                           cpu->desc.triangle_test, &ray, &ih,
+				                           NULL);
+				hit = ih.hit;
+			} else {
+				rs_trace_closest(&cpu->accel.packed, cpu->desc.triangle_test, &ray,
+				                 &hit, NULL);
+			}
 			out[(size_t)y * w + x] = hit.triangle;
 		}
 }
@@ -162,6 +186,7 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 	struct rs_trace_desc td = rs_render_trace_desc(d);
 	td.camera = camera;
 	td.intersector = cpu->intersector;
+	td.two_level = cpu->accel.two_level.instance_count ? &cpu->accel.two_level : NULL;
 	float *rgb = frame->rgb ? frame->rgb : frame->rgba8 ? cpu->rgb : NULL;
 	struct rs_trace_stats ts;
 	double t0 = rs_now_ms();
