@@ -61,6 +61,13 @@ enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
 			st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
 			                       (GLsizei)t[i]->height, 1, err);
 	}
+	const struct rs_texture *inst = &g->accel.two_level.instances;
+	if (st == RS_OK && g->accel.two_level.instance_count) {
+		g->instance_tex = texture(gl, GL_RGBA32F, (GLsizei)inst->width,
+		                          (GLsizei)inst->height, GL_FLOAT, inst->texels);
+		st = rs_gles_allocated(gl, "the instance texture", GL_RGBA32F, (GLsizei)inst->width,
+		                       (GLsizei)inst->height, 1, err);
+	}
 	/* The cube map captures run the plans over face_size squares in the same targets. */
 	uint32_t face = g->desc.reflections != RS_REFLECT_TRACE ? g->face_size : 0;
 	GLsizei w = (GLsizei)(g->desc.width > face ? g->desc.width : face),
@@ -167,6 +174,8 @@ void rs_gles_scene_delete(struct gles *g)
 	gl->DeleteTextures(1, &g->shadow);
 	gl->DeleteTextures(1, &g->envmap);
 	gl->DeleteTextures(1, &g->object_tex);
+	gl->DeleteTextures(1, &g->instance_tex);
+	g->instance_tex = 0;
 	gl->DeleteTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
 	memset(g->objmap, 0, sizeof g->objmap);
 	g->depth = g->shadow_depth = g->shadow = g->envmap = g->object_tex = 0;

@@ -2,8 +2,8 @@
  * with per-tree base offsets, plus the instance texture: the layout the GLES kernels sample
  * and the CPU reference walks for an instanced scene (docs/bvh.md "Instances on the GPU").
  * Escapes and leaf first slots are made absolute while copying, so a walk needs only a
- * tree's first item and its node count; the TLAS sits at row starts so a transform update
- * sends whole rows of it and nothing of the BLASes. */
+ * tree's first item and its node count; the TLAS comes last so a transform update sends
+ * the rows from its first on and nothing else of the BLASes. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,7 +38,8 @@ static void copy_nodes(const struct rs_packed *src, uint32_t base, uint32_t slot
 }
 
 /* Copy tree `src`'s slots (triangle and normal texels) to slot `base` of `dst`; ids !=
- * NULL replaces t0.w by ids[local id]. */
+ * NULL replaces t0.w by ids[local id]. The normals' spare channel gets the local id -> slot
+ * map (and the loose BLAS's local id -> scene id) that shading decodes a hit through. */
 static void copy_slots(const struct rs_packed *src, uint32_t base, const uint32_t *ids,
                        struct rs_packed *dst)
 {
@@ -47,10 +48,18 @@ static void copy_slots(const struct rs_packed *src, uint32_t base, const uint32_
 	memcpy(t, src->triangles.texels, bytes);
 	memcpy((float *)rs_pack_texel(&dst->normals, RS_PACK_NORMAL_TEXELS, base, 0),
 	       src->normals.texels, bytes);
-	for (uint32_t s = 0; ids && s < src->triangle_count; s++) {
+	for (uint32_t s = 0; s < src->triangle_count; s++) {
 		float *w = t + (size_t)s * RS_PACK_TRIANGLE_TEXELS * 4u + 3u;
 		uint32_t local = rs_pack_index(*w);
-		*w = local < src->triangle_count ? (float)ids[local] : -1.0f;
+		if (local >= src->triangle_count)
+			continue;
+		float *n =
+		    (float *)rs_pack_texel(&dst->normals, RS_PACK_NORMAL_TEXELS, base + local, 0);
+		n[3] = (float)(base + s);
+		if (ids) {
+			n[4 + 3] = (float)ids[local];
+			*w = (float)ids[local];
+		}
 	}
 }
 
@@ -64,7 +73,8 @@ static void set4(float *t, double a, double b, double c, double d)
 
 /* Instance i's texels (RS_PACK_INSTANCE_TEXELS in rs_pack.h). */
 static void write_instance(const struct rs_scene *scene, const struct rs_packed_instances *pi,
-                           const uint32_t *node_base, uint32_t i, struct rs_packed_two_level *out)
+                           const uint32_t *node_base, const uint32_t *slot_base, uint32_t i,
+                           struct rs_packed_two_level *out)
 {
 	const double *o_top = pi->top.origin;
 	uint32_t mesh = pi->mesh[i];
@@ -102,6 +112,7 @@ static void write_instance(const struct rs_scene *scene, const struct rs_packed_
 	const float *go = blas->node_grid_origin, *gs = blas->node_grid_step;
 	set4(t + 4 * 9, go[0], go[1], go[2], node_base[mesh]);
 	set4(t + 4 * 10, gs[0], gs[1], gs[2], blas->node_count);
+	set4(t + 4 * 11, blas->triangle_count, slot_base[mesh], 0.0, 0.0);
 }
 
 static enum rs_status check_trees(const struct rs_packed_instances *pi, struct rs_error *err)
@@ -144,11 +155,12 @@ enum rs_status rs_pack_two_level(const struct rs_scene *scene, const struct rs_p
 		nodes += (uint64_t)pi->meshes[k].node_count * orders;
 		slots += pi->meshes[k].triangle_count;
 	}
-	/* The TLAS from a row start, with room for any binary tree over n items (2n - 1). */
+	/* The TLAS after the BLASes, with room for any binary tree over n items (2n - 1). Not
+	 * padded to a row start: at GL's usual 16384-texel limit a row of triangles is 192 KiB,
+	 * more than Cow17i's whole BLAS; an update sends the rows from the TLAS's first. */
 	uint64_t top_nodes =
 	    (uint64_t)(2u * n - 1u > top->node_count ? 2u * n - 1u : top->node_count);
-	uint64_t top_node_base = (nodes + row - 1) / row * row,
-	         top_slot_base = (slots + row - 1) / row * row;
+	uint64_t top_node_base = nodes, top_slot_base = slots;
 	uint64_t node_items = top_node_base + top_nodes * orders, slot_items = top_slot_base + n;
 	if (node_items >= RS_PACK_MAX_ITEMS || slot_items >= RS_PACK_MAX_ITEMS)
 		st = rs_error_set(err, RS_ERR_LIMIT,
@@ -191,6 +203,7 @@ enum rs_status rs_pack_two_level(const struct rs_scene *scene, const struct rs_p
 		out->top_node_capacity = (uint32_t)(top_nodes * orders);
 		out->top_slot_base = (uint32_t)top_slot_base;
 		out->scene_triangles = (uint32_t)rs_scene_triangle_count(scene);
+		out->loose = pi->loose_ids != NULL;
 		for (uint32_t k = 0; k < pi->mesh_count; k++) {
 			bool loose = pi->loose_ids && k == pi->mesh_count - 1;
 			copy_nodes(&pi->meshes[k], node_base[k], slot_base[k], &out->all);
@@ -206,7 +219,7 @@ enum rs_status rs_pack_two_level(const struct rs_scene *scene, const struct rs_p
 		       sizeof top->node_grid_origin);
 		memcpy(out->all.node_grid_step, top->node_grid_step, sizeof top->node_grid_step);
 		for (uint32_t i = 0; i < n; i++)
-			write_instance(scene, pi, node_base, i, out);
+			write_instance(scene, pi, node_base, slot_base, i, out);
 		size_t node_row = (size_t)out->all.nodes.width * 16u,
 		       tri_row = (size_t)out->all.triangles.width * 16u;
 		out->top_bytes = (out->all.nodes.height - out->top_node_base / row) * node_row +

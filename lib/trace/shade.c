@@ -112,6 +112,8 @@ static void read_hit_triangle(const struct rs_trace_frame *frame, const struct r
 			h->v[k][r] = a[0] * v[0] + a[1] * v[1] + a[2] * v[2] + a[3];
 			h->n[k][r] = m[0] * n[0] + m[1] * n[1] + m[2] * n[2];
 		}
+		/* unit, as the baked scene's vertex normals are (interpolation weights them) */
+		rs_v3_normalize(h->n[k]);
 	}
 	if (t[4 * 7 + 3] >= 0.0f)
 		h->material = t[4 * 7 + 3];

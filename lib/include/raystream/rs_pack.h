@@ -234,23 +234,29 @@ void rs_pack_instances_free(struct rs_packed_instances *packed);
  *           t7.w = material (-1: the triangle's own), t8.w = 1 when mirrored (det < 0)
  *   t9      (BLAS grid origin xyz, BLAS node base: item of its order 0)
  *   t10     (BLAS grid step xyz, BLAS node count per order)
- * Rows hold instance_row_items instances (a power of two). */
-#define RS_PACK_INSTANCE_TEXELS 11u
+ *   t11     (BLAS triangle count, BLAS first slot, 0, 0)
+ * Rows hold instance_row_items instances (a power of two).
+ * A hit texel of the kernels names a scene triangle id; shading finds its instance by a
+ * binary search of t6.w over the prototypes' instances (ascending, the loose instance last)
+ * and its slot through the normal texture's spare channel: for a BLAS with first slot b,
+ * normal texel 0 of item b + local id holds w = the slot of that triangle, and for the
+ * loose BLAS normal texel 1 of item b + local holds w = its scene id (ascending). */
+#define RS_PACK_INSTANCE_TEXELS 12u
 
 /**
  * A two-level packing merged into one set of textures (docs/bvh.md "Instances on the GPU"):
  * what the GLES kernels sample and the CPU reference walks for an instanced scene.
  * all.nodes holds every BLAS (each with its tree_orders orders, escapes made absolute in
- * the merged texture) and then, from top_node_base (a row start), the TLAS, with room for
+ * the merged texture) and then, from top_node_base, the TLAS, with room for
  * top_node_capacity items so that a new TLAS over the same instances fits in place.
  * all.triangles / all.normals hold every BLAS's slots (leaf first slots made absolute,
  * t0.w the prototype-local triangle id, or for the loose BLAS the scene id) and from
- * top_slot_base (a row start) the TLAS's instance boxes (t0.w = instance id).
+ * top_slot_base the TLAS's instance boxes (t0.w = instance id).
  * all.materials is the scene's. all.node_count counts node items (all trees, all orders,
  * node_orders 1 for the texture); all.triangle_count counts slots; all.origin is the TLAS
  * frame's (the frame rays are traced in); all's grid is the TLAS's.
- * A per-frame transform update touches only the rows from top_node_base / top_slot_base
- * and the instance texture.
+ * A per-frame transform update touches only the rows from top_node_base's / top_slot_base's
+ * on and the instance texture (top_bytes).
  */
 struct rs_packed_two_level {
 	struct rs_packed all;
@@ -263,6 +269,7 @@ struct rs_packed_two_level {
 	uint32_t top_node_capacity;  /**< items reserved from top_node_base */
 	uint32_t top_slot_base;      /**< slot of the TLAS's first instance box */
 	uint32_t scene_triangles;    /**< the scene's triangle count */
+	bool loose;                  /**< the last instance walks the scene's loose triangles */
 	/** Bytes of the textures' TLAS rows and of the instance texture (what a transform
 	 * update sends). */
 	size_t top_bytes;
