@@ -14,7 +14,7 @@
 #include <cmocka.h>
 
 #include "test_gl_common.h"
-#include "test_instances_fixture.h"
+#include "test_instances_shapes.h"
 
 #define SIZE 64u
 

@@ -1,6 +1,7 @@
-/* Instanced test scenes shared by test_trace_instances.c and test_gl_two_level.c: a squashed
- * UV sphere prototype, plain floors (the loose BLAS's triangles), a scene with one material
- * and a rotation * scale + translation transform. Included by tests only, after cmocka.h. */
+/* Shared by the instance-update tests: a scene of instances of one squashed sphere (curved
+ * silhouettes, so rotations show) over a plain floor, with a light and a framed camera, and
+ * the transforms of its frame k (a pure function of k: each instance turns and slides; the
+ * fourth is mirrored at every frame). */
 #ifndef TEST_INSTANCES_FIXTURE_H
 #define TEST_INSTANCES_FIXTURE_H
 
@@ -9,77 +10,106 @@
 
 #include "raystream/rs_scene.h"
 
-#define SPHERE_RINGS 8
-#define SPHERE_SEGMENTS 12
+#define FIX_RINGS 8
+#define FIX_SEGMENTS 12
+#define FIX_INSTANCES 6u
 
-/* A UV sphere (curved silhouettes), wound outward, slightly squashed so rotations show. */
-static inline uint32_t add_sphere(struct rs_scene *scene)
+/* Instance i's transform at frame k: a turn about a tilted axis, a scale, a slide. */
+static inline void fix_transform(uint32_t i, uint32_t k, double m[3][4])
 {
-	double pos[(SPHERE_RINGS + 1) * SPHERE_SEGMENTS * 3];
-	uint32_t idx[SPHERE_RINGS * SPHERE_SEGMENTS * 6];
+	double ax[3] = {0.3 * i, 1.0, 0.2}, l = sqrt(ax[0] * ax[0] + 1.0 + 0.04);
+	double x = ax[0] / l, y = ax[1] / l, z = ax[2] / l;
+	double a = 0.4 * i + 0.3 * k, c = cos(a), s = sin(a), t = 1.0 - c;
+	const double r[3][3] = {{c + x * x * t, x * y * t - z * s, x * z * t + y * s},
+	                        {y * x * t + z * s, c + y * y * t, y * z * t - x * s},
+	                        {z * x * t - y * s, z * y * t + x * s, c + z * z * t}};
+	double scale[3] = {1.0, 0.6 + 0.1 * i, 1.0};
+	if (i == 3)
+		scale[0] = -1.0; /* mirrored, every frame */
+	for (int row = 0; row < 3; row++) {
+		for (int col = 0; col < 3; col++)
+			m[row][col] = r[row][col] * scale[col];
+	}
+	m[0][3] = -5.0 + 2.0 * i + 0.5 * sin(0.7 * k + i);
+	m[1][3] = 1.0 + 0.25 * k * (i % 2);
+	m[2][3] = -1.0 + 0.4 * cos(0.5 * k + i);
+}
+
+/* The scene at frame k (its instances baked by rs_scene_add_instance), its floor at y. */
+static inline struct rs_scene *fix_scene_floor(uint32_t k, double y)
+{
+	struct rs_scene *scene = NULL;
+	if (rs_scene_create(NULL, &scene, NULL) != RS_OK)
+		return NULL;
+	const struct rs_material grey = {.diffuse = {0.5f, 0.5f, 0.5f}, .specular = 0.3f};
+	const struct rs_material red = {.diffuse = {0.8f, 0.2f, 0.1f}, .reflectance = 0.3f};
+	rs_scene_add_material(scene, &grey, NULL, NULL);
+	rs_scene_add_material(scene, &red, NULL, NULL);
+	double pos[(FIX_RINGS + 1) * FIX_SEGMENTS * 3];
+	uint32_t idx[FIX_RINGS * FIX_SEGMENTS * 6];
 	size_t nv = 0, nt = 0;
-	for (int r = 0; r <= SPHERE_RINGS; r++)
-		for (int s = 0; s < SPHERE_SEGMENTS; s++) {
-			double th = RS_PI * r / SPHERE_RINGS,
-			       ph = 2.0 * RS_PI * s / SPHERE_SEGMENTS;
+	for (int r = 0; r <= FIX_RINGS; r++)
+		for (int sg = 0; sg < FIX_SEGMENTS; sg++) {
+			double th = RS_PI * r / FIX_RINGS, ph = 2.0 * RS_PI * sg / FIX_SEGMENTS;
 			pos[nv * 3] = sin(th) * cos(ph);
 			pos[nv * 3 + 1] = 0.7 * cos(th);
 			pos[nv * 3 + 2] = sin(th) * sin(ph) + 0.2 * sin(th);
 			nv++;
 		}
-	for (uint32_t r = 0; r < SPHERE_RINGS; r++)
-		for (uint32_t s = 0; s < SPHERE_SEGMENTS; s++) {
-			uint32_t a = r * SPHERE_SEGMENTS + s,
-			         b = r * SPHERE_SEGMENTS + (s + 1) % SPHERE_SEGMENTS,
-			         c = a + SPHERE_SEGMENTS, d = b + SPHERE_SEGMENTS;
+	for (uint32_t r = 0; r < FIX_RINGS; r++)
+		for (uint32_t sg = 0; sg < FIX_SEGMENTS; sg++) {
+			uint32_t a = r * FIX_SEGMENTS + sg,
+			         b = r * FIX_SEGMENTS + (sg + 1) % FIX_SEGMENTS,
+			         c = a + FIX_SEGMENTS, d = b + FIX_SEGMENTS;
 			const uint32_t t[6] = {a, b, c, b, d, c};
 			memcpy(idx + nt * 3, t, sizeof t);
 			nt += 2;
 		}
-	struct rs_mesh_desc mesh = {
-	    .positions_f64 = pos, .vertex_count = nv, .indices = idx, .triangle_count = nt};
-	uint32_t id;
-	assert_int_equal(rs_scene_add_prototype(scene, &mesh, &id, NULL), RS_OK);
-	return id;
-}
-
-/* A plain (not instanced) quad at height y, x and z in [-6, 6]: the loose BLAS's. */
-static inline void add_floor(struct rs_scene *scene, double y, uint32_t material)
-{
-	const double p[4 * 3] = {-6, y, -6, 6, y, -6, 6, y, 6, -6, y, 6};
-	const uint32_t i[6] = {0, 2, 1, 0, 3, 2};
-	struct rs_mesh_desc mesh = {.positions_f64 = p,
-	                            .vertex_count = 4,
-	                            .indices = i,
-	                            .triangle_count = 2,
-	                            .material = material};
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
-}
-
-static inline struct rs_scene *new_scene(void)
-{
-	struct rs_scene *scene = NULL;
-	assert_int_equal(rs_scene_create(NULL, &scene, NULL), RS_OK);
-	struct rs_material m = {.diffuse = {0.5f, 0.5f, 0.5f}};
-	assert_int_equal(rs_scene_add_material(scene, &m, NULL, NULL), RS_OK);
+	struct rs_mesh_desc sphere = {.positions_f64 = pos,
+	                              .vertex_count = nv,
+	                              .indices = idx,
+	                              .triangle_count = nt,
+	                              .material = 1};
+	uint32_t proto = 0;
+	rs_scene_add_prototype(scene, &sphere, &proto, NULL);
+	const double fp[4 * 3] = {-8, y, -5, 8, y, -5, 8, y, 5, -8, y, 5};
+	const uint32_t fi[6] = {0, 2, 1, 0, 3, 2};
+	struct rs_mesh_desc floor = {
+	    .positions_f64 = fp, .vertex_count = 4, .indices = fi, .triangle_count = 2};
+	for (uint32_t i = 0; i < FIX_INSTANCES; i++) {
+		if (i == 2) /* plain triangles between instances */
+			rs_scene_add_mesh(scene, &floor, NULL);
+		struct rs_instance_desc d = {.mesh = proto, .override_material = i == 1};
+		fix_transform(i, k, d.transform);
+		if (rs_scene_add_instance(scene, &d, NULL, NULL) != RS_OK) {
+			rs_scene_destroy(&scene);
+			return NULL;
+		}
+	}
+	const struct rs_light light = {.position = {2.0, 9.0, 6.0}, .color = {1.0, 1.0, 1.0}};
+	rs_scene_add_light(scene, &light, NULL);
+	struct rs_camera cam = {.eye = {0.0, 4.0, 14.0}, .up = {0.0, 1.0, 0.0}, .fov_y_deg = 50.0};
+	rs_scene_set_camera(scene, &cam, NULL);
 	return scene;
 }
 
-/* Rotation about axis (normalised here) by angle, times per-axis scale, plus translation. */
-static inline void make_transform(const double axis[3], double angle, const double scale[3],
-                                  const double move[3], double m[3][4])
+/* The scene at frame k with its floor at y = -1. */
+static inline struct rs_scene *fix_scene(uint32_t k)
 {
-	double l = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-	double x = axis[0] / l, y = axis[1] / l, z = axis[2] / l, c = cos(angle), s = sin(angle),
-	       k = 1.0 - c;
-	const double r[3][3] = {{c + x * x * k, x * y * k - z * s, x * z * k + y * s},
-	                        {y * x * k + z * s, c + y * y * k, y * z * k - x * s},
-	                        {z * x * k - y * s, z * y * k + x * s, c + z * z * k}};
-	for (int i = 0; i < 3; i++) {
-		for (int j = 0; j < 3; j++)
-			m[i][j] = r[i][j] * scale[j];
-		m[i][3] = move[i];
+	return fix_scene_floor(k, -1.0);
+}
+
+/* Move every instance of `scene` (made by fix_scene) to frame k in place. */
+static inline enum rs_status fix_move(struct rs_scene *scene, uint32_t k)
+{
+	for (uint32_t i = 0; i < FIX_INSTANCES; i++) {
+		double m[3][4];
+		fix_transform(i, k, m);
+		enum rs_status st = rs_scene_set_instance_transform(scene, i, m, NULL);
+		if (st != RS_OK)
+			return st;
 	}
+	return RS_OK;
 }
 
 #endif

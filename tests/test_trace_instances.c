@@ -18,7 +18,7 @@
 #include "raystream/rs_scene.h"
 #include "raystream/rs_trace.h"
 
-#include "test_instances_fixture.h"
+#include "test_instances_shapes.h"
 
 /* The baked triangles walked in one level, as every renderer does today. */
 static void pack_flat(const struct rs_scene *scene, struct rs_packed *out)

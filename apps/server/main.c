@@ -155,7 +155,7 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	     .fallback = "until SIGINT/SIGTERM"},
 	    RS_CLI_STRING_OPT("--stats", &o->stats, "FILE.json", "what the run rendered, at exit"),
 	    RS_CLI_U32_OPT("--frame", &o->frame, 0, 10000000,
-	                   "the frame of a scene that moves (animated, cowN)"),
+	                   "the frame of a scene that moves (animated, cowN, cowNi)"),
 	    RS_CLI_U32_OPT("--animate", &o->animate, 0, 1000,
 	                   "play a scene that moves at FPS frames a second from --frame; 0: still"),
 	};
@@ -189,7 +189,8 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 		return rs_cli_usage_error(&cli, "--scene: name longer than 128 bytes");
 	if ((o->frame || o->animate) && !rs_scenegen_moves(o->scene))
 		return rs_cli_usage_error(
-		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN)", o->scene);
+		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN, cowNi)",
+		    o->scene);
 	if (o->animate && o->shadows == RS_SHADOW_MAP)
 		return rs_cli_usage_error(&cli, "--animate: shadow maps are made once per scene; "
 		                                "use --shadows rays");

@@ -37,8 +37,11 @@ static enum rs_status follow_clock(struct worker *w, struct rs_error *err)
 		return RS_OK;
 	struct rs_scene *next = NULL;
 	enum rs_status st = rs_scenegen_load_frame(s->o.scene, f, s->o.animate, &next, err);
+	/* an instanced herd (cowNi) moves by its instance transforms */
 	if (st == RS_OK)
-		st = rs_renderer_update_vertices(w->renderer, next, err);
+		st = rs_scene_instance_count(next)
+		         ? rs_renderer_update_instances(w->renderer, next, err)
+		         : rs_renderer_update_vertices(w->renderer, next, err);
 	if (st != RS_OK) {
 		rs_scene_destroy(&next);
 		return st;

@@ -98,6 +98,14 @@ static struct rs_renderer *at_level(struct viewer *v, int level)
 /* --animate: every open renderer moved to scene frame --frame + k for local frame k (a pure
  * function of the number: raystream-render --frame renders the same); 0 on success. A
  * smaller renderer that cannot follow is closed and reopened on the new scene when needed. */
+static enum rs_status move_to(struct rs_renderer *r, const struct rs_scene *next,
+                              struct rs_error *err)
+{
+	/* an instanced herd (cowNi) moves by its instance transforms */
+	return rs_scene_instance_count(next) ? rs_renderer_update_instances(r, next, err)
+	                                     : rs_renderer_update_vertices(r, next, err);
+}
+
 static int animate(struct viewer *v)
 {
 	uint32_t f = v->o.frame + (uint32_t)v->frames;
@@ -106,13 +114,13 @@ static int animate(struct viewer *v)
 	struct rs_scene *next = NULL;
 	struct rs_error err = {0};
 	if (rs_scenegen_load_frame(v->o.scene, f, v->o.animate, &next, &err) != RS_OK ||
-	    rs_renderer_update_vertices(v->local, next, &err) != RS_OK) {
+	    move_to(v->local, next, &err) != RS_OK) {
 		fprintf(stderr, "raystream-viewer: frame %u: %s\n", f, err.message);
 		rs_scene_destroy(&next);
 		return -1;
 	}
 	for (int i = 1; i < APP_PACE_LEVELS; ++i)
-		if (v->ladder[i] && rs_renderer_update_vertices(v->ladder[i], next, &err) != RS_OK)
+		if (v->ladder[i] && move_to(v->ladder[i], next, &err) != RS_OK)
 			rs_renderer_destroy(&v->ladder[i]);
 	rs_scene_destroy(&v->scene); /* every renderer holds `next` now */
 	v->scene = next;

@@ -221,7 +221,7 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	    CALL("--predict", &o->no_predict, parse_predict, "on|off",
 	         "poses moved ahead by the latency", "on"),
 	    RS_CLI_U32_OPT("--frame", &o->frame, 0, 10000000,
-	                   "the frame of a scene that moves (animated, cowN)"),
+	                   "the frame of a scene that moves (animated, cowN, cowNi)"),
 	    RS_CLI_U32_OPT("--animate", &o->animate, 0, 1000,
 	                   "local frame k shows scene frame --frame + k at FPS a second; 0: still"),
 	    CALL("--refine", &o->no_refine, parse_predict, "on|off",
@@ -248,7 +248,8 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 		return rs_cli_usage_error(&cli, "--verify-local needs --server");
 	if ((o->frame || o->animate) && !rs_scenegen_moves(o->scene))
 		return rs_cli_usage_error(
-		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN)", o->scene);
+		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN, cowNi)",
+		    o->scene);
 	if (o->animate && o->verify_local)
 		return rs_cli_usage_error(&cli, "--animate and --verify-local: the server's frames "
 		                                "move by its own --animate");

@@ -15,7 +15,7 @@
 /* Build and pack the triangles of `scene` (a scratch scene) into *out. */
 static enum rs_status build_and_pack(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
                                      const struct rs_pack_desc *pack, struct rs_packed *out,
-                                     double *build_ms, struct rs_error *err)
+                                     double *build_ms, double *pack_ms, struct rs_error *err)
 {
 	size_t tris = rs_scene_triangle_count(scene);
 	size_t cap = rs_bvh_node_bound(bvh, tris);
@@ -30,7 +30,8 @@ static enum rs_status build_and_pack(const struct rs_scene *scene, const struct 
 		status = rs_bvh_build(bvh, rs_scene_positions(scene), rs_scene_vertex_count(scene),
 		                      rs_scene_indices(scene), tris, nodes, cap, order, &node_count,
 		                      err);
-	*build_ms += rs_now_ms() - t0;
+	double t1 = rs_now_ms();
+	*build_ms += t1 - t0;
 	if (status == RS_OK)
 		status = rs_pack_layout(pack, node_count, tris, rs_scene_material_count(scene), out,
 		                        err);
@@ -38,6 +39,7 @@ static enum rs_status build_and_pack(const struct rs_scene *scene, const struct 
 		status = rs_pack_alloc(out, err);
 	if (status == RS_OK)
 		status = rs_pack_scene(scene, nodes, node_count, order, out, err);
+	*pack_ms += rs_now_ms() - t1;
 	if (status != RS_OK)
 		rs_pack_free(out);
 	free(nodes);
@@ -64,6 +66,7 @@ static enum rs_status pack_meshes(const struct rs_scene *scene, const struct rs_
                                   struct rs_bounds *mesh_bounds, struct rs_error *err)
 {
 	enum rs_status status = RS_OK;
+	double pack_ms = 0.0;
 	uint32_t protos = (uint32_t)rs_scene_prototype_count(scene);
 	for (uint32_t k = 0; status == RS_OK && k < protos; k++) {
 		struct rs_scene *s = NULL;
@@ -73,7 +76,8 @@ static enum rs_status pack_meshes(const struct rs_scene *scene, const struct rs_
 		if (status == RS_OK)
 			status = rs_scene_add_mesh(s, &mesh, err);
 		if (status == RS_OK)
-			status = build_and_pack(s, bvh, pack, &out->meshes[k], &out->build_ms, err);
+			status = build_and_pack(s, bvh, pack, &out->meshes[k], &out->build_ms,
+			                        &pack_ms, err);
 		if (status == RS_OK)
 			rs_scene_bounds(s, &mesh_bounds[k]);
 		rs_scene_destroy(&s);
@@ -99,6 +103,7 @@ static enum rs_status pack_loose(const struct rs_scene *scene, const bool *cover
 	uint32_t *ri = malloc((tris + 1) * 3 * sizeof *ri);
 	struct rs_scene *s = NULL;
 	enum rs_status status = RS_OK;
+	double pack_ms = 0.0;
 	if (!remap || !stamp || !rp || !rn || !ri)
 		status =
 		    rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for loose triangles");
@@ -138,7 +143,7 @@ static enum rs_status pack_loose(const struct rs_scene *scene, const bool *cover
 	}
 	if (status == RS_OK)
 		status = build_and_pack(s, bvh, pack, &out->meshes[out->mesh_count - 1],
-		                        &out->build_ms, err);
+		                        &out->build_ms, &pack_ms, err);
 	if (status == RS_OK)
 		rs_scene_bounds(s, bounds);
 	rs_scene_destroy(&s);
@@ -170,12 +175,14 @@ static void instance_box(const struct rs_scene_instance *inst, const struct rs_b
 	}
 }
 
+/* The TLAS over the n instances' world boxes into *top; its build and pack times into
+ * build_ms and pack_ms. */
 static enum rs_status pack_top(const struct rs_scene *scene, const struct rs_scene_instance *inst,
-                               const struct rs_bvh_desc *bvh, const struct rs_pack_desc *pack,
-                               const struct rs_bounds *mesh_bounds, struct rs_packed_instances *out,
+                               uint32_t n, const struct rs_bvh_desc *bvh,
+                               const struct rs_pack_desc *pack, const struct rs_bounds *mesh_bounds,
+                               struct rs_packed *top, double *build_ms, double *pack_ms,
                                struct rs_error *err)
 {
-	uint32_t n = out->instance_count;
 	double *pos = malloc((size_t)n * 9 * sizeof *pos);
 	uint32_t *idx = malloc((size_t)n * 3 * sizeof *idx);
 	if (!pos || !idx) {
@@ -227,12 +234,49 @@ static enum rs_status pack_top(const struct rs_scene *scene, const struct rs_sce
 	if (status == RS_OK)
 		status = rs_scene_add_mesh(s, &boxes, err);
 	if (status == RS_OK)
-		status = build_and_pack(s, bvh, pack, &out->top, &out->build_ms, err);
+		status = build_and_pack(s, bvh, pack, top, build_ms, pack_ms, err);
 	rs_scene_destroy(&s);
 	free(nrm);
 	free(pos);
 	free(idx);
 	return status;
+}
+
+/* The scene's instances, then (loose) the loose BLAS's identity instance of mesh `protos`. */
+static struct rs_scene_instance *instance_list(const struct rs_scene *scene, bool loose,
+                                               struct rs_error *err)
+{
+	size_t ns = rs_scene_instance_count(scene);
+	struct rs_scene_instance *inst = malloc((ns + loose) * sizeof *inst);
+	if (!inst) {
+		rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for instances");
+		return NULL;
+	}
+	memcpy(inst, rs_scene_instances(scene), ns * sizeof *inst);
+	if (loose) {
+		struct rs_scene_instance id = {.mesh = (uint32_t)rs_scene_prototype_count(scene)};
+		for (int r = 0; r < 3; r++)
+			id.transform[r][r] = id.inverse[r][r] = 1.0;
+		inst[ns] = id;
+	}
+	return inst;
+}
+
+/* Per instance: its mesh, first triangle, world -> BLAS frame and normal matrix. */
+static void set_transforms(struct rs_packed_instances *out, const struct rs_scene_instance *inst)
+{
+	for (size_t i = 0; i < out->instance_count; i++) {
+		const double *o = out->meshes[inst[i].mesh].origin;
+		out->mesh[i] = inst[i].mesh;
+		out->first_triangle[i] = inst[i].first_triangle;
+		for (int r = 0; r < 3; r++) {
+			memcpy(out->to_object[i][r], inst[i].inverse[r], sizeof inst[i].inverse[r]);
+			out->to_object[i][r][3] -= o[r];
+			/* (A^-1)^T: row r of the normal matrix is column r of the inverse */
+			for (int k = 0; k < 3; k++)
+				out->to_world_normal[i][r][k] = inst[i].inverse[k][r];
+		}
+	}
 }
 
 enum rs_status rs_pack_instances(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
@@ -274,43 +318,29 @@ enum rs_status rs_pack_instances(const struct rs_scene *scene, const struct rs_b
 	out->mesh = malloc(n * sizeof *out->mesh);
 	out->first_triangle = malloc(n * sizeof *out->first_triangle);
 	out->loose_ids = loose > 0 ? malloc(loose * sizeof *out->loose_ids) : NULL;
-	struct rs_bounds *mesh_bounds = calloc(out->mesh_count, sizeof *mesh_bounds);
-	struct rs_scene_instance *inst = malloc(n * sizeof *inst);
+	out->mesh_bounds = calloc(out->mesh_count, sizeof *out->mesh_bounds);
+	if (pack)
+		out->pack = *pack;
+	struct rs_scene_instance *inst = NULL;
 	enum rs_status status = RS_OK;
 	if (!out->meshes || !out->to_object || !out->to_world_normal || !out->mesh ||
-	    !out->first_triangle || !mesh_bounds || !inst || (loose > 0 && !out->loose_ids))
+	    !out->first_triangle || !out->mesh_bounds || (loose > 0 && !out->loose_ids))
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for instances");
-	if (status == RS_OK) {
-		memcpy(inst, sinst, ns * sizeof *inst);
-		if (loose > 0) {
-			/* the loose BLAS's instance: the identity */
-			struct rs_scene_instance id = {.mesh = protos};
-			for (int r = 0; r < 3; r++)
-				id.transform[r][r] = id.inverse[r][r] = 1.0;
-			inst[ns] = id;
-		}
-	}
+	if (status == RS_OK && !(inst = instance_list(scene, loose > 0, err)))
+		status = RS_ERR_NO_MEMORY;
 	if (status == RS_OK)
-		status = pack_meshes(scene, bvh, pack, out, mesh_bounds, err);
+		status = pack_meshes(scene, bvh, pack, out, out->mesh_bounds, err);
 	if (status == RS_OK && loose > 0)
-		status = pack_loose(scene, covered, bvh, pack, out, &mesh_bounds[protos], err);
+		status = pack_loose(scene, covered, bvh, pack, out, &out->mesh_bounds[protos], err);
 	if (status == RS_OK)
-		status = pack_top(scene, inst, bvh, pack, mesh_bounds, out, err);
-	for (size_t i = 0; status == RS_OK && i < n; i++) {
-		const double *o = out->meshes[inst[i].mesh].origin;
-		out->mesh[i] = inst[i].mesh;
-		out->first_triangle[i] = inst[i].first_triangle;
-		for (int r = 0; r < 3; r++) {
-			memcpy(out->to_object[i][r], inst[i].inverse[r], sizeof inst[i].inverse[r]);
-			out->to_object[i][r][3] -= o[r];
-			/* (A^-1)^T: row r of the normal matrix is column r of the inverse */
-			for (int k = 0; k < 3; k++)
-				out->to_world_normal[i][r][k] = inst[i].inverse[k][r];
-		}
+		status = pack_top(scene, inst, out->instance_count, bvh, pack, out->mesh_bounds,
+		                  &out->top, &out->top_build_ms, &out->top_pack_ms, err);
+	if (status == RS_OK) {
+		out->build_ms += out->top_build_ms;
+		set_transforms(out, inst);
 	}
 	free(covered);
 	free(inst);
-	free(mesh_bounds);
 	if (status != RS_OK)
 		rs_pack_instances_free(out);
 	return status;
@@ -329,7 +359,57 @@ void rs_pack_instances_free(struct rs_packed_instances *packed)
 	free(packed->mesh);
 	free(packed->first_triangle);
 	free(packed->loose_ids);
+	free(packed->mesh_bounds);
 	memset(packed, 0, sizeof *packed);
+}
+
+enum rs_status rs_pack_instances_update(struct rs_packed_instances *packed,
+                                        const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
+                                        struct rs_error *err)
+{
+	RS_ASSERT(packed && scene);
+	static const struct rs_bvh_desc zero_bvh;
+	if (!bvh)
+		bvh = &zero_bvh;
+	size_t ns = rs_scene_instance_count(scene), baked = 0;
+	const struct rs_scene_instance *sinst = rs_scene_instances(scene);
+	for (size_t i = 0; i < ns; i++)
+		baked += sinst[i].triangle_count;
+	bool loose = baked < rs_scene_triangle_count(scene);
+	uint32_t protos = (uint32_t)rs_scene_prototype_count(scene);
+	const char *what = NULL;
+	if (!packed->mesh_bounds)
+		what = "nothing was packed";
+	else if (protos + loose != packed->mesh_count || loose != (packed->loose_ids != NULL))
+		what = "the prototypes or the loose triangles differ";
+	else if (ns + loose != packed->instance_count)
+		what = "the instance count differs";
+	for (size_t i = 0; !what && i < ns; i++)
+		if (sinst[i].mesh != packed->mesh[i] ||
+		    sinst[i].first_triangle != packed->first_triangle[i])
+			what = "an instance's mesh or triangles differ";
+	if (what)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "pack: instances_update: %s (only transforms may change; "
+		                    "rs_pack_instances the scene)",
+		                    what);
+	struct rs_scene_instance *inst = instance_list(scene, loose, err);
+	if (!inst)
+		return RS_ERR_NO_MEMORY;
+	struct rs_packed top = {0};
+	double build_ms = 0.0, pack_ms = 0.0;
+	enum rs_status status = pack_top(scene, inst, packed->instance_count, bvh, &packed->pack,
+	                                 packed->mesh_bounds, &top, &build_ms, &pack_ms, err);
+	if (status == RS_OK) {
+		rs_pack_free(&packed->top);
+		packed->top = top;
+		packed->build_ms += build_ms - packed->top_build_ms;
+		packed->top_build_ms = build_ms;
+		packed->top_pack_ms = pack_ms;
+		set_transforms(packed, inst);
+	}
+	free(inst);
+	return status;
 }
 
 static size_t texture_bytes(const struct rs_texture *t)

@@ -14,7 +14,70 @@ struct rs_renderer {
 	const struct rs_scene *scene;
 	struct rs_render_stats stats;
 	struct rs_error error;
+	/* What update_instances may not change, as of the last set_scene or update: the
+	 * prototype count and each instance's prototype, material and first triangle (kept
+	 * here, since the caller may change the current scene itself before the update). */
+	size_t prototype_count, instance_count;
+	uint32_t *instance_keys; /* 3 per instance */
+	uint64_t plain_hash;     /* of the plain (non-instance) vertices: they may not move */
 };
+
+static uint64_t fnv1a(uint64_t h, const void *data, size_t bytes)
+{
+	const unsigned char *p = data;
+	for (size_t i = 0; i < bytes; i++)
+		h = (h ^ p[i]) * 1099511628211ull;
+	return h;
+}
+
+/* A hash of the positions and normals of the vertices outside every instance (an instance's
+ * baked vertices are one run, runs in instance order): O(those vertices + instances). */
+static uint64_t plain_vertices_hash(const struct rs_scene *scene)
+{
+	const double *pos = rs_scene_positions_f64(scene);
+	const float *nrm = rs_scene_normals(scene);
+	const uint32_t *idx = rs_scene_indices(scene);
+	const struct rs_scene_instance *inst = rs_scene_instances(scene);
+	uint64_t h = 14695981039346656037ull;
+	size_t v = 0, n = rs_scene_instance_count(scene);
+	for (size_t i = 0; i <= n; i++) {
+		size_t start = rs_scene_vertex_count(scene), count = 0;
+		if (i < n) {
+			struct rs_mesh_desc proto;
+			rs_scene_prototype_mesh(scene, inst[i].mesh, &proto);
+			start = idx[(size_t)inst[i].first_triangle * 3] - proto.indices[0];
+			count = proto.vertex_count;
+		}
+		h = fnv1a(h, pos + v * 3, (start - v) * 3 * sizeof *pos);
+		h = fnv1a(h, nrm + v * 3, (start - v) * 3 * sizeof *nrm);
+		v = start + count;
+	}
+	return h;
+}
+
+/* Remember the instances of `scene` (update_instances compares against them). */
+static enum rs_status keep_instances(struct rs_renderer *r, const struct rs_scene *scene,
+                                     struct rs_error *err)
+{
+	size_t n = rs_scene_instance_count(scene);
+	if (n > r->instance_count || !r->instance_keys) {
+		uint32_t *keys = realloc(r->instance_keys, (n ? n : 1) * 3 * sizeof *keys);
+		if (!keys)
+			return rs_error_set(err, RS_ERR_NO_MEMORY,
+			                    "render: out of memory for the instance list");
+		r->instance_keys = keys;
+	}
+	const struct rs_scene_instance *inst = rs_scene_instances(scene);
+	for (size_t i = 0; i < n; i++) {
+		r->instance_keys[i * 3] = inst[i].mesh;
+		r->instance_keys[i * 3 + 1] = inst[i].material;
+		r->instance_keys[i * 3 + 2] = inst[i].first_triangle;
+	}
+	r->instance_count = n;
+	r->prototype_count = rs_scene_prototype_count(scene);
+	r->plain_hash = n ? plain_vertices_hash(scene) : 0;
+	return RS_OK;
+}
 
 void rs_render_copy_name(char *dst, size_t cap, const char *src)
 {
@@ -153,6 +216,7 @@ void rs_renderer_destroy(struct rs_renderer **renderer)
 		return;
 	struct rs_renderer *r = *renderer;
 	r->ops->destroy(r->impl);
+	free(r->instance_keys);
 	free(r);
 	*renderer = NULL;
 }
@@ -194,6 +258,8 @@ enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct 
 	stats.height = d.height;
 	enum rs_status status = r->ops->set_scene(r->impl, scene, &d, &stats, &r->error);
 	r->stats = stats;
+	if (status == RS_OK)
+		status = keep_instances(r, scene, &r->error);
 	if (status != RS_OK)
 		return fail(r, status, err);
 	r->desc = d;
@@ -201,31 +267,23 @@ enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct 
 	return RS_OK;
 }
 
-enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
-                                           const struct rs_scene *scene, struct rs_error *err)
+/* update_vertices and update_instances: `op` moves the backend to `scene`, whose topology
+ * (and instances, for update_instances) the caller checked. */
+static enum rs_status update(struct rs_renderer *r, const struct rs_scene *scene,
+                             enum rs_status (*op)(void *, const struct rs_scene *,
+                                                  struct rs_render_stats *, struct rs_error *),
+                             struct rs_error *err)
 {
-	RS_ASSERT(renderer && scene);
-	struct rs_renderer *r = renderer;
-	rs_error_clear(&r->error);
-	if (!r->scene)
-		return fail(r, rs_error_set(&r->error, RS_ERR_INVALID, "render: no scene set"),
-		            err);
-	if (!r->ops->update_vertices)
-		return fail(r,
-		            rs_error_set(&r->error, RS_ERR_UNSUPPORTED,
-		                         "render: the %s backend cannot update vertices",
-		                         r->ops->name),
-		            err);
-	enum rs_status status = rs_render_scene_same_topology(r->scene, scene, &r->error);
-	if (status != RS_OK)
-		return fail(r, status, err);
 	struct rs_render_stats *s = &r->stats;
 	s->update_rebuilt = false;
 	s->update_sah_ratio = s->refit_ms = s->build_ms = s->pack_ms = s->upload_ms = 0.0;
+	s->tlas_build_ms = 0.0;
 	s->upload_bytes = 0;
-	status = r->ops->update_vertices(r->impl, scene, s, &r->error);
+	enum rs_status status = op(r->impl, scene, s, &r->error);
 	/* as set_scene: a failed update leaves no scene to render, unless the backend refused
 	 * before touching anything (RS_ERR_UNSUPPORTED) */
+	if (status == RS_OK)
+		status = keep_instances(r, scene, &r->error);
 	if (status != RS_ERR_UNSUPPORTED)
 		r->scene = status == RS_OK ? scene : NULL;
 	if (status != RS_OK)
@@ -233,6 +291,73 @@ enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
 	s->updates++;
 	s->update_rebuilds += s->update_rebuilt ? 1u : 0u;
 	return RS_OK;
+}
+
+/* The checks both updates start with: a scene is set and the backend can update. */
+static enum rs_status can_update(struct rs_renderer *r, const struct rs_scene *scene,
+                                 bool instances, struct rs_error *err)
+{
+	rs_error_clear(&r->error);
+	if (!r->scene)
+		return fail(r, rs_error_set(&r->error, RS_ERR_INVALID, "render: no scene set"),
+		            err);
+	if (!r->ops->update_vertices && !(instances && r->ops->update_instances))
+		return fail(r,
+		            rs_error_set(&r->error, RS_ERR_UNSUPPORTED,
+		                         "render: the %s backend cannot update %s", r->ops->name,
+		                         instances ? "instances" : "vertices"),
+		            err);
+	enum rs_status status = rs_render_scene_same_topology(r->scene, scene, &r->error);
+	return status == RS_OK ? RS_OK : fail(r, status, err);
+}
+
+enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
+                                           const struct rs_scene *scene, struct rs_error *err)
+{
+	RS_ASSERT(renderer && scene);
+	enum rs_status status = can_update(renderer, scene, false, err);
+	return status == RS_OK ? update(renderer, scene, renderer->ops->update_vertices, err)
+	                       : status;
+}
+
+enum rs_status rs_renderer_update_instances(struct rs_renderer *renderer,
+                                            const struct rs_scene *scene, struct rs_error *err)
+{
+	RS_ASSERT(renderer && scene);
+	struct rs_renderer *r = renderer;
+	enum rs_status status = can_update(r, scene, true, err);
+	if (status != RS_OK)
+		return status;
+	const char *what = NULL;
+	size_t n = rs_scene_instance_count(scene);
+	const struct rs_scene_instance *inst = rs_scene_instances(scene);
+	if (n == 0)
+		what = "the scene has no instances";
+	else if (n != r->instance_count)
+		what = "the instance count changed";
+	else if (rs_scene_prototype_count(scene) != r->prototype_count)
+		what = "the prototype count changed";
+	for (size_t i = 0; !what && i < n; i++)
+		if (inst[i].mesh != r->instance_keys[i * 3] ||
+		    inst[i].material != r->instance_keys[i * 3 + 1] ||
+		    inst[i].first_triangle != r->instance_keys[i * 3 + 2])
+			what = "an instance's prototype, material or triangles changed";
+	if (!what && plain_vertices_hash(scene) != r->plain_hash)
+		what = "plain (non-instance) vertices moved";
+	if (what)
+		return fail(r,
+		            rs_error_set(&r->error, RS_ERR_INVALID,
+		                         "render: update_instances: %s (only transforms may; "
+		                         "set_scene the new scene)",
+		                         what),
+		            err);
+	bool baked = !r->ops->update_instances;
+	status = update(r, scene, baked ? r->ops->update_vertices : r->ops->update_instances, err);
+	if (status == RS_OK) {
+		r->stats.instance_updates++;
+		r->stats.instance_update_baked = baked;
+	}
+	return status;
 }
 
 enum rs_status rs_renderer_render(struct rs_renderer *renderer, const struct rs_camera *camera,

@@ -27,6 +27,10 @@ enum rs_status rs_scene_create(const struct rs_scene_desc *desc, struct rs_scene
 	scene->max_triangles =
 	    desc && desc->max_triangles ? desc->max_triangles : RS_SCENE_DEFAULT_MAX_TRIANGLES;
 	scene->ambient = 0.1;
+	for (int a = 0; a < 3; ++a) {
+		scene->mesh_bounds.lo[a] = INFINITY;
+		scene->mesh_bounds.hi[a] = -INFINITY;
+	}
 	scene->camera.eye[2] = 10.0;
 	scene->camera.up[1] = 1.0;
 	memcpy(scene->environment.face_color, rs_default_face_colors,
@@ -54,6 +58,7 @@ void rs_scene_destroy(struct rs_scene **scene)
 	}
 	free(s->prototypes);
 	free(s->instances);
+	free(s->instance_bounds);
 	free(s);
 	*scene = NULL;
 }
@@ -184,8 +189,29 @@ enum rs_status rs__scene_validate_mesh(const struct rs_scene *scene,
 	return RS_OK;
 }
 
+void rs__scene_bounds_add(struct rs_bounds *b, const double p[3])
+{
+	for (int a = 0; a < 3; ++a) {
+		b->lo[a] = p[a] < b->lo[a] ? p[a] : b->lo[a];
+		b->hi[a] = p[a] > b->hi[a] ? p[a] : b->hi[a];
+	}
+}
+
 enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
                                  struct rs_error *err)
+{
+	RS_ASSERT(scene && mesh);
+	struct rs_bounds added;
+	enum rs_status status = rs__scene_append_mesh(scene, mesh, &added, err);
+	if (status == RS_OK) {
+		rs__scene_bounds_add(&scene->mesh_bounds, added.lo);
+		rs__scene_bounds_add(&scene->mesh_bounds, added.hi);
+	}
+	return status;
+}
+
+enum rs_status rs__scene_append_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                     struct rs_bounds *added, struct rs_error *err)
 {
 	RS_ASSERT(scene && mesh);
 	enum rs_status status = rs__scene_validate_mesh(scene, mesh, err);
@@ -231,17 +257,18 @@ enum rs_status rs_scene_add_mesh(struct rs_scene *scene, const struct rs_mesh_de
 	}
 	scene->vertex_count = vn;
 	scene->triangle_count = tn;
-	for (size_t i = v0; i < vn; ++i)
-		for (int a = 0; a < 3; ++a) {
-			double p = scene->positions_f64[i * 3 + a];
-			if (i == 0) {
-				scene->bounds.lo[a] = scene->bounds.hi[a] = p;
-			} else {
-				scene->bounds.lo[a] =
-				    p < scene->bounds.lo[a] ? p : scene->bounds.lo[a];
-				scene->bounds.hi[a] =
-				    p > scene->bounds.hi[a] ? p : scene->bounds.hi[a];
-			}
+	for (int a = 0; a < 3; ++a) {
+		added->lo[a] = INFINITY;
+		added->hi[a] = -INFINITY;
+		if (v0 == 0) {
+			scene->bounds.lo[a] = INFINITY;
+			scene->bounds.hi[a] = -INFINITY;
 		}
+	}
+	for (size_t i = v0; i < vn; ++i)
+		rs__scene_bounds_add(added, scene->positions_f64 + i * 3);
+	/* while stale, rs_scene_bounds() forms the union from the parts instead */
+	rs__scene_bounds_add(&scene->bounds, added->lo);
+	rs__scene_bounds_add(&scene->bounds, added->hi);
 	return RS_OK;
 }

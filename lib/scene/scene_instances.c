@@ -2,6 +2,7 @@
  * instance is baked into world-space triangles through rs_scene_add_mesh(), so every packer
  * and tracer sees ordinary geometry; its record keeps the transform and its triangle range
  * for a two-level packing. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,6 +130,37 @@ static enum rs_status check_transform(const double in[3][4], double out[3][4], d
 	return RS_OK;
 }
 
+/* Prototype p through m (det: of its 3x3 part): world positions in double, normals by the
+ * inverse transpose C / det (the sign of det matters; renormalised when stored). */
+static void bake(const struct rs_scene_prototype *p, const double m[3][4], double det, double *pos,
+                 float *nrm)
+{
+	double c[3][3];
+	cofactors(m, c);
+	for (size_t i = 0; i < p->vertex_count; ++i) {
+		const double *o = p->positions + i * 3;
+		const float *n = p->normals + i * 3;
+		for (int r = 0; r < 3; ++r) {
+			pos[i * 3 + r] = m[r][0] * o[0] + m[r][1] * o[1] + m[r][2] * o[2] + m[r][3];
+			nrm[i * 3 + r] =
+			    (float)((c[r][0] * n[0] + c[r][1] * n[1] + c[r][2] * n[2]) / det);
+		}
+	}
+}
+
+static enum rs_status bake_buffers(size_t nv, double **pos, float **nrm, struct rs_error *err)
+{
+	*pos = malloc(nv * 3 * sizeof **pos);
+	*nrm = malloc(nv * 3 * sizeof **nrm);
+	if (*pos && *nrm)
+		return RS_OK;
+	free(*pos);
+	free(*nrm);
+	*pos = NULL;
+	*nrm = NULL;
+	return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory baking an instance");
+}
+
 enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_instance_desc *desc,
                                      uint32_t *out_id, struct rs_error *err)
 {
@@ -153,30 +185,21 @@ enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_ins
 	inst.first_triangle = (uint32_t)scene->triangle_count;
 	inst.triangle_count = (uint32_t)p->triangle_count;
 	if (!rs__scene_grow((void **)&scene->instances, &scene->instance_capacity,
-	                    scene->instance_count + 1, sizeof *scene->instances))
+	                    scene->instance_count + 1, sizeof *scene->instances) ||
+	    !rs__scene_grow((void **)&scene->instance_bounds, &scene->instance_bounds_capacity,
+	                    scene->instance_count + 1, sizeof *scene->instance_bounds))
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding an instance");
 	size_t nv = p->vertex_count, nt = p->triangle_count;
-	double *pos = malloc(nv * 3 * sizeof *pos);
-	float *nrm = malloc(nv * 3 * sizeof *nrm);
+	double *pos = NULL;
+	float *nrm = NULL;
 	uint32_t *idx = malloc(nt * 3 * sizeof *idx);
-	if (!pos || !nrm || !idx) {
-		free(pos);
-		free(nrm);
+	status = idx ? bake_buffers(nv, &pos, &nrm, err)
+	             : rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory baking an instance");
+	if (status != RS_OK) {
 		free(idx);
-		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory baking an instance");
+		return status;
 	}
-	const double(*m)[4] = inst.transform;
-	double c[3][3]; /* normals by the inverse transpose, C / det; the sign of det matters */
-	cofactors(inst.transform, c);
-	for (size_t i = 0; i < nv; ++i) {
-		const double *o = p->positions + i * 3;
-		const float *n = p->normals + i * 3;
-		for (int r = 0; r < 3; ++r) {
-			pos[i * 3 + r] = m[r][0] * o[0] + m[r][1] * o[1] + m[r][2] * o[2] + m[r][3];
-			nrm[i * 3 + r] =
-			    (float)((c[r][0] * n[0] + c[r][1] * n[1] + c[r][2] * n[2]) / det);
-		}
-	}
+	bake(p, inst.transform, det, pos, nrm);
 	/* A mirror turns e1 x e2 against the transformed normal: wind the other way so a
 	 * triangle's geometric normal faces the side its vertex normals do, as in the prototype. */
 	bool mirror = det < 0.0;
@@ -193,7 +216,8 @@ enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_ins
 	                             .indices = idx,
 	                             .triangle_count = nt,
 	                             .material = inst.material};
-	status = rs_scene_add_mesh(scene, &baked, err);
+	status = rs__scene_append_mesh(scene, &baked,
+	                               &scene->instance_bounds[scene->instance_count], err);
 	free(pos);
 	free(nrm);
 	free(idx);
@@ -202,6 +226,61 @@ enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_ins
 	if (out_id)
 		*out_id = (uint32_t)scene->instance_count;
 	scene->instances[scene->instance_count++] = inst;
+	return RS_OK;
+}
+
+enum rs_status rs_scene_set_instance_transform(struct rs_scene *scene, uint32_t id,
+                                               const double transform[3][4], struct rs_error *err)
+{
+	RS_ASSERT(scene && transform);
+	if (id >= scene->instance_count)
+		return rs_error_set(err, RS_ERR_BAD_DATA, "unknown instance %u, the scene has %zu",
+		                    id, scene->instance_count);
+	struct rs_scene_instance *inst = &scene->instances[id];
+	double m[3][4], inverse[3][4], det = 0.0;
+	enum rs_status status = check_transform(transform, m, inverse, &det, err);
+	if (status != RS_OK)
+		return status;
+	if ((det < 0.0) != (det3(inst->transform) < 0.0))
+		return rs_error_set(err, RS_ERR_BAD_DATA,
+		                    "instance %u: the new transform %s where the old one %s (the "
+		                    "baked winding would change; add another instance)",
+		                    id, det < 0.0 ? "mirrors" : "does not mirror",
+		                    det < 0.0 ? "did not" : "did");
+	const struct rs_scene_prototype *p = &scene->prototypes[inst->mesh];
+	size_t nv = p->vertex_count;
+	/* the baked vertices are contiguous, and a triangle's first index is never swapped */
+	size_t v0 = scene->indices[(size_t)inst->first_triangle * 3] - p->indices[0];
+	double *pos = NULL;
+	float *nrm = NULL;
+	status = bake_buffers(nv, &pos, &nrm, err);
+	if (status != RS_OK)
+		return status;
+	bake(p, m, det, pos, nrm);
+	for (size_t i = 0; i < nv * 3; ++i)
+		if (!isfinite(pos[i]) || fabs(pos[i]) > FLT_MAX) {
+			free(pos);
+			free(nrm);
+			return rs_error_set(err, RS_ERR_BAD_DATA,
+			                    "instance %u: vertex %zu would have a NaN, infinite or "
+			                    "too large coordinate",
+			                    id, i / 3);
+		}
+	struct rs_bounds box = {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+	for (size_t i = 0; i < nv; ++i) {
+		rs__scene_bounds_add(&box, pos + i * 3);
+		for (int a = 0; a < 3; ++a)
+			scene->positions[(v0 + i) * 3 + a] = (float)pos[i * 3 + a];
+	}
+	memcpy(scene->positions_f64 + v0 * 3, pos, nv * 3 * sizeof *pos);
+	memcpy(scene->normals + v0 * 3, nrm, nv * 3 * sizeof *nrm);
+	rs_scene_normalize_normals(scene->normals + v0 * 3, nv);
+	free(pos);
+	free(nrm);
+	memcpy(inst->transform, m, sizeof m);
+	memcpy(inst->inverse, inverse, sizeof inverse);
+	scene->instance_bounds[id] = box;
+	scene->bounds_stale = true;
 	return RS_OK;
 }
 

@@ -36,6 +36,14 @@ struct rs_scene {
 	size_t prototype_count, prototype_capacity;
 	struct rs_scene_instance *instances;
 	size_t instance_count, instance_capacity;
+	/* Bounds kept apart so moving an instance (rs_scene_set_instance_transform) costs its own
+	 * vertices, not the scene's: instance_bounds[i] is instance i's baked world box,
+	 * mesh_bounds those of every vertex added by rs_scene_add_mesh() itself. `bounds` is
+	 * their union, stale while bounds_stale (rs_scene_bounds() then forms it, O(instances)). */
+	struct rs_bounds *instance_bounds;
+	size_t instance_bounds_capacity;
+	struct rs_bounds mesh_bounds;
+	bool bounds_stale;
 
 	struct rs_camera camera;
 	struct rs_environment environment;
@@ -57,6 +65,12 @@ void rs__scene_mesh_position(const struct rs_mesh_desc *mesh, size_t i, double o
 enum rs_status rs__scene_validate_mesh(const struct rs_scene *scene,
                                        const struct rs_mesh_desc *mesh, struct rs_error *err);
 int rs__scene_grow(void **array, size_t *capacity, size_t count, size_t size);
+/* rs_scene_add_mesh() without touching mesh_bounds: the box of the added vertices goes to
+ * *added instead (the whole-scene bounds are kept either way). */
+enum rs_status rs__scene_append_mesh(struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                     struct rs_bounds *added, struct rs_error *err);
+/* Grow `b` to hold p (an empty box has lo > hi). */
+void rs__scene_bounds_add(struct rs_bounds *b, const double p[3]);
 
 /* Renormalise normals in place; zero-length ones become (0, 1, 0) so none is NaN. */
 void rs_scene_normalize_normals(float *normals, size_t count);

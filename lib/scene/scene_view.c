@@ -175,6 +175,14 @@ void rs_scene_bounds(const struct rs_scene *scene, struct rs_bounds *out)
 		return;
 	}
 	*out = scene->bounds;
+	if (!scene->bounds_stale)
+		return;
+	/* instances moved: the union of the parts, the same min and max as over every vertex */
+	*out = scene->mesh_bounds;
+	for (size_t i = 0; i < scene->instance_count; ++i) {
+		rs__scene_bounds_add(out, scene->instance_bounds[i].lo);
+		rs__scene_bounds_add(out, scene->instance_bounds[i].hi);
+	}
 }
 
 void rs_scene_environment(const struct rs_scene *scene, struct rs_environment *out)

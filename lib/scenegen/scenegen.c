@@ -92,12 +92,6 @@ enum rs_status rs_scenegen_build(const struct rs_scenegen_desc *desc, struct rs_
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "scene kind %d does not move (frame %u asked)", (int)desc->kind,
 		                    (unsigned)desc->frame);
-	if (desc->frame > 0 && desc->instanced)
-		return rs_error_set(
-		    err, RS_ERR_INVALID,
-		    "an instanced herd does not move yet (frame %u asked; per-frame "
-		    "instance transforms are not in the render interface)",
-		    (unsigned)desc->frame);
 	uint32_t fps = desc->fps ? desc->fps : RS_SCENEGEN_DEFAULT_FPS;
 	st = rs_scene_create(NULL, &scene, err);
 	if (st != RS_OK)

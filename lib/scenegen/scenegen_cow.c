@@ -122,17 +122,21 @@ enum rs_status sg_load_cow(const char *cow_path, struct rs_scene **out, double *
 	return st;
 }
 
-/* Instance i of the prototype cow: add_copy's turn and placement as a transform. */
+/* Instance i of the prototype cow: add_copy's turn, placement and sway as a transform. */
 static enum rs_status add_instance(struct rs_scene *scene, const struct rs_scene *cow,
-                                   uint32_t proto, uint32_t i, uint32_t n, struct rs_error *err)
+                                   uint32_t proto, uint32_t i, uint32_t n, uint32_t frame,
+                                   uint32_t fps, struct rs_error *err)
 {
 	struct rs_bounds b;
 	uint32_t cols, rows;
-	double a = (double)i * COW_TURN_DEG * RS_PI / 180.0, cs = cos(a), sn = sin(a), c[3];
+	double dz = 0.0, dyaw = 0.0;
+	if (frame > 0 && i == n / 2)
+		sway(frame, fps, &dz, &dyaw);
+	double a = (double)i * COW_TURN_DEG * RS_PI / 180.0 + dyaw, cs = cos(a), sn = sin(a), c[3];
 
 	grid_shape(n, &cols, &rows);
 	double gx = ((double)(i % cols) - 0.5 * (double)(cols - 1)) * GRID_DX;
-	double gz = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * GRID_DZ;
+	double gz = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * GRID_DZ + dz;
 	rs_scene_bounds(cow, &b);
 	sg_center(&b, c);
 	struct rs_instance_desc d = {.mesh = proto,
@@ -165,7 +169,7 @@ static enum rs_status add_herd(struct rs_scene *scene, const char *cow_path, uin
 		st = rs_scene_add_prototype(scene, &d, &proto, err);
 	}
 	for (uint32_t i = 0; st == RS_OK && i < n; i++)
-		st = instanced ? add_instance(scene, cow, proto, i, n, err)
+		st = instanced ? add_instance(scene, cow, proto, i, n, frame, fps, err)
 		               : add_copy(scene, cow, i, n, mat, frame, fps, pos, buf, err);
 	free(pos);
 	free(buf);
@@ -219,15 +223,16 @@ const struct rs_material sg_cow_material = {
 
 /* The herd's bounds at rest (frame 0): the stage, camera, lights and environment of an
  * animated CowN stay where frame 0 has them, so every frame has the same topology and
- * only the moving cow's vertices differ. */
-static enum rs_status rest_bounds(const char *cow_path, uint32_t n, struct rs_bounds *out,
-                                  struct rs_error *err)
+ * only the moving cow's vertices differ (CowNi: its transform; the stage is the same to the
+ * bit, from the same instanced herd, so its plain triangles never move). */
+static enum rs_status rest_bounds(const char *cow_path, uint32_t n, bool instanced,
+                                  struct rs_bounds *out, struct rs_error *err)
 {
 	struct rs_scene *rest = NULL;
 	enum rs_status st = rs_scene_create(NULL, &rest, err);
 
 	if (st == RS_OK)
-		st = add_herd(rest, cow_path, n, 0, 1, false, err);
+		st = add_herd(rest, cow_path, n, 0, 1, instanced, err);
 	if (st == RS_OK)
 		rs_scene_bounds(rest, out);
 	rs_scene_destroy(&rest);
@@ -245,7 +250,7 @@ enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint3
 		return st;
 	if (frame == 0)
 		rs_scene_bounds(scene, &herd);
-	else if ((st = rest_bounds(cow_path, n, &herd, err)) != RS_OK)
+	else if ((st = rest_bounds(cow_path, n, instanced, &herd, err)) != RS_OK)
 		return st;
 	sg_center(&herd, c);
 	if ((st = add_stage(scene, &herd, err)) != RS_OK ||
@@ -266,7 +271,7 @@ enum rs_status sg_build_cows(struct rs_scene *scene, const char *cow_path, uint3
 		struct rs_environment env;
 		st = rs_scene_create(NULL, &rest, err);
 		if (st == RS_OK)
-			st = sg_build_cows(rest, cow_path, n, 0, fps, false, err);
+			st = sg_build_cows(rest, cow_path, n, 0, fps, instanced, err);
 		if (st == RS_OK) {
 			rs_scene_environment(rest, &env);
 			st = rs_scene_set_environment(scene, &env, err);

@@ -83,8 +83,7 @@ bool rs_scenegen_moves(const char *name)
 {
 	struct rs_scenegen_desc gen;
 	return name && rs_scenegen_parse(name, &gen, NULL) == RS_OK &&
-	       (gen.kind == RS_SCENEGEN_ANIMATED ||
-	        (gen.kind == RS_SCENEGEN_COW && !gen.instanced));
+	       (gen.kind == RS_SCENEGEN_ANIMATED || gen.kind == RS_SCENEGEN_COW);
 }
 
 enum rs_status rs_scenegen_load_frame(const char *name, uint32_t frame, uint32_t fps,
@@ -96,7 +95,8 @@ enum rs_status rs_scenegen_load_frame(const char *name, uint32_t frame, uint32_t
 	if (frame > 0 && !rs_scenegen_moves(name))
 		return rs_error_set(
 		    err, RS_ERR_INVALID,
-		    "scene '%.64s' does not move: frame %u needs 'animated' or cowN", name, frame);
+		    "scene '%.64s' does not move: frame %u needs 'animated', cowN or cowNi", name,
+		    frame);
 	if (rs_scenegen_parse(name, &gen, NULL) == RS_OK) {
 		gen.frame = frame;
 		gen.fps = fps;

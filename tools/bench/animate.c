@@ -1,7 +1,9 @@
 /*
  * raystream-bench --animate N SCENE...: what moving a scene costs per frame. For each frame
- * 1..N of a scene that moves (animated, cowN), one renderer takes it by
- * rs_renderer_update_vertices() (refit or rebuild, repack, upload of the changed rows) and
+ * 1..N of a scene that moves (animated, cowN, cowNi), one renderer takes it by
+ * rs_renderer_update_vertices() (refit or rebuild, repack, upload of the changed rows; cowNi
+ * by rs_renderer_update_instances(), which takes that path on backends without a two-level
+ * update) and
  * a second by a full rs_renderer_set_scene() (build, pack, upload, kernels); the two are
  * timed alternately, frame by frame, in the same window, so load changes hit both alike.
  * Scenes are made before the clock starts.
@@ -48,8 +50,11 @@ static enum rs_status run_scene(const struct bench_options *o, const char *name,
 	for (uint32_t k = 0; st == RS_OK && k < o->animate; ++k) {
 		st = rs_scenegen_load_frame(name, k + 1, 0, &next, err);
 		double t0 = rs_now_ms();
+		/* an instanced herd (cowNi) moves by its instance transforms */
 		if (st == RS_OK)
-			st = rs_renderer_update_vertices(r[0], next, err);
+			st = rs_scene_instance_count(next)
+			         ? rs_renderer_update_instances(r[0], next, err)
+			         : rs_renderer_update_vertices(r[0], next, err);
 		double t1 = rs_now_ms();
 		if (st == RS_OK)
 			st = rs_renderer_set_scene(r[1], next, err);
@@ -124,7 +129,7 @@ int bench_animate(const struct bench_options *o)
 	for (size_t i = 0; i < o->scene_count; ++i) {
 		if (!rs_scenegen_moves(o->scenes[i])) {
 			rs_error_set(&err, RS_ERR_INVALID,
-			             "--animate: scene '%s' does not move (animated, cowN)",
+			             "--animate: scene '%s' does not move (animated, cowN, cowNi)",
 			             o->scenes[i]);
 			return rs_cli_fail(&cli, &err);
 		}

@@ -78,8 +78,9 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	                    "frame times of the render options per SCENE (was raystream-glbench)"),
 	    RS_CLI_FLAG_OPT("--builds", &o->builds,
 	                    "BVH build time against Embree's medium build, same threads"),
-	    RS_CLI_U32_OPT("--animate", &o->animate, 1, 240,
-	                   "frames of each SCENE (animated, cowN): update against set_scene"),
+	    RS_CLI_U32_OPT(
+	        "--animate", &o->animate, 1, 240,
+	        "frames of each SCENE (animated, cowN, cowNi): update against set_scene"),
 	    RS_CLI_CALL_OPT("--scene", &o->only, parse_scene, "NAME",
 	                    "tables: one of the paper's scenes [all]"),
 	    RS_CLI_U32_OPT("--size", &o->size, 8, 16384, "image side, pixels"),

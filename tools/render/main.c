@@ -2,9 +2,9 @@
  * raystream-render: render a scene (box, mirrors, animated, cowN or a mesh file) with a
  * backend and write the image (PNG or JPEG), the primary-hit depth and a stats file, each
  * named on stdout; a scene that moves at any --frame, or --animate frames in a row through
- * rs_renderer_update_vertices(). Options through rs_cli and rs_render_desc_set (docs/tools.md).
- * Every failure is one line on stderr and exit status 1 (2 for usage errors); no output file is
- * ever left half-written.
+ * rs_renderer_update_vertices() (an instanced one through rs_renderer_update_instances()). Options
+ * through rs_cli and rs_render_desc_set (docs/tools.md). Every failure is one line on stderr and
+ * exit status 1 (2 for usage errors); no output file is ever left half-written.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,9 +34,10 @@ static const char about[] =
     "renders on the GPU where a GL context opens and says so on stderr when it falls back\n"
     "to cpu, the double-precision reference. Render options are the library's\n"
     "(rs_render_desc_set), docs/render.md.\n"
-    "Scenes that move (animated, cowN): --frame N renders frame N; --animate COUNT renders\n"
-    "COUNT frames from it, moving the vertices between frames (refit, partial upload), and\n"
-    "names each image and depth FILE-NNNN.ext; frame N of a run is --frame N's image.\n";
+    "Scenes that move (animated, cowN, cowNi): --frame N renders frame N; --animate COUNT renders\n"
+    "COUNT frames from it, moving the vertices between frames (refit, partial upload; cowNi:\n"
+    "the instance transforms), and names each image and depth FILE-NNNN.ext; frame N of a\n"
+    "run is --frame N's image.\n";
 
 /* Returns 0 to run, else the exit status (0 after --help, 2 for a usage error). */
 static int parse_args(int argc, char **argv, struct options *o)
@@ -80,7 +81,8 @@ static int parse_args(int argc, char **argv, struct options *o)
 		o->out = "out.png";
 	if ((o->frame || o->animate > 1) && !rs_scenegen_moves(o->scene))
 		return rs_cli_usage_error(
-		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN)", o->scene);
+		    &cli, "--frame/--animate: scene '%s' does not move (animated, cowN, cowNi)",
+		    o->scene);
 	if (o->out) {
 		const char *dot = strrchr(o->out, '.');
 		o->jpeg = dot && (!strcasecmp(dot, ".jpg") || !strcasecmp(dot, ".jpeg"));
@@ -152,6 +154,8 @@ static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
 		cJSON_AddNumberToObject(doc, "update_sah_ratio", st->update_sah_ratio);
 		cJSON_AddNumberToObject(doc, "refit_ms", st->refit_ms);
 		cJSON_AddNumberToObject(doc, "upload_bytes", (double)st->upload_bytes);
+		cJSON_AddNumberToObject(doc, "instance_updates", st->instance_updates);
+		cJSON_AddNumberToObject(doc, "tlas_build_ms", st->tlas_build_ms);
 	}
 	if (!strcmp(st->backend, "cpu"))
 		cJSON_AddNumberToObject(doc, "threads", d->threads);
@@ -265,8 +269,12 @@ static int run(const struct options *o)
 		uint32_t f = o->frame + k;
 		/* the next frame's scene replaces this one's only once the renderer holds it */
 		if (k > 0) {
-			if (rs_scenegen_load_frame(o->scene, f, o->fps, &next, &err) != RS_OK ||
-			    rs_renderer_update_vertices(renderer, next, &err) != RS_OK)
+			if (rs_scenegen_load_frame(o->scene, f, o->fps, &next, &err) != RS_OK)
+				goto done;
+			/* an instanced herd (cowNi) moves by its instance transforms */
+			if ((rs_scene_instance_count(next)
+			         ? rs_renderer_update_instances(renderer, next, &err)
+			         : rs_renderer_update_vertices(renderer, next, &err)) != RS_OK)
 				goto done;
 			rs_scene_destroy(&scene);
 			scene = next;

@@ -214,6 +214,13 @@ struct rs_packed_instances {
 	uint32_t *first_triangle;        /**< per instance: scene id of its first triangle */
 	uint32_t *loose_ids; /**< the loose BLAS's local -> scene triangle ids, or NULL */
 	double build_ms;     /**< BLAS + TLAS builds (without packing) */
+	/** The TLAS's own build and pack, of rs_pack_instances() or the last
+	 * rs_pack_instances_update(). */
+	double top_build_ms, top_pack_ms;
+	/** Per mesh: its object-space box (of the BLAS's vertices), what the TLAS's instance
+	 * boxes are made from (mesh_count of them). */
+	struct rs_bounds *mesh_bounds;
+	struct rs_pack_desc pack; /**< the pack options as given (updates repack the TLAS so) */
 };
 
 /**
@@ -289,6 +296,23 @@ enum rs_status rs_pack_two_level(const struct rs_scene *scene,
 void rs_pack_two_level_free(struct rs_packed_two_level *packed);
 /** Bytes of a merged two-level packing: its four textures and the instance texture. */
 size_t rs_pack_two_level_bytes(const struct rs_packed_two_level *packed);
+
+/**
+ * Per-frame instance transforms (rs_scene_set_instance_transform): rebuild and repack only the
+ * TLAS of `packed` (made by rs_pack_instances() of a scene with the same prototypes,
+ * instances' meshes and triangle ranges, and loose triangles) from `scene`'s current
+ * transforms with `bvh` (NULL: defaults) and the pack options `packed` was made with, and
+ * recompute to_object and to_world_normal. The BLASes, their origins and mesh_bounds are not
+ * touched. The result equals rs_pack_instances() of `scene` (the same TLAS and transforms,
+ * so the same hits). The TLAS's node count and texture sizes follow the new tree, so a GPU
+ * re-uploads the whole `top` (its
+ * four textures, reallocating them when a size changed) and the instance transforms (six
+ * RGBA32F texels an instance), never a BLAS. RS_ERR_INVALID (one line, `packed`
+ * unchanged) for another scene's instances; on any failure `packed` is unchanged.
+ */
+enum rs_status rs_pack_instances_update(struct rs_packed_instances *packed,
+                                        const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
+                                        struct rs_error *err);
 
 /** Bytes of a packed scene's four textures (width * height * 16 each). */
 size_t rs_pack_bytes(const struct rs_packed *packed);

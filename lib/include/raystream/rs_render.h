@@ -10,7 +10,8 @@
  * number of frames, each with an optional camera (the tracked viewer changes only the
  * camera every frame; nothing else is uploaded) -> destroy. Between frames,
  * rs_renderer_update_vertices() moves the scene's vertices (same topology): the BVH is
- * refitted (or rebuilt past rs_render_desc.rebuild_ratio) and only what changed is uploaded.
+ * refitted (or rebuilt past rs_render_desc.rebuild_ratio) and only what changed is uploaded;
+ * rs_renderer_update_instances() moves its instances (new transforms only).
  *
  * Threading: a renderer is used by one thread at a time. GL backends make their context
  * current in set_scene and render and release it before returning.
@@ -206,6 +207,16 @@ struct rs_render_stats {
 	/** Bytes of scene textures the last set_scene or update uploaded (CPU: 0); pack_ms and
 	 * upload_ms are the last update's too. */
 	uint64_t upload_bytes;
+	/** Instance updates (rs_renderer_update_instances) since set_scene; each is counted in
+	 * `updates` too. */
+	uint32_t instance_updates;
+	/** The last instance update went through the backend's update_vertices (it has no
+	 * update_instances op): the baked triangles refitted or rebuilt, as `update_rebuilt`
+	 * says; false when the backend rebuilt only its top-level tree. */
+	bool instance_update_baked;
+	/** The last instance update's top-level (TLAS) build; its packing is in pack_ms (0 when
+	 * instance_update_baked). */
+	double tlas_build_ms;
 };
 
 /** Where a frame goes; caller-owned buffers of the renderer's width * height pixels. */
@@ -246,6 +257,14 @@ struct rs_renderer_ops {
 	 * RS_ERR_UNSUPPORTED, which it returns before changing anything. */
 	enum rs_status (*update_vertices)(void *impl, const struct rs_scene *scene,
 	                                  struct rs_render_stats *stats, struct rs_error *err);
+	/** Optional (NULL: the renderer calls update_vertices instead, as the baked triangles
+	 * moved): move to `scene`, which the caller checked has the current scene's topology,
+	 * prototypes and instances (only instance transforms differ; it may be the same object,
+	 * changed by rs_scene_set_instance_transform()); rebuild the top-level tree
+	 * (rs_pack_instances_update()) and upload it and the transforms; fill tlas_build_ms,
+	 * pack_ms, upload_ms and upload_bytes. Failure rules as update_vertices. */
+	enum rs_status (*update_instances)(void *impl, const struct rs_scene *scene,
+	                                   struct rs_render_stats *stats, struct rs_error *err);
 };
 
 /**
@@ -298,6 +317,24 @@ enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct 
  */
 enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
                                            const struct rs_scene *scene, struct rs_error *err);
+
+/**
+ * Move the current scene's instances for the next frame: `scene` has the current scene's
+ * topology (as update_vertices), prototypes and instances (the same count, each with the
+ * same prototype, material and triangles) and its plain triangles (rs_scene_add_mesh: their
+ * vertices and normals, compared by a hash kept at set_scene); only instance transforms
+ * differ, so `scene` may be the current scene itself after rs_scene_set_instance_transform()
+ * calls, or another scene built the same way (a frame of "cowNi"). It replaces the current scene as
+ * update_vertices' does. A backend with an update_instances op rebuilds and uploads only its
+ * top-level tree and the transforms; the others (every backend today) take the update_vertices
+ * path, as the baked triangles moved, so every backend shows the image a set_scene of `scene`
+ * shows. RS_ERR_INVALID before set_scene, for a scene with no instances, and for any other
+ * change (one line naming it; the current scene stays); RS_ERR_UNSUPPORTED as
+ * update_vertices. Stats: instance_updates, instance_update_baked, tlas_build_ms, and the
+ * fields update_vertices fills.
+ */
+enum rs_status rs_renderer_update_instances(struct rs_renderer *renderer,
+                                            const struct rs_scene *scene, struct rs_error *err);
 
 /** RS_OK when `next` has the topology of `current` (update_vertices' condition), else
  * RS_ERR_INVALID with one line naming the first difference. */

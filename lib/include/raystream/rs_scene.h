@@ -180,15 +180,32 @@ enum rs_status rs_scene_add_prototype(struct rs_scene *scene, const struct rs_me
  * 3x3 part A, max-norm), and vertices that would leave the float range. RS_ERR_LIMIT beyond
  * max_triangles.
  *
- * For now an instance is baked into the scene's world-space triangles when added (the scene's
+ * An instance is baked into the scene's world-space triangles when added (the scene's
  * triangle arrays, packing and both tracers see it as ordinary geometry): positions
  * transformed in double, normals by the inverse transpose and renormalised, and a mirrored
  * instance's triangles wound the other way (v1 <-> v2) so their geometric normals keep facing
  * out as the prototype's do. The instance records keep what a two-level (TLAS over
- * per-prototype BLAS) packing needs; that packing is not built yet (docs/bvh.md).
+ * per-prototype BLAS) packing needs (rs_pack_instances(), docs/bvh.md "Instances").
  */
 enum rs_status rs_scene_add_instance(struct rs_scene *scene, const struct rs_instance_desc *desc,
                                      uint32_t *out_id, struct rs_error *err);
+
+/**
+ * Move instance `id` (rs_scene_add_instance's id) for the next frame: `transform` (object ->
+ * world, as rs_instance_desc.transform; all zero: the identity) replaces its transform, and
+ * its baked world triangles are baked again from the prototype exactly as add_instance bakes
+ * them (positions, normals by the inverse transpose; rs_scene_bounds() follows). Triangle
+ * ids, indices and materials stay, so the scene keeps the topology that
+ * rs_render_scene_same_topology() compares, and rs_renderer_update_instances() (or
+ * update_vertices) takes it. Refuses (RS_ERR_BAD_DATA, one line, nothing changed) an unknown
+ * id, the transforms add_instance refuses (NaN, infinite, singular, vertices out of float
+ * range), and a change of mirroring (the sign of the determinant): a mirrored instance's
+ * baked triangles are wound the other way, which is another topology (add a mirrored
+ * instance instead). O(the instance's vertices); the scene's bounds are formed again from
+ * per-instance boxes when asked (O(instances)).
+ */
+enum rs_status rs_scene_set_instance_transform(struct rs_scene *scene, uint32_t id,
+                                               const double transform[3][4], struct rs_error *err);
 
 /** Prototype `id` (< rs_scene_prototype_count) as a mesh description pointing into the scene
  * (double positions, normals, indices, material): valid until the scene changes. */

@@ -59,9 +59,10 @@ struct rs_scenegen_desc {
 	uint32_t frame;
 	uint32_t fps; /**< 0 -> RS_SCENEGEN_DEFAULT_FPS */
 	/** CowN as N instances of one prototype cow (rs_scene_add_instance) instead of N copies:
-	 * the same triangles in the same order (name "cowNi"), for two-level packing. Still:
-	 * per-frame instance transforms are not in the render interface yet (frame > 0 is
-	 * refused). */
+	 * the same triangles in the same order (name "cowNi"), for two-level packing. It moves
+	 * as CowN does: at frame > 0 cow N / 2 has CowN's sway as its instance transform, and
+	 * every other triangle (the stage) is the same to the bit in every frame, so
+	 * rs_renderer_update_instances() takes any frame after any. */
 	bool instanced;
 };
 
@@ -112,12 +113,12 @@ enum rs_status rs_scenegen_data_path(const char *file, char *out, size_t size,
 enum rs_status rs_scenegen_load(const char *name, struct rs_scene **out, struct rs_error *err);
 
 /** rs_scenegen_load() of frame `frame` at `fps` (0: RS_SCENEGEN_DEFAULT_FPS) of a scene that
- * moves ("animated", "cowN"); frame 0 of any scene is rs_scenegen_load()'s; RS_ERR_INVALID
+ * moves ("animated", "cowN", "cowNi"); frame 0 of any scene is rs_scenegen_load()'s; RS_ERR_INVALID
  * for frame > 0 of one that does not move. */
 enum rs_status rs_scenegen_load_frame(const char *name, uint32_t frame, uint32_t fps,
                                       struct rs_scene **out, struct rs_error *err);
 
-/** Whether the scene named `name` moves with its frame ("animated", "cowN"). */
+/** Whether the scene named `name` moves with its frame ("animated", "cowN", "cowNi"). */
 bool rs_scenegen_moves(const char *name);
 
 /**
