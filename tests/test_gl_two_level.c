@@ -258,6 +258,54 @@ static void room_of_instanced_walls_leaks_no_pixel(void **state)
 	assert_int_equal(hits, SIZE * SIZE);
 }
 
+/* Cow17i's swaying cow moved by rs_renderer_update_instances(): the image of a fresh
+ * set_scene of that frame, with only the TLAS and the instance texture sent. */
+static void moved_instances_render_as_set_scene_sending_the_tlas_only(void **state)
+{
+	struct rs_scene *s0 = NULL, *s5 = NULL;
+	assert_int_equal(rs_scenegen_load_frame("cow17i", 0, 0, &s0, NULL), RS_OK);
+	assert_int_equal(rs_scenegen_load_frame("cow17i", 5, 0, &s5, NULL), RS_OK);
+	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .passes = 2, .lights = 1};
+	struct rs_renderer *moved = gl_open("egl", &desc), *fresh = gl_open("egl", &desc);
+	if (!moved || !fresh) {
+		rs_renderer_destroy(&moved);
+		rs_renderer_destroy(&fresh);
+		rs_scene_destroy(&s0);
+		rs_scene_destroy(&s5);
+		gl_skip();
+	}
+	struct rs_error err;
+	assert_int_equal(rs_renderer_set_scene(moved, s0, &err), RS_OK);
+	uint64_t full = rs_renderer_stats(moved)->upload_bytes;
+	if (rs_renderer_update_instances(moved, s5, &err) != RS_OK)
+		fail_msg("update: %s", err.message);
+	const struct rs_render_stats *st = rs_renderer_stats(moved);
+	print_message("update: %llu bytes sent (set_scene %llu), TLAS build %.2f ms\n",
+	              (unsigned long long)st->upload_bytes, (unsigned long long)full,
+	              st->tlas_build_ms);
+	assert_false(st->instance_update_baked);
+	assert_true(st->upload_bytes > 17u * RS_PACK_INSTANCE_TEXELS * 16u);
+	assert_true(st->upload_bytes * 20 < full);
+	/* exactly the TLAS's items and the instance texture (rs_packed_two_level.top_bytes: the
+	 * same for any texture size limit) */
+	struct rs_render_accel ref;
+	assert_int_equal(rs_render_accel_build_two_level(s5, NULL, NULL, &ref, NULL), RS_OK);
+	assert_int_equal(st->upload_bytes, ref.two_level.top_bytes);
+	rs_render_accel_free(&ref);
+	assert_int_equal(rs_renderer_set_scene(fresh, s5, &err), RS_OK);
+	static struct image a, b;
+	struct rs_frame fa = {.rgb = a.rgb, .triangle = a.triangle};
+	struct rs_frame fb = {.rgb = b.rgb, .triangle = b.triangle};
+	assert_int_equal(rs_renderer_render(moved, NULL, &fa, NULL), RS_OK);
+	assert_int_equal(rs_renderer_render(fresh, NULL, &fb, NULL), RS_OK);
+	assert_memory_equal(a.triangle, b.triangle, sizeof a.triangle);
+	assert_memory_equal(a.rgb, b.rgb, sizeof a.rgb);
+	rs_renderer_destroy(&moved);
+	rs_renderer_destroy(&fresh);
+	rs_scene_destroy(&s0);
+	rs_scene_destroy(&s5);
+}
+
 static void two_level_is_refused_with_raster_passes(void **state)
 {
 	struct rs_scene *inst = gl_scene("cow5i");
@@ -289,6 +337,7 @@ int main(void)
 	    cmocka_unit_test(transformed_instances_render_as_baked),
 	    cmocka_unit_test(far_from_origin_instances_render_as_baked),
 	    cmocka_unit_test(room_of_instanced_walls_leaks_no_pixel),
+	    cmocka_unit_test(moved_instances_render_as_set_scene_sending_the_tlas_only),
 	    cmocka_unit_test(two_level_is_refused_with_raster_passes),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));

@@ -102,6 +102,39 @@ static void cow17i_merged_is_a_tenth_of_cow17(void **state)
 	rs_scene_destroy(&s_inst);
 }
 
+static bool same_texture(const struct rs_texture *a, const struct rs_texture *b)
+{
+	return a->width == b->width && a->height == b->height &&
+	       !memcmp(a->texels, b->texels, (size_t)a->width * a->height * 16u);
+}
+
+/* An instance update rewrites the merged layout in place into a fresh packing's bytes. */
+static void instance_update_equals_a_fresh_packing(void **state)
+{
+	struct rs_scene *s0 = NULL, *s5 = NULL;
+	assert_int_equal(rs_scenegen_load_frame("cow17i", 0, 0, &s0, NULL), RS_OK);
+	assert_int_equal(rs_scenegen_load_frame("cow17i", 5, 0, &s5, NULL), RS_OK);
+	struct rs_render_accel moved, fresh;
+	assert_int_equal(rs_render_accel_build_two_level(s0, NULL, NULL, &moved, NULL), RS_OK);
+	assert_int_equal(rs_render_accel_build_two_level(s5, NULL, NULL, &fresh, NULL), RS_OK);
+	const struct rs_packed *a = &moved.two_level.all, *b = &fresh.two_level.all;
+	assert_false(same_texture(&moved.two_level.instances, &fresh.two_level.instances));
+	assert_int_equal(rs_render_accel_update_instances(&moved, s5, NULL, NULL), RS_OK);
+	assert_true(same_texture(&a->nodes, &b->nodes));
+	assert_true(same_texture(&a->triangles, &b->triangles));
+	assert_true(same_texture(&a->normals, &b->normals));
+	assert_true(same_texture(&moved.two_level.instances, &fresh.two_level.instances));
+	assert_memory_equal(a->origin, b->origin, sizeof a->origin);
+	assert_memory_equal(moved.packed.origin, b->origin, sizeof a->origin);
+	print_message("update: TLAS and instances %zu of %zu bytes\n", moved.two_level.top_bytes,
+	              rs_pack_two_level_bytes(&moved.two_level));
+	assert_true(moved.two_level.top_bytes * 20 < rs_pack_two_level_bytes(&moved.two_level));
+	rs_render_accel_free(&moved);
+	rs_render_accel_free(&fresh);
+	rs_scene_destroy(&s0);
+	rs_scene_destroy(&s5);
+}
+
 static void two_level_is_refused_where_it_cannot_be_walked(void **state)
 {
 	struct rs_scene *s_flat = build("cow5"), *s_inst = build("cow5i");
@@ -138,6 +171,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(cow17i_two_level_renders_as_cow17),
 	    cmocka_unit_test(cow17i_merged_is_a_tenth_of_cow17),
+	    cmocka_unit_test(instance_update_equals_a_fresh_packing),
 	    cmocka_unit_test(two_level_is_refused_where_it_cannot_be_walked),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -345,6 +345,9 @@ void rs_gles_scene_delete(struct gles *g);
  * glBufferSubData for buffer storage); *out_bytes counts what was. */
 enum rs_status rs_gles_scene_update(struct gles *g, const struct rs_packed *next,
                                     uint64_t *out_bytes, struct rs_error *err);
+/* Two levels, after rs_render_accel_update_instances(): send the TLAS's rows of the node
+ * and triangle textures and the instance texture, nothing of the BLASes; bytes sent. */
+enum rs_status rs_gles_scene_update_top(struct gles *g, uint64_t *out_bytes, struct rs_error *err);
 /* The texture a plan's REF_* names. */
 GLuint rs_gles_target(const struct gles *g, uint8_t ref);
 

@@ -362,6 +362,41 @@ static enum rs_status gles_update_vertices(void *impl, const struct rs_scene *sc
 	return st;
 }
 
+/* Per-frame instance transforms. Two levels: the TLAS rebuilt and merged in lib/render, and
+ * only its rows and the instance texture sent; flattened: the baked triangles moved. */
+static enum rs_status gles_update_instances(void *impl, const struct rs_scene *scene,
+                                            struct rs_render_stats *stats, struct rs_error *err)
+{
+	struct gles *g = impl;
+	if (!g->accel.two_level.instance_count) {
+		enum rs_status st = gles_update_vertices(impl, scene, stats, err);
+		stats->instance_update_baked = true;
+		return st;
+	}
+	struct rs_bvh_desc bvh = rs_render_bvh_desc(&g->desc);
+	enum rs_status st = rs_render_accel_update_instances(&g->accel, scene, &bvh, err);
+	struct rs_trace_desc td = rs_render_trace_desc(&g->desc);
+	td.two_level = &g->accel.two_level;
+	/* the TLAS frame moved with the instances: the frame is made again */
+	if (st == RS_OK)
+		st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);
+	if (st == RS_OK)
+		st = g->cops->make_current(g->ctx, err);
+	if (st != RS_OK)
+		return st;
+	double t0 = rs_now_ms();
+	uint64_t bytes = 0;
+	st = rs_gles_scene_update_top(g, &bytes, err);
+	g->gl.Finish();
+	stats->upload_ms = rs_now_ms() - t0;
+	g->cops->release(g->ctx);
+	g->scene = scene;
+	stats->tlas_build_ms = g->accel.tlas_build_ms;
+	stats->pack_ms = g->accel.pack_ms;
+	stats->upload_bytes = bytes;
+	return st;
+}
+
 static void gles_destroy(void *impl)
 {
 	struct gles *g = impl;
@@ -456,13 +491,15 @@ static const struct rs_renderer_ops gles_ops_egl = {.name = "egl",
                                                     .render = gles_render,
                                                     .destroy = gles_destroy,
                                                     .describe = gles_describe,
-                                                    .update_vertices = gles_update_vertices};
+                                                    .update_vertices = gles_update_vertices,
+                                                    .update_instances = gles_update_instances};
 static const struct rs_renderer_ops gles_ops_osmesa = {.name = "osmesa",
                                                        .set_scene = gles_set_scene,
                                                        .render = gles_render,
                                                        .destroy = gles_destroy,
                                                        .describe = gles_describe,
-                                                       .update_vertices = gles_update_vertices};
+                                                       .update_vertices = gles_update_vertices,
+                                                       .update_instances = gles_update_instances};
 
 enum rs_status rs_gles_renderer_create(const struct rs_gl_context_ops *ops, void *ctx,
                                        const struct rs_render_desc *desc, struct rs_renderer **out,

@@ -40,7 +40,7 @@ static void copy_nodes(const struct rs_packed *src, uint32_t base, uint32_t slot
 /* Copy tree `src`'s slots (triangle and normal texels) to slot `base` of `dst`; ids !=
  * NULL replaces t0.w by ids[local id]. The normals' spare channel gets the local id -> slot
  * map (and the loose BLAS's local id -> scene id) that shading decodes a hit through. */
-static void copy_slots(const struct rs_packed *src, uint32_t base, const uint32_t *ids,
+static void copy_slots(const struct rs_packed *src, uint32_t base, const uint32_t *ids, bool map,
                        struct rs_packed *dst)
 {
 	size_t bytes = (size_t)src->triangle_count * RS_PACK_TRIANGLE_TEXELS * 16u;
@@ -51,7 +51,7 @@ static void copy_slots(const struct rs_packed *src, uint32_t base, const uint32_
 	for (uint32_t s = 0; s < src->triangle_count; s++) {
 		float *w = t + (size_t)s * RS_PACK_TRIANGLE_TEXELS * 4u + 3u;
 		uint32_t local = rs_pack_index(*w);
-		if (local >= src->triangle_count)
+		if (!map || local >= src->triangle_count)
 			continue;
 		float *n =
 		    (float *)rs_pack_texel(&dst->normals, RS_PACK_NORMAL_TEXELS, base + local, 0);
@@ -115,6 +115,43 @@ static void write_instance(const struct rs_scene *scene, const struct rs_packed_
 	set4(t + 4 * 11, blas->triangle_count, slot_base[mesh], 0.0, 0.0);
 }
 
+/* The TLAS (nodes, instance boxes), the frame it sets and every instance's texels; what a
+ * transform update rewrites. */
+static void write_top(const struct rs_scene *scene, const struct rs_packed_instances *pi,
+                      const uint32_t *node_base, const uint32_t *slot_base,
+                      struct rs_packed_two_level *out)
+{
+	const struct rs_packed *top = &pi->top;
+	/* a smaller tree than the last leaves no stale nodes behind it */
+	size_t texels = out->all.node_format == RS_PACK_NODES_PAPER ? RS_PACK_NODE_TEXELS
+	                                                            : RS_PACK_COMPACT_NODE_TEXELS;
+	memset(out->all.nodes.words + (size_t)out->top_node_base * texels * 4u, 0,
+	       (size_t)out->top_node_capacity * texels * 16u);
+	copy_nodes(top, out->top_node_base, out->top_slot_base, &out->all);
+	copy_slots(top, out->top_slot_base, NULL, false, &out->all);
+	out->top_node_count = top->node_count;
+	memcpy(out->all.origin, top->origin, sizeof top->origin);
+	memcpy(out->all.node_grid_origin, top->node_grid_origin, sizeof top->node_grid_origin);
+	memcpy(out->all.node_grid_step, top->node_grid_step, sizeof top->node_grid_step);
+	for (uint32_t i = 0; i < pi->instance_count; i++)
+		write_instance(scene, pi, node_base, slot_base, i, out);
+}
+
+/* Where each BLAS starts in the merged node and slot items. */
+static void bases(const struct rs_packed_instances *pi, uint32_t orders, uint32_t *node_base,
+                  uint32_t *slot_base, uint64_t *out_nodes, uint64_t *out_slots)
+{
+	uint64_t nodes = 0, slots = 0;
+	for (uint32_t k = 0; k < pi->mesh_count; k++) {
+		node_base[k] = (uint32_t)(nodes < RS_PACK_MAX_ITEMS ? nodes : RS_PACK_MAX_ITEMS);
+		slot_base[k] = (uint32_t)(slots < RS_PACK_MAX_ITEMS ? slots : RS_PACK_MAX_ITEMS);
+		nodes += (uint64_t)pi->meshes[k].node_count * orders;
+		slots += pi->meshes[k].triangle_count;
+	}
+	*out_nodes = nodes;
+	*out_slots = slots;
+}
+
 static enum rs_status check_trees(const struct rs_packed_instances *pi, struct rs_error *err)
 {
 	const struct rs_packed *top = &pi->top;
@@ -148,13 +185,8 @@ enum rs_status rs_pack_two_level(const struct rs_scene *scene, const struct rs_p
 		free(slot_base);
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for instances");
 	}
-	uint64_t nodes = 0, slots = 0;
-	for (uint32_t k = 0; k < pi->mesh_count; k++) {
-		node_base[k] = (uint32_t)(nodes < RS_PACK_MAX_ITEMS ? nodes : RS_PACK_MAX_ITEMS);
-		slot_base[k] = (uint32_t)(slots < RS_PACK_MAX_ITEMS ? slots : RS_PACK_MAX_ITEMS);
-		nodes += (uint64_t)pi->meshes[k].node_count * orders;
-		slots += pi->meshes[k].triangle_count;
-	}
+	uint64_t nodes, slots;
+	bases(pi, orders, node_base, slot_base, &nodes, &slots);
 	/* The TLAS after the BLASes, with room for any binary tree over n items (2n - 1). Not
 	 * padded to a row start: at GL's usual 16384-texel limit a row of triangles is 192 KiB,
 	 * more than Cow17i's whole BLAS; an update sends the rows from the TLAS's first. */
@@ -207,11 +239,10 @@ enum rs_status rs_pack_two_level(const struct rs_scene *scene, const struct rs_p
 		for (uint32_t k = 0; k < pi->mesh_count; k++) {
 			bool loose = pi->loose_ids && k == pi->mesh_count - 1;
 			copy_nodes(&pi->meshes[k], node_base[k], slot_base[k], &out->all);
-			copy_slots(&pi->meshes[k], slot_base[k], loose ? pi->loose_ids : NULL,
+			copy_slots(&pi->meshes[k], slot_base[k], loose ? pi->loose_ids : NULL, true,
 			           &out->all);
 		}
-		copy_nodes(top, out->top_node_base, out->top_slot_base, &out->all);
-		copy_slots(top, out->top_slot_base, NULL, &out->all);
+		write_top(scene, pi, node_base, slot_base, out);
 		memcpy(out->all.materials.texels, top->materials.texels,
 		       (size_t)top->materials.width * top->materials.height * 16u);
 		memcpy(out->all.origin, top->origin, sizeof top->origin);
@@ -220,16 +251,52 @@ enum rs_status rs_pack_two_level(const struct rs_scene *scene, const struct rs_p
 		memcpy(out->all.node_grid_step, top->node_grid_step, sizeof top->node_grid_step);
 		for (uint32_t i = 0; i < n; i++)
 			write_instance(scene, pi, node_base, slot_base, i, out);
-		size_t node_row = (size_t)out->all.nodes.width * 16u,
-		       tri_row = (size_t)out->all.triangles.width * 16u;
-		out->top_bytes = (out->all.nodes.height - out->top_node_base / row) * node_row +
-		                 (out->all.triangles.height - out->top_slot_base / row) * tri_row +
-		                 (size_t)out->instances.width * out->instances.height * 16u;
+		/* the TLAS's items (reserved nodes, instance boxes) and the instances */
+		size_t per = out->all.node_format == RS_PACK_NODES_PAPER
+		                 ? RS_PACK_NODE_TEXELS
+		                 : RS_PACK_COMPACT_NODE_TEXELS;
+		out->top_bytes =
+		    ((size_t)out->top_node_capacity * per + (size_t)n * RS_PACK_TRIANGLE_TEXELS +
+		     (size_t)out->instances.width * out->instances.height) *
+		    16u;
 	}
 	free(node_base);
 	free(slot_base);
 	if (st != RS_OK)
 		rs_pack_two_level_free(out);
+	return st;
+}
+
+enum rs_status rs_pack_two_level_update(const struct rs_scene *scene,
+                                        const struct rs_packed_instances *pi,
+                                        struct rs_packed_two_level *out, struct rs_error *err)
+{
+	RS_ASSERT(scene && pi && out);
+	const struct rs_packed *top = &pi->top;
+	if (pi->instance_count != out->instance_count || top->node_orders != out->tree_orders ||
+	    top->row_items != out->all.row_items || top->node_format != out->all.node_format ||
+	    (uint64_t)top->node_count * top->node_orders > out->top_node_capacity ||
+	    top->triangle_count != pi->instance_count)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "pack: the instances' new tree does not fit the merged layout "
+		                    "(another scene's instances?)");
+	uint32_t *node_base = malloc((pi->mesh_count + 1) * sizeof *node_base);
+	uint32_t *slot_base = malloc((pi->mesh_count + 1) * sizeof *slot_base);
+	enum rs_status st = RS_OK;
+	if (!node_base || !slot_base)
+		st = rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for instances");
+	uint64_t nodes, slots;
+	if (st == RS_OK) {
+		bases(pi, top->node_orders, node_base, slot_base, &nodes, &slots);
+		if (nodes != out->top_node_base || slots != out->top_slot_base)
+			st =
+			    rs_error_set(err, RS_ERR_INVALID,
+			                 "pack: the instances' meshes are not the merged layout's");
+	}
+	if (st == RS_OK)
+		write_top(scene, pi, node_base, slot_base, out);
+	free(node_base);
+	free(slot_base);
 	return st;
 }
 

@@ -68,11 +68,32 @@ enum rs_status rs_render_accel_build_two_level(const struct rs_scene *scene,
 	out->build_ms = pi.build_ms;
 	/* rs_pack_instances() builds and packs each tree: what is not building is packing */
 	out->pack_ms = (t1 - t0 - pi.build_ms) + (rs_now_ms() - t1);
-	rs_pack_instances_free(&pi);
-	if (status != RS_OK)
+	out->instances = pi;
+	if (status != RS_OK) {
+		rs_render_accel_free(out);
 		return status;
+	}
 	out->packed = out->two_level.all;
 	return RS_OK;
+}
+
+enum rs_status rs_render_accel_update_instances(struct rs_render_accel *accel,
+                                                const struct rs_scene *scene,
+                                                const struct rs_bvh_desc *bvh, struct rs_error *err)
+{
+	RS_ASSERT(accel && scene);
+	if (!accel->two_level.instance_count)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "render: instance update of a scene not in two levels");
+	enum rs_status st = rs_pack_instances_update(&accel->instances, scene, bvh, err);
+	double t0 = rs_now_ms();
+	if (st == RS_OK)
+		st = rs_pack_two_level_update(scene, &accel->instances, &accel->two_level, err);
+	accel->tlas_build_ms = accel->instances.top_build_ms;
+	accel->pack_ms = accel->instances.top_pack_ms + (rs_now_ms() - t0);
+	/* the TLAS frame moved with the instances */
+	accel->packed = accel->two_level.all;
+	return st;
 }
 
 enum rs_status rs_render_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
@@ -107,6 +128,8 @@ void rs_render_accel_free(struct rs_render_accel *accel)
 		memset(&accel->packed, 0, sizeof accel->packed);
 		rs_pack_two_level_free(&accel->two_level);
 	}
+	if (accel->instances.instance_count)
+		rs_pack_instances_free(&accel->instances);
 	free(accel->nodes);
 	free(accel->triangle_order);
 	rs_pack_free(&accel->packed);

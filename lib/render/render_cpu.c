@@ -243,6 +243,29 @@ static enum rs_status cpu_update_vertices(void *impl, const struct rs_scene *sce
 	return RS_OK;
 }
 
+/* Two levels: the TLAS rebuilt and merged in place; flattened: the baked triangles moved. */
+static enum rs_status cpu_update_instances(void *impl, const struct rs_scene *scene,
+                                           struct rs_render_stats *stats, struct rs_error *err)
+{
+	struct cpu_renderer *cpu = impl;
+	if (!cpu->accel.two_level.instance_count) {
+		enum rs_status st = cpu_update_vertices(impl, scene, stats, err);
+		stats->instance_update_baked = true;
+		return st;
+	}
+	struct rs_bvh_desc bvh = rs_render_bvh_desc(&cpu->desc);
+	enum rs_status st = rs_render_accel_update_instances(&cpu->accel, scene, &bvh, err);
+	if (st != RS_OK) {
+		rs_render_accel_free(&cpu->accel);
+		cpu->scene = NULL;
+		return st;
+	}
+	cpu->scene = scene;
+	stats->tlas_build_ms = cpu->accel.tlas_build_ms;
+	stats->pack_ms = cpu->accel.pack_ms;
+	return RS_OK;
+}
+
 static void cpu_destroy(void *impl)
 {
 	struct cpu_renderer *cpu = impl;
@@ -265,7 +288,8 @@ static const struct rs_renderer_ops cpu_ops = {.name = "cpu",
                                                .render = cpu_render,
                                                .destroy = cpu_destroy,
                                                .describe = cpu_describe,
-                                               .update_vertices = cpu_update_vertices};
+                                               .update_vertices = cpu_update_vertices,
+                                               .update_instances = cpu_update_instances};
 
 enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
                                       struct rs_error *err)

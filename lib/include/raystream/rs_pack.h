@@ -293,6 +293,16 @@ struct rs_packed_two_level {
 enum rs_status rs_pack_two_level(const struct rs_scene *scene,
                                  const struct rs_packed_instances *packed,
                                  struct rs_packed_two_level *out, struct rs_error *err);
+/**
+ * After rs_pack_instances_update() of `packed` (same scene, new transforms): rewrite `out`'s
+ * TLAS items, its frame (all.origin, the TLAS grid) and the instance texture in place, the
+ * BLASes untouched, so `out` equals a fresh rs_pack_two_level(). RS_ERR_INVALID (nothing
+ * changed) when `packed` is not the layout's instances or its tree does not fit the
+ * reserved items.
+ */
+enum rs_status rs_pack_two_level_update(const struct rs_scene *scene,
+                                        const struct rs_packed_instances *packed,
+                                        struct rs_packed_two_level *out, struct rs_error *err);
 void rs_pack_two_level_free(struct rs_packed_two_level *packed);
 /** Bytes of a merged two-level packing: its four textures and the instance texture. */
 size_t rs_pack_two_level_bytes(const struct rs_packed_two_level *packed);

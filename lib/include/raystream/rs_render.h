@@ -412,6 +412,10 @@ struct rs_render_accel {
 	/** Two levels (rs_render_accel_build_two_level()): the merged packing, whose `all` is
 	 * also `packed` (shared, freed once); instance_count 0 for a one-level build. */
 	struct rs_packed_two_level two_level;
+	/** Two levels: the per-tree packing two_level was merged from (its TLAS is what an
+	 * instance update rebuilds, rs_render_accel_update_instances()). */
+	struct rs_packed_instances instances;
+	double tlas_build_ms; /**< rs_render_accel_update_instances(): the TLAS build */
 	struct rs_bvh_node *nodes;
 	size_t node_count;
 	uint32_t *triangle_order;
@@ -438,6 +442,15 @@ enum rs_status rs_render_accel_build_two_level(const struct rs_scene *scene,
                                                const struct rs_bvh_desc *bvh,
                                                const struct rs_pack_desc *pack,
                                                struct rs_render_accel *out, struct rs_error *err);
+
+/** Two levels, `scene` the accel's scene with new instance transforms (the renderer checked
+ * its instances): the TLAS rebuilt with `bvh` (rs_pack_instances_update()) and merged in
+ * place (rs_pack_two_level_update()), the BLASes untouched; tlas_build_ms and pack_ms say
+ * what it took. RS_ERR_INVALID for an accel that is not two levels. */
+enum rs_status rs_render_accel_update_instances(struct rs_render_accel *accel,
+                                                const struct rs_scene *scene,
+                                                const struct rs_bvh_desc *bvh,
+                                                struct rs_error *err);
 
 /**
  * Whether `scene` is rendered in two levels under `desc` (desc->instances; the one
