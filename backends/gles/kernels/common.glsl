@@ -441,8 +441,8 @@ bool rs_leaf_blas(int first, Ray r, Pre p, bool stop, float first_tri, int inst,
 // each of its instances in turn: the ray into the instance's BLAS frame (to_object), the
 // BLAS's threaded order of that direction from its base, its grid, boxes widened one float
 // step as the CPU's; at the BLAS's end the next instance of the leaf, or back to the leaf's
-// escape in the TLAS with the world ray. t is the same along both rays (affine map). One
-// loop: box tests count both levels, triangle tests the BLASes'.
+// escape in the TLAS with the world ray. t is the same along both rays (affine map). Box
+// tests count both levels, triangle tests the BLASes'.
 bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 {
 	Pre pw = rs_prepare(r);
@@ -452,66 +452,77 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 	int top_end = i + u_top_count, end = top_end;
 	int inst = -1, tslot = -1, ret = 0, pending = -1;
 	float first_tri = 0.0;
-	Ray o = r;
+	Ray o = r; // the ray of the tree being walked: world (TLAS) or object (a BLAS)
 	Pre po = pw;
 	vec3 go = u_grid_origin, gs = u_grid_step;
 	while (true) {
-		if (pending >= 0) {
-			tslot = pending;
-			pending = -1;
-			inst = int(rs_tri(tslot, 0).w);
-			vec4 m0 = rs_instance(inst, 0), m1 = rs_instance(inst, 1),
-			     m2 = rs_instance(inst, 2);
-			o.o = vec3(dot(m0.xyz, r.o) + m0.w, dot(m1.xyz, r.o) + m1.w,
-			           dot(m2.xyz, r.o) + m2.w);
-			o.d = vec3(dot(m0.xyz, r.d), dot(m1.xyz, r.d), dot(m2.xyz, r.d));
-			po = rs_prepare(o);
-			vec4 g0 = rs_instance(inst, 9), g1 = rs_instance(inst, 10);
-			go = g0.xyz;
-			gs = g1.xyz;
-			first_tri = rs_instance(inst, 6).w;
-			int count = int(g1.w);
-			i = int(g0.w) + rs_order(o.d) * count;
-			end = i + count;
-		}
-		if (i >= end) {
-			if (inst < 0)
-				break;
-			inst = -1;
-			if (rs_tri(tslot, 2).w == 0.0) { // more instances in this TLAS leaf
-				pending = tslot + 1;
+		// boxes of both levels until a BLAS leaf the ray enters ("while-while", as the
+		// one-level walk: lanes meet the triangle loop together)
+		int first = -1;
+		while (true) {
+			if (pending >= 0) {
+				tslot = pending;
+				pending = -1;
+				inst = int(rs_tri(tslot, 0).w);
+				vec4 m0 = rs_instance(inst, 0), m1 = rs_instance(inst, 1),
+				     m2 = rs_instance(inst, 2);
+				o.o = vec3(dot(m0.xyz, r.o) + m0.w, dot(m1.xyz, r.o) + m1.w,
+				           dot(m2.xyz, r.o) + m2.w);
+				o.d = vec3(dot(m0.xyz, r.d), dot(m1.xyz, r.d), dot(m2.xyz, r.d));
+				po = rs_prepare(o);
+				vec4 g0 = rs_instance(inst, 9), g1 = rs_instance(inst, 10);
+				go = g0.xyz;
+				gs = g1.xyz;
+				first_tri = rs_instance(inst, 6).w;
+				int count = int(g1.w);
+				i = int(g0.w) + rs_order(o.d) * count;
+				end = i + count;
+			}
+			if (i >= end) {
+				if (inst < 0)
+					break;
+				inst = -1;
+				if (rs_tri(tslot, 2).w == 0.0) { // more instances in this TLAS leaf
+					pending = tslot + 1;
+					continue;
+				}
+				i = ret;
+				end = top_end;
+				go = u_grid_origin;
+				gs = u_grid_step;
+				o = r;
+				po = pw;
 				continue;
 			}
-			i = ret;
-			end = top_end;
-			go = u_grid_origin;
-			gs = u_grid_step;
-			continue;
-		}
-		Node n = rs_node_in(i, go, gs);
-		counts.x += 1.0;
-		bool blas = inst >= 0;
-		if (blas) {
-			// one float step outwards (traverse_instances.c, the edge slack's twin)
-			n.lo -= abs(n.lo) * 1.1920929e-7 + 1.17549435e-38;
-			n.hi += abs(n.hi) * 1.1920929e-7 + 1.17549435e-38;
-		}
-		if (!rs_box(n.lo, n.hi, blas ? o : r, blas ? po : pw, h.t)) {
+			Node n = rs_node_in(i, go, gs);
+			counts.x += 1.0;
+			bool blas = inst >= 0;
+			if (blas) {
+				// one float step outwards (traverse_instances.c, the edge slack's twin)
+				n.lo -= abs(n.lo) * 1.1920929e-7 + 1.17549435e-38;
+				n.hi += abs(n.hi) * 1.1920929e-7 + 1.17549435e-38;
+			}
+			if (!rs_box(n.lo, n.hi, o, po, h.t)) {
+				i = n.next;
+				continue;
+			}
+			if (n.first < 0) {
+				i++;
+				continue;
+			}
+			if (!blas) {
+				ret = n.next;
+				pending = n.first;
+				continue;
+			}
+			first = n.first;
 			i = n.next;
-			continue;
+			break;
 		}
-		if (n.first < 0) {
-			i++;
-			continue;
-		}
-		if (!blas) {
-			ret = n.next;
-			pending = n.first;
-			continue;
-		}
-		if (rs_leaf_blas(n.first, o, po, any, first_tri, inst, h, found, counts))
+		if (first < 0)
+			break;
+		if (rs_leaf_blas(first, o, po, any, first_tri, inst, h, found, counts))
 			return true;
-		i = n.next;
 	}
 	return found;
 }
