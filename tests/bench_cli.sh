@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Usage: bench_cli.sh BENCH_BINARY WORK_DIR. Checks the plumbing of raystream-bench --table 2
-# and --builds (no timing is asserted). Prints "N passed, N failed" and exits non-zero on any
+# Usage: bench_cli.sh BENCH_BINARY WORK_DIR. Checks the plumbing of raystream-bench --table 2,
+# --builds and --instance-updates (no timing is asserted). Prints "N passed, N failed" and exits non-zero on any
 # failure.
 source "$(dirname "$0")/cli_harness.sh"
 
@@ -129,4 +129,23 @@ if "$bin" --builds --scene cow1 --threads 2 >build.txt 2>build_err.txt; then
 else
   bad "builds: exit $? ($(head -c 300 build_err.txt))"
 fi
+
+# --instance-updates: one row per instance count (triangles: 96 a sphere, 2 of floor), the
+# renderer's path named (the CPU backend has no top-level update yet: baked), JSON rows.
+if "$bin" --instance-updates --backend cpu --size 16 --repeats 2 --json iu.json 3 40 \
+    >iu.txt 2>iu_err.txt; then
+  for row in "3 290" "40 3842"; do
+    if grep -qE "^ +${row% *} +${row#* } .* cpu +baked " iu.txt; then ok "instance-updates: row $row"
+    else bad "instance-updates: no row '$row' in $(cat iu.txt)"; fi
+  done
+  if jq -e '.mode == "instance-updates" and (.rows | length) == 2 and .rows[1].instances == 40
+      and .rows[1].tlas_upload_bytes > .rows[0].tlas_upload_bytes' iu.json >/dev/null; then
+    ok "instance-updates: JSON rows"
+  else bad "instance-updates: JSON $(head -c 300 iu.json)"; fi
+else
+  bad "instance-updates: exit $? ($(head -c 300 iu_err.txt))"
+fi
+expect_fail "instance-updates: a bad count" 2 "not an instance count" --instance-updates \
+  --backend cpu 0
+expect_fail "instance-updates and --animate" 2 "separate runs" --instance-updates --animate 2 cow1
 finish

@@ -106,7 +106,7 @@ static void moved_instances_bake_as_added(void **state)
 		rs_scene_destroy(&fresh);
 	}
 	/* bounds follow both ways: far out, then back (the union is formed again) */
-	struct rs_bounds before, far, back;
+	struct rs_bounds before, far, back, far_box;
 	rs_scene_bounds(scene, &before);
 	double m[3][4];
 	fix_transform(5, 3, m);
@@ -114,10 +114,22 @@ static void moved_instances_bake_as_added(void **state)
 	assert_int_equal(rs_scene_set_instance_transform(scene, 5, m, NULL), RS_OK);
 	rs_scene_bounds(scene, &far);
 	assert_true(far.hi[0] > before.hi[0] + 90.0);
-	m[0][3] -= 100.0;
+	fix_transform(5, 3, m);
 	assert_int_equal(rs_scene_set_instance_transform(scene, 5, m, NULL), RS_OK);
 	rs_scene_bounds(scene, &back);
 	assert_memory_equal(&back, &before, sizeof back);
+	/* a plain mesh added after the moves counts in the bounds as in a fresh scene's */
+	struct rs_scene *fresh = scene_at(3);
+	const double away[9] = {-40, 0, 0, -41, 1, 0, -40, 2, 1};
+	const uint32_t tri[3] = {0, 1, 2};
+	const struct rs_mesh_desc mesh = {
+	    .positions_f64 = away, .vertex_count = 3, .indices = tri, .triangle_count = 1};
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
+	assert_int_equal(rs_scene_add_mesh(fresh, &mesh, NULL), RS_OK);
+	assert_same_scene(scene, fresh);
+	rs_scene_bounds(scene, &far_box);
+	assert_true(far_box.lo[0] == -41.0);
+	rs_scene_destroy(&fresh);
 	rs_scene_destroy(&scene);
 }
 
@@ -199,33 +211,38 @@ static void pack_update_equals_fresh_pack(void **state)
 static void pack_update_refuses_other_instances(void **state)
 {
 	(void)state;
-	struct rs_scene *scene = scene_at(0), *other = NULL;
+	struct rs_scene *scene = scene_at(0);
 	struct rs_packed_instances packed;
 	assert_int_equal(rs_pack_instances(scene, NULL, NULL, &packed, NULL), RS_OK);
-	/* the same prototype with one instance fewer */
-	assert_int_equal(rs_scene_create(NULL, &other, NULL), RS_OK);
-	const struct rs_material m = {0};
-	assert_int_equal(rs_scene_add_material(other, &m, NULL, NULL), RS_OK);
-	struct rs_mesh_desc proto;
-	rs_scene_prototype_mesh(scene, 0, &proto);
-	proto.material = 0;
-	assert_int_equal(rs_scene_add_prototype(other, &proto, NULL, NULL), RS_OK);
-	for (uint32_t i = 0; i + 1 < FIX_INSTANCES; i++) {
-		struct rs_instance_desc d = {0};
-		fix_transform(i, 0, d.transform);
-		assert_int_equal(rs_scene_add_instance(other, &d, NULL, NULL), RS_OK);
-	}
 	struct rs_packed top = packed.top;
+	/* one instance fewer; no plain floor; a plain scene */
+	struct rs_scene *fewer = fix_scene_with(0, -1.0, FIX_INSTANCES - 1),
+	                *no_floor = fix_scene_with(0, -1.0, 2), *plain = NULL;
+	assert_non_null(fewer);
+	assert_non_null(no_floor);
+	assert_int_equal(rs_scene_create(NULL, &plain, NULL), RS_OK);
+	const struct {
+		const struct rs_scene *scene;
+		const char *says;
+	} cases[] = {{fewer, "instance count"}, {no_floor, "loose"}, {plain, "prototypes"}};
 	struct rs_error err;
-	assert_int_equal(rs_pack_instances_update(&packed, other, NULL, &err), RS_ERR_INVALID);
-	print_message("%s\n", err.message);
-	assert_null(strchr(err.message, '\n'));
-	assert_memory_equal(&top, &packed.top, sizeof top); /* unchanged */
+	for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+		assert_int_equal(rs_pack_instances_update(&packed, cases[c].scene, NULL, &err),
+		                 RS_ERR_INVALID);
+		print_message("%s\n", err.message);
+		assert_non_null(strstr(err.message, cases[c].says));
+		assert_null(strchr(err.message, '\n'));
+		assert_memory_equal(&top, &packed.top, sizeof top); /* unchanged */
+	}
 	struct rs_packed_instances none = {0};
 	assert_int_equal(rs_pack_instances_update(&none, scene, NULL, &err), RS_ERR_INVALID);
+	/* and the scene it was made from is taken */
+	assert_int_equal(rs_pack_instances_update(&packed, scene, NULL, &err), RS_OK);
 	rs_pack_instances_free(&packed);
 	rs_scene_destroy(&scene);
-	rs_scene_destroy(&other);
+	rs_scene_destroy(&fewer);
+	rs_scene_destroy(&no_floor);
+	rs_scene_destroy(&plain);
 }
 
 struct image {

@@ -35,8 +35,8 @@ static inline void fix_transform(uint32_t i, uint32_t k, double m[3][4])
 	m[2][3] = -1.0 + 0.4 * cos(0.5 * k + i);
 }
 
-/* The scene at frame k (its instances baked by rs_scene_add_instance), its floor at y. */
-static inline struct rs_scene *fix_scene_floor(uint32_t k, double y)
+/* The scene at frame k with n instances (baked by rs_scene_add_instance), its floor at y. */
+static inline struct rs_scene *fix_scene_with(uint32_t k, double y, uint32_t n)
 {
 	struct rs_scene *scene = NULL;
 	if (rs_scene_create(NULL, &scene, NULL) != RS_OK)
@@ -76,7 +76,7 @@ static inline struct rs_scene *fix_scene_floor(uint32_t k, double y)
 	const uint32_t fi[6] = {0, 2, 1, 0, 3, 2};
 	struct rs_mesh_desc floor = {
 	    .positions_f64 = fp, .vertex_count = 4, .indices = fi, .triangle_count = 2};
-	for (uint32_t i = 0; i < FIX_INSTANCES; i++) {
+	for (uint32_t i = 0; i < n; i++) {
 		if (i == 2) /* plain triangles between instances */
 			rs_scene_add_mesh(scene, &floor, NULL);
 		struct rs_instance_desc d = {.mesh = proto, .override_material = i == 1};
@@ -91,6 +91,12 @@ static inline struct rs_scene *fix_scene_floor(uint32_t k, double y)
 	struct rs_camera cam = {.eye = {0.0, 4.0, 14.0}, .up = {0.0, 1.0, 0.0}, .fov_y_deg = 50.0};
 	rs_scene_set_camera(scene, &cam, NULL);
 	return scene;
+}
+
+/* The scene at frame k with its floor at y. */
+static inline struct rs_scene *fix_scene_floor(uint32_t k, double y)
+{
+	return fix_scene_with(k, y, FIX_INSTANCES);
 }
 
 /* The scene at frame k with its floor at y = -1. */

@@ -11,6 +11,8 @@
 
 /* Frames timed per setting, at most (--repeats). */
 #define BENCH_MAX_FRAMES 32
+/* Instances of one --instance-updates row, at most (the scene's triangle limit). */
+#define BENCH_MAX_INSTANCES 65535u
 /* Scenes of one --times run, at most. */
 #define BENCH_MAX_SCENES 16
 
@@ -19,6 +21,7 @@ struct bench_options {
 	bool times;     /* --times: frame times of one setting per scene (was raystream-glbench) */
 	bool builds;    /* --builds: BVH build time against Embree's (builds.c) */
 	uint32_t animate; /* --animate N: per-frame update against set_scene (animate.c); 0: off */
+	bool instance_updates; /* --instance-updates: moving N instances (instances.c) */
 	uint32_t size, flat_size, none_max_tris, passes, lights, repeats, threads;
 	const char *only;                     /* --scene: one of bench_scenes, or NULL for all */
 	const char *scenes[BENCH_MAX_SCENES]; /* --times: the scenes named */
@@ -78,7 +81,8 @@ cJSON *bench_json_summary(struct bench_summary s);
 int bench_table1(const struct bench_options *o);
 int bench_table2(const struct bench_options *o);
 int bench_times(const struct bench_options *o);
-int bench_builds(const struct bench_options *o);  /* BVH build time against Embree's */
-int bench_animate(const struct bench_options *o); /* per-frame update against set_scene */
+int bench_builds(const struct bench_options *o);           /* BVH build time against Embree's */
+int bench_animate(const struct bench_options *o);          /* per-frame update against set_scene */
+int bench_instance_updates(const struct bench_options *o); /* moving N instances a frame */
 
 #endif

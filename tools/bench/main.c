@@ -11,6 +11,9 @@
  *             (builds.c, embree/embree_build.c).
  *   --animate N SCENE...: per-frame vertex update (refit, repack, partial upload) against a
  *             full set_scene, frames 1..N of scenes that move (animate.c).
+ *   --instance-updates [COUNT...]: per-frame cost of moving every one of COUNT instances
+ *             (17, 1000, 10000): TLAS build and pack, the renderer's update, set_scene
+ *             (instances.c).
  * --json FILE writes the figures beside the tables; progress goes to stderr once a run
  * has taken 2 s.
  */
@@ -81,6 +84,9 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	    RS_CLI_U32_OPT(
 	        "--animate", &o->animate, 1, 240,
 	        "frames of each SCENE (animated, cowN, cowNi): update against set_scene"),
+	    RS_CLI_FLAG_OPT("--instance-updates", &o->instance_updates,
+	                    "moving every one of COUNT... instances [17 1000 10000] a frame: TLAS "
+	                    "update, renderer update, set_scene (--repeats frames)"),
 	    RS_CLI_CALL_OPT("--scene", &o->only, parse_scene, "NAME",
 	                    "tables: one of the paper's scenes [all]"),
 	    RS_CLI_U32_OPT("--size", &o->size, 8, 16384, "image side, pixels"),
@@ -104,7 +110,7 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	    .prog = "raystream-bench",
 	    .usage =
 	        "[--table 1|2] [options]  |  --builds [options]  |  --times [options] SCENE...  |  "
-	        "--animate N [options] SCENE...",
+	        "--animate N [options] SCENE...  |  --instance-updates [options] [COUNT...]",
 	    .about = about,
 	    .options = opts,
 	    .option_count = sizeof opts / sizeof opts[0],
@@ -123,11 +129,19 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 		return rs_cli_usage_error(&cli, "--times needs at least one SCENE");
 	if (o->animate && !cli.positional_count)
 		return rs_cli_usage_error(&cli, "--animate needs at least one SCENE");
-	if (o->times && o->animate)
-		return rs_cli_usage_error(&cli, "--times and --animate are two runs");
-	if (!o->times && !o->animate && cli.positional_count)
+	if ((o->times != 0) + (o->animate != 0) + (o->instance_updates != 0) > 1)
+		return rs_cli_usage_error(
+		    &cli, "--times, --animate and --instance-updates are separate runs");
+	if (!o->times && !o->animate && !o->instance_updates && cli.positional_count)
 		return rs_cli_usage_error(&cli, "unexpected argument '%s' (scenes go with --times)",
 		                          positional[0]);
+	for (size_t i = 0; o->instance_updates && i < cli.positional_count; ++i) {
+		uint32_t n;
+		if (!rs_tool_parse_u32(positional[i], 1, BENCH_MAX_INSTANCES, &n))
+			return rs_cli_usage_error(
+			    &cli, "--instance-updates: '%s' is not an instance count 1..%u",
+			    positional[i], BENCH_MAX_INSTANCES);
+	}
 	memcpy(o->scenes, positional, cli.positional_count * sizeof *positional);
 	o->scene_count = cli.positional_count;
 	const char *b = o->render.backend ? o->render.backend : "auto";
@@ -146,7 +160,7 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	}
 	/* Table 1 renders on the CPU reference: it needs no backend opened. */
 	struct rs_error err = {0};
-	if ((o->times || o->animate || o->table == 2) &&
+	if ((o->times || o->animate || o->instance_updates || o->table == 2) &&
 	    !(o->backend = rs_tool_backend_name(&cli, &o->render, &err)))
 		return rs_cli_fail(&cli, &err);
 	return 0;
@@ -167,18 +181,20 @@ int main(int argc, char **argv)
 	if (json_path) {
 		o.json = cJSON_CreateObject();
 		cJSON_AddStringToObject(o.json, "mode",
-		                        o.animate      ? "animate"
-		                        : o.times      ? "times"
-		                        : o.builds     ? "builds"
-		                        : o.table == 2 ? "table2"
-		                                       : "table1");
+		                        o.animate            ? "animate"
+		                        : o.instance_updates ? "instance-updates"
+		                        : o.times            ? "times"
+		                        : o.builds           ? "builds"
+		                        : o.table == 2       ? "table2"
+		                                             : "table1");
 		cJSON_AddArrayToObject(o.json, "rows");
 	}
-	code = o.animate      ? bench_animate(&o)
-	       : o.times      ? bench_times(&o)
-	       : o.builds     ? bench_builds(&o)
-	       : o.table == 2 ? bench_table2(&o)
-	                      : bench_table1(&o);
+	code = o.animate            ? bench_animate(&o)
+	       : o.instance_updates ? bench_instance_updates(&o)
+	       : o.times            ? bench_times(&o)
+	       : o.builds           ? bench_builds(&o)
+	       : o.table == 2       ? bench_table2(&o)
+	                            : bench_table1(&o);
 	if (o.json && code == 0) {
 		if (rs_tool_write_json(json_path, o.json, &err) != RS_OK)
 			code = rs_cli_fail(&cli, &err);

@@ -55,7 +55,8 @@ struct rs_scenegen_desc {
 	/** Scenes that move (ANIMATED, and COW, whose cow N / 2 sways): the frame shown, at
 	 * time frame / fps seconds, a pure function of the two (no clock); frame 0 of a COW
 	 * scene is the still one. Other kinds refuse a frame > 0. Every frame of one scene has
-	 * the same topology (rs_renderer_update_vertices() takes any after any). */
+	 * the same topology (rs_renderer_update_vertices() takes any after any; an instanced
+	 * herd's, rs_renderer_update_instances()). */
 	uint32_t frame;
 	uint32_t fps; /**< 0 -> RS_SCENEGEN_DEFAULT_FPS */
 	/** CowN as N instances of one prototype cow (rs_scene_add_instance) instead of N copies:
