@@ -131,16 +131,36 @@ static void look(struct rs_scene *scene, const double eye[3], const double targe
 }
 
 /* Two levels on EGL against the same scene flattened on EGL; returns the pixels hit. */
-static size_t two_level_as_baked(const char *what, const struct rs_scene *scene)
+static size_t two_level_as_baked_with(const char *what, const struct rs_scene *scene,
+                                      struct rs_pack_desc pack)
 {
 	static struct image baked, two;
-	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .passes = 2};
+	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .passes = 2, .pack = pack};
 	desc.instances = RS_INSTANCES_FLATTEN;
 	if (!render("egl", desc, scene, &baked))
 		return 0;
 	desc.instances = RS_INSTANCES_TWO_LEVEL;
 	assert_true(render("egl", desc, scene, &two));
 	return same_frame(what, &two, &baked);
+}
+
+static size_t two_level_as_baked(const char *what, const struct rs_scene *scene)
+{
+	return two_level_as_baked_with(what, scene, (struct rs_pack_desc){0});
+}
+
+/* The paper's node format, and one node order: the same walk over other node texels. */
+static void paper_and_single_order_nodes_render_as_baked(void **state)
+{
+	struct rs_scene *scene = gl_scene("cow5i");
+	struct rs_pack_desc paper = {.nodes = RS_PACK_NODES_PAPER};
+	struct rs_pack_desc single = {.orders = RS_PACK_ORDERS_SINGLE};
+	size_t a = two_level_as_baked_with("egl cow5i paper nodes", scene, paper);
+	size_t b = a ? two_level_as_baked_with("egl cow5i one node order", scene, single) : 0;
+	rs_scene_destroy(&scene);
+	if (!a)
+		gl_skip();
+	assert_true(a > SIZE * SIZE / 8 && b == a);
 }
 
 static void transformed_instances_render_as_baked(void **state)
@@ -336,6 +356,7 @@ int main(void)
 	    cmocka_unit_test(cow17i_two_level_renders_as_cow17_on_every_chain),
 	    cmocka_unit_test(transformed_instances_render_as_baked),
 	    cmocka_unit_test(far_from_origin_instances_render_as_baked),
+	    cmocka_unit_test(paper_and_single_order_nodes_render_as_baked),
 	    cmocka_unit_test(room_of_instanced_walls_leaks_no_pixel),
 	    cmocka_unit_test(moved_instances_render_as_set_scene_sending_the_tlas_only),
 	    cmocka_unit_test(two_level_is_refused_with_raster_passes),

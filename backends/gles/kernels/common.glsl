@@ -29,11 +29,12 @@
 #endif
 #if RS_COMPACT_NODES || RS_WIDE_NODES
 uniform RS_SCENE_USAMPLER u_nodes;
-uniform vec3 u_grid_origin;
-uniform vec3 u_grid_step;
 #else
 uniform RS_SCENE_SAMPLER u_nodes;
 #endif
+// the compact grid (paper nodes: unused, but the two-level walk names it for either)
+uniform vec3 u_grid_origin;
+uniform vec3 u_grid_step;
 uniform RS_SCENE_SAMPLER u_tris;
 uniform RS_SCENE_SAMPLER u_normals;
 uniform RS_SCENE_SAMPLER u_materials;
