@@ -131,11 +131,11 @@ else
 fi
 
 # --instance-updates: one row per instance count (triangles: 96 a sphere, 2 of floor), the
-# renderer's path named (the CPU backend has no top-level update yet: baked), JSON rows.
+# renderer's path named (the CPU backend renders two levels and rebuilds its TLAS: tlas), JSON rows.
 if "$bin" --instance-updates --backend cpu --size 16 --repeats 2 --json iu.json 3 40 \
     >iu.txt 2>iu_err.txt; then
   for row in "3 290" "40 3842"; do
-    if grep -qE "^ +${row% *} +${row#* } .* cpu +baked " iu.txt; then ok "instance-updates: row $row"
+    if grep -qE "^ +${row% *} +${row#* } .* cpu +tlas " iu.txt; then ok "instance-updates: row $row"
     else bad "instance-updates: no row '$row' in $(cat iu.txt)"; fi
   done
   if jq -e '.mode == "instance-updates" and (.rows | length) == 2 and .rows[1].instances == 40

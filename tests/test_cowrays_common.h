@@ -172,7 +172,7 @@ static bool cow_brute_closest(const struct cow_brute *b, enum rs_triangle_test t
 			continue;
 		found = true;
 		r.tmax = th;
-		*out = (struct rs_hit){th, u, v, RS_NO_SLOT, (uint32_t)t};
+		*out = (struct rs_hit){th, u, v, RS_NO_SLOT, (uint32_t)t, RS_NO_SLOT};
 	}
 	return found;
 }

@@ -1,9 +1,10 @@
 /* Instanced scenes through the renderers: Cow17i (seventeen instances of one cow) renders as
  * the flattened Cow17 on the CPU reference and on EGL (same triangle on >= 99.99 % of pixels,
  * >= 60 dB); hit numbers on Cow17i equal Cow17's on each backend, and the kernels' equal the
- * CPU's within 0.05 % (fp32 against double near box faces; flattened Cow17 differs as much). The
- * renderers draw instances baked into world space (docs/bvh.md "Instances"); this pins that they do
- * so with the flattened scene's frames. EGL; skipped without a context. */
+ * CPU's within 0.05 % (fp32 against double near box faces; flattened Cow17 differs as much). This
+ * pins `instances = flatten` (the baked world-space triangles, docs/bvh.md "Instances") to the
+ * flattened scene's frames; test_gl_two_level covers the two-level walk. EGL; skipped without a
+ * context. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -69,8 +70,12 @@ static void cow17i_renders_as_cow17_on_cpu_and_egl(void **state)
 	static struct image flat_cpu, inst_cpu, flat_gl, inst_gl;
 	struct rs_scene *flat = gl_scene("cow17"), *inst = gl_scene("cow17i");
 	assert_int_equal(rs_scene_instance_count(inst), 17);
-	struct rs_render_desc desc = {
-	    .width = SIZE, .height = SIZE, .passes = 2, .lights = 1, .counters = true};
+	struct rs_render_desc desc = {.width = SIZE,
+	                              .height = SIZE,
+	                              .passes = 2,
+	                              .lights = 1,
+	                              .counters = true,
+	                              .instances = RS_INSTANCES_FLATTEN};
 	render("cpu", desc, flat, &flat_cpu);
 	render("cpu", desc, inst, &inst_cpu);
 	same_frame("cpu cow17i vs cow17", &inst_cpu, &flat_cpu);

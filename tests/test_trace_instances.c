@@ -18,78 +18,7 @@
 #include "raystream/rs_scene.h"
 #include "raystream/rs_trace.h"
 
-#define SPHERE_RINGS 8
-#define SPHERE_SEGMENTS 12
-
-/* A UV sphere (curved silhouettes), wound outward, slightly squashed so rotations show. */
-static uint32_t add_sphere(struct rs_scene *scene)
-{
-	double pos[(SPHERE_RINGS + 1) * SPHERE_SEGMENTS * 3];
-	uint32_t idx[SPHERE_RINGS * SPHERE_SEGMENTS * 6];
-	size_t nv = 0, nt = 0;
-	for (int r = 0; r <= SPHERE_RINGS; r++)
-		for (int s = 0; s < SPHERE_SEGMENTS; s++) {
-			double th = RS_PI * r / SPHERE_RINGS,
-			       ph = 2.0 * RS_PI * s / SPHERE_SEGMENTS;
-			pos[nv * 3] = sin(th) * cos(ph);
-			pos[nv * 3 + 1] = 0.7 * cos(th);
-			pos[nv * 3 + 2] = sin(th) * sin(ph) + 0.2 * sin(th);
-			nv++;
-		}
-	for (uint32_t r = 0; r < SPHERE_RINGS; r++)
-		for (uint32_t s = 0; s < SPHERE_SEGMENTS; s++) {
-			uint32_t a = r * SPHERE_SEGMENTS + s,
-			         b = r * SPHERE_SEGMENTS + (s + 1) % SPHERE_SEGMENTS,
-			         c = a + SPHERE_SEGMENTS, d = b + SPHERE_SEGMENTS;
-			const uint32_t t[6] = {a, b, c, b, d, c};
-			memcpy(idx + nt * 3, t, sizeof t);
-			nt += 2;
-		}
-	struct rs_mesh_desc mesh = {
-	    .positions_f64 = pos, .vertex_count = nv, .indices = idx, .triangle_count = nt};
-	uint32_t id;
-	assert_int_equal(rs_scene_add_prototype(scene, &mesh, &id, NULL), RS_OK);
-	return id;
-}
-
-/* A plain (not instanced) quad at height y, x and z in [-6, 6]: the loose BLAS's. */
-static void add_floor(struct rs_scene *scene, double y, uint32_t material)
-{
-	const double p[4 * 3] = {-6, y, -6, 6, y, -6, 6, y, 6, -6, y, 6};
-	const uint32_t i[6] = {0, 2, 1, 0, 3, 2};
-	struct rs_mesh_desc mesh = {.positions_f64 = p,
-	                            .vertex_count = 4,
-	                            .indices = i,
-	                            .triangle_count = 2,
-	                            .material = material};
-	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
-}
-
-static struct rs_scene *new_scene(void)
-{
-	struct rs_scene *scene = NULL;
-	assert_int_equal(rs_scene_create(NULL, &scene, NULL), RS_OK);
-	struct rs_material m = {.diffuse = {0.5f, 0.5f, 0.5f}};
-	assert_int_equal(rs_scene_add_material(scene, &m, NULL, NULL), RS_OK);
-	return scene;
-}
-
-/* Rotation about axis (normalised here) by angle, times per-axis scale, plus translation. */
-static void make_transform(const double axis[3], double angle, const double scale[3],
-                           const double move[3], double m[3][4])
-{
-	double l = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-	double x = axis[0] / l, y = axis[1] / l, z = axis[2] / l, c = cos(angle), s = sin(angle),
-	       k = 1.0 - c;
-	const double r[3][3] = {{c + x * x * k, x * y * k - z * s, x * z * k + y * s},
-	                        {y * x * k + z * s, c + y * y * k, y * z * k - x * s},
-	                        {z * x * k - y * s, z * y * k + x * s, c + z * z * k}};
-	for (int i = 0; i < 3; i++) {
-		for (int j = 0; j < 3; j++)
-			m[i][j] = r[i][j] * scale[j];
-		m[i][3] = move[i];
-	}
-}
+#include "test_instances_shapes.h"
 
 /* The baked triangles walked in one level, as every renderer does today. */
 static void pack_flat(const struct rs_scene *scene, struct rs_packed *out)
@@ -135,9 +64,11 @@ static void compare_walks(struct rs_scene *scene, const double eye[3], uint32_t 
 	struct rs_packed_instances two;
 	pack_flat(scene, &flat);
 	assert_int_equal(rs_pack_instances(scene, NULL, NULL, &two, NULL), RS_OK);
+	struct rs_packed_two_level merged;
+	assert_int_equal(rs_pack_two_level(scene, &two, &merged, NULL), RS_OK);
 	struct rs_bounds b;
 	rs_scene_bounds(scene, &b);
-	uint32_t same = 0, rays = 0, hits = 0;
+	uint32_t same = 0, rays = 0, hits = 0, same_merged = 0;
 	struct rs_trace_counters c1 = {0}, c2 = {0};
 	for (uint32_t y = 0; y < grid; y++)
 		for (uint32_t x = 0; x < grid; x++) {
@@ -155,6 +86,28 @@ static void compare_walks(struct rs_scene *scene, const double eye[3], uint32_t 
 			bool f1 = rs_trace_closest(&flat, RS_TRIANGLE_WATERTIGHT, &ray, &h1, &c1);
 			bool f2 = rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray,
 			                                     &h2, &c2);
+			/* the merged layout the kernels read, rays in its frame */
+			struct rs_ray local = ray;
+			for (int a = 0; a < 3; a++)
+				local.origin[a] -= merged.all.origin[a];
+			struct rs_instance_hit h4;
+			bool f4 = rs_trace_two_level_closest(&merged, RS_TRIANGLE_WATERTIGHT,
+			                                     &local, &h4, NULL);
+			same_merged += f1 == f4 && (!f1 || h1.triangle == h4.hit.triangle);
+			if (f4) {
+				assert_true(fabs(h2.hit.t - h4.hit.t) <= 1e-5 * h2.hit.t);
+				local.tmax = h4.hit.t * 1.0001;
+				assert_true(rs_trace_two_level_occluded(
+				    &merged, RS_TRIANGLE_WATERTIGHT, &local, NULL));
+				local.skip_slot = h4.hit.triangle;
+				for (int a = 0; a < 3; a++)
+					local.origin[a] += 0.999 * h4.hit.t * ray.dir[a];
+				local.tmax = INFINITY;
+				struct rs_instance_hit h5;
+				rs_trace_two_level_closest(&merged, RS_TRIANGLE_WATERTIGHT, &local,
+				                           &h5, NULL);
+				assert_true(h5.hit.triangle != h4.hit.triangle);
+			}
 			rays++;
 			hits += f1;
 			if (f1 != f2 || (f1 && h1.triangle != h2.hit.triangle))
@@ -183,7 +136,11 @@ static void compare_walks(struct rs_scene *scene, const double eye[3], uint32_t 
 		}
 	assert_true(hits > rays / 4); /* the grid does see the instances */
 	assert_true((double)same >= 0.9999 * rays);
+	print_message("%u rays, %u hits: %u the same triangle two-level, %u merged\n", rays, hits,
+	              same, same_merged);
+	assert_true((double)same_merged >= 0.9999 * rays);
 	assert_true(c2.triangle_tests > 0 && c2.box_tests > 0);
+	rs_pack_two_level_free(&merged);
 	rs_pack_instances_free(&two);
 	rs_pack_free(&flat);
 }
@@ -274,8 +231,10 @@ static void room_of_instanced_walls_is_closed(void **state)
 	}
 	struct rs_packed_instances two;
 	assert_int_equal(rs_pack_instances(scene, NULL, NULL, &two, NULL), RS_OK);
+	struct rs_packed_two_level merged;
+	assert_int_equal(rs_pack_two_level(scene, &two, &merged, NULL), RS_OK);
 	uint64_t seed = 12345;
-	uint32_t leaks = 0, shadows = 0;
+	uint32_t leaks = 0, shadows = 0, merged_leaks = 0, merged_shadows = 0;
 	for (int i = 0; i < 20000; i++) {
 		double p[2][3];
 		for (int q = 0; q < 2; q++) {
@@ -302,14 +261,24 @@ static void room_of_instanced_walls_is_closed(void **state)
 				             turn[r][2] * corner[2] + turn[r][3] - p[0][r];
 			}
 		struct rs_instance_hit h;
-		leaks += !rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray, &h, NULL);
-		ray.tmax = 1.0;
+		struct rs_ray local = ray;
 		for (int a = 0; a < 3; a++)
-			ray.dir[a] = p[1][a] - p[0][a];
+			local.origin[a] -= merged.all.origin[a];
+		leaks += !rs_trace_instances_closest(&two, RS_TRIANGLE_WATERTIGHT, &ray, &h, NULL);
+		merged_leaks +=
+		    !rs_trace_two_level_closest(&merged, RS_TRIANGLE_WATERTIGHT, &local, &h, NULL);
+		ray.tmax = local.tmax = 1.0;
+		for (int a = 0; a < 3; a++)
+			ray.dir[a] = local.dir[a] = p[1][a] - p[0][a];
 		shadows += rs_trace_instances_occluded(&two, RS_TRIANGLE_WATERTIGHT, &ray, NULL);
+		merged_shadows +=
+		    rs_trace_two_level_occluded(&merged, RS_TRIANGLE_WATERTIGHT, &local, NULL);
 	}
 	assert_int_equal(leaks, 0);
 	assert_int_equal(shadows, 0);
+	assert_int_equal(merged_leaks, 0);
+	assert_int_equal(merged_shadows, 0);
+	rs_pack_two_level_free(&merged);
 	rs_pack_instances_free(&two);
 	rs_scene_destroy(&scene);
 }

@@ -159,14 +159,19 @@ enum rs_status rs_gles_readback(struct gles *g, const struct rs_gles_plan *plan,
 	if (frame->depth || frame->triangle) {
 		read_floats(g, g->hit[0]);
 		const uint32_t *order = g->accel.triangle_order;
-		uint32_t tris = g->accel.packed.triangle_count;
+		/* two levels: the hit texel names the scene triangle itself */
+		bool ids = g->accel.two_level.instance_count > 0;
+		uint32_t tris =
+		    ids ? g->accel.two_level.scene_triangles : g->accel.packed.triangle_count;
 		for (size_t i = 0; i < n; ++i) {
 			float slot = g->scratch[4 * i + 3];
 			bool hit = slot >= 0.0f && slot < (float)tris;
 			if (frame->depth)
 				frame->depth[i] = hit ? g->scratch[4 * i] : INFINITY;
 			if (frame->triangle)
-				frame->triangle[i] = hit ? order[(uint32_t)slot] : RS_NO_SLOT;
+				frame->triangle[i] = !hit  ? RS_NO_SLOT
+				                     : ids ? (uint32_t)slot
+				                           : order[(uint32_t)slot];
 		}
 	}
 	if (plan->counters) {

@@ -34,7 +34,9 @@ enum {
 	UNIT_SHADOW,
 	UNIT_ENVMAP,
 	UNIT_OBJECTS, /* RS_REFLECT_INTERREFLECT: scene triangle -> object (R32F) */
-	UNIT_OBJMAP,  /* ... and RS_RENDER_MAX_MIRROR_OBJECTS cube maps from here on */
+	/* two levels: the instance texture (never with inter-reflection, rs_gles_two_level) */
+	UNIT_INSTANCES = UNIT_OBJECTS,
+	UNIT_OBJMAP, /* ... and RS_RENDER_MAX_MIRROR_OBJECTS cube maps from here on */
 	UNIT_COUNT = UNIT_OBJMAP + RS_RENDER_MAX_MIRROR_OBJECTS
 };
 
@@ -106,6 +108,11 @@ enum {
 	U_LIGHT = U_OBJMAP0 + RS_RENDER_MAX_MIRROR_OBJECTS,
 	U_AXIS,
 	U_SIGN,
+	U_INSTANCES, /* RS_TWO_LEVEL */
+	U_TOP_BASE,
+	U_TOP_COUNT,
+	U_INSTANCE_COUNT,
+	U_PROTO_INSTANCES,
 	U_COUNT
 };
 
@@ -204,6 +211,7 @@ struct gles {
 	GLenum scene_target;           /* GL_TEXTURE_2D or GL_TEXTURE_BUFFER */
 	GLuint scene_tex[4];
 	GLuint scene_buf[4]; /* BUFFER: the buffer objects behind scene_tex */
+	GLuint instance_tex; /* two levels (accel.two_level): the instance texture, 2D */
 	GLuint state[2][ST_COUNT];
 	GLuint cnt[2];
 	GLuint hit[2];               /* [0]: pass 0 (depth), [1]: later passes */
@@ -241,6 +249,12 @@ struct gles {
  * (fused only without counters and cube maps), the passes run (with cube maps at most 2)
  * and the ping-pong targets. */
 void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *out);
+
+/* gles_plan.c: whether `scene` is walked in two levels under `desc` (rs_render_two_level()
+ * and this backend's limits: traced primaries, shadow rays and reflections only);
+ * RS_ERR_UNSUPPORTED naming why when instances=two-level cannot be done. */
+enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
+                                 bool *out_two_level, struct rs_error *err);
 
 /* gles_frame.c. Run `plan` from `camera` over the viewport w x h (primary rays start `near`
  * from the eye), kernel times into stats. */
@@ -285,6 +299,8 @@ struct rs_gles_spec {
 	uint32_t node_orders; /* direction-ordered node copies */
 	bool watertight, counters, optics, geometry, shadow_map, envmap, interreflect;
 	bool compact_nodes, wide_nodes, scene_buffers;
+	bool two_level;                /* an instanced scene walked in two levels */
+	uint32_t instance_row_items;   /* two levels: instances per row of the instance texture */
 	bool first_pass, raster_first; /* the fused chain's first pass (over raster hits) */
 };
 
@@ -329,6 +345,9 @@ void rs_gles_scene_delete(struct gles *g);
  * glBufferSubData for buffer storage); *out_bytes counts what was. */
 enum rs_status rs_gles_scene_update(struct gles *g, const struct rs_packed *next,
                                     uint64_t *out_bytes, struct rs_error *err);
+/* Two levels, after rs_render_accel_update_instances(): send the TLAS's rows of the node
+ * and triangle textures and the instance texture, nothing of the BLASes; bytes sent. */
+enum rs_status rs_gles_scene_update_top(struct gles *g, uint64_t *out_bytes, struct rs_error *err);
 /* The texture a plan's REF_* names. */
 GLuint rs_gles_target(const struct gles *g, uint8_t ref);
 

@@ -11,6 +11,8 @@
  *             resolve passes) and shade;
  *   paper     as separate, with shade split into the paper's environment, shading and
  *             next-ray kernels, each writing only the state it changes.
+ * Whether an instanced scene is walked in two levels is decided here too
+ * (rs_gles_two_level), after lib/render's rs_render_two_level.
  * The state lives in ping-pong pairs: a pass reads one texture of each pair it uses and
  * writes the other, which then becomes the current one. */
 #include <string.h>
@@ -124,6 +126,32 @@ static void path_step(struct rs_gles_plan *plan, struct cursor *c, uint32_t pass
 	s->out[1] = flip(c, ST_DIR);
 	s->out[2] = flip(c, ST_ACC);
 	s->n_out = 3;
+}
+
+enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
+                                 bool *out_two_level, struct rs_error *err)
+{
+	enum rs_status st = rs_render_two_level(desc, scene, out_two_level, err);
+	if (st != RS_OK || !*out_two_level)
+		return st;
+	/* The two-level walk is a traced ray's: raster passes (primary visibility, shadow
+	 * maps) draw the triangle texture as world-space triangles, and the cube-map captures'
+	 * object ids index it by slot; those render the flattened scene. Every chain works: a
+	 * hit texel's w is the scene triangle id, which shading decodes (rs_locate). */
+	const char *why = NULL;
+	if (desc->primary == RS_PRIMARY_RASTER)
+		why = "rasterized primaries draw world-space triangles";
+	else if (desc->shadows == RS_SHADOW_MAP)
+		why = "shadow maps draw world-space triangles";
+	else if (desc->reflections != RS_REFLECT_TRACE)
+		why = "environment maps are captured from the flattened scene";
+	if (why && desc->instances == RS_INSTANCES_TWO_LEVEL)
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                    "gles: instances two-level: %s (use "
+		                    "instances=flatten)",
+		                    why);
+	*out_two_level = why == NULL;
+	return RS_OK;
 }
 
 void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *out)

@@ -45,6 +45,10 @@ enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_
 	    {"RS_WIDE_STACK", false, RS_PACK_WIDE_STACK},
 	    {"RS_NODE_ORDERS", false, spec->node_orders},
 	    {"RS_SCENE_BUFFERS", false, spec->scene_buffers},
+	    {"RS_TWO_LEVEL", false, spec->two_level},
+	    {"RS_INSTANCE_TEXELS", false, RS_PACK_INSTANCE_TEXELS},
+	    {"RS_INSTANCE_ROW_ITEMS", false,
+	     spec->instance_row_items ? spec->instance_row_items : 1u},
 	    {"RS_FIRST_PASS", false, spec->first_pass},
 	    {"RS_RASTER_FIRST", false, spec->raster_first},
 	    /* the rules (docs/tracer.md), in fp32 */

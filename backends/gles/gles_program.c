@@ -116,6 +116,11 @@ static const char *const uniform_names[U_COUNT] = {
     [U_LIGHT] = "u_light",
     [U_AXIS] = "u_axis",
     [U_SIGN] = "u_sign",
+    [U_INSTANCES] = "u_instances",
+    [U_TOP_BASE] = "u_top_base",
+    [U_TOP_COUNT] = "u_top_count",
+    [U_INSTANCE_COUNT] = "u_instance_count",
+    [U_PROTO_INSTANCES] = "u_proto_instances",
 };
 _Static_assert(RS_RENDER_MAX_MIRROR_OBJECTS == 4, "one u_objmapN name per mirror object");
 

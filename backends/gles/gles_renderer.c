@@ -89,7 +89,9 @@ static enum rs_status build_programs(struct gles *g, struct rs_error *err)
 	    .row_items = p->row_items,
 	    .row_shift = row_shift(p->row_items),
 	    .lights = g->frame.light_count,
-	    .node_orders = p->node_orders,
+	    /* two levels: every tree's orders (the merged texture counts items, one "order") */
+	    .node_orders =
+	        g->accel.two_level.instance_count ? g->accel.two_level.tree_orders : p->node_orders,
 	    .watertight = g->desc.triangle_test == RS_TRIANGLE_WATERTIGHT,
 	    .counters = g->desc.counters,
 	    .optics = scene_has_optics(g->scene),
@@ -100,6 +102,8 @@ static enum rs_status build_programs(struct gles *g, struct rs_error *err)
 	    .compact_nodes = p->node_format == RS_PACK_NODES_COMPACT,
 	    .wide_nodes = p->node_format == RS_PACK_NODES_WIDE4,
 	    .scene_buffers = g->storage == RS_SCENE_STORAGE_BUFFER,
+	    .two_level = g->accel.two_level.instance_count > 0,
+	    .instance_row_items = g->accel.two_level.instance_row_items,
 	};
 	char preludes[3][1024];
 	enum rs_status st = RS_OK;
@@ -159,10 +163,13 @@ static enum rs_status prepare(struct gles *g, struct rs_error *err)
 	return st;
 }
 
-static uint64_t scene_bytes(const struct rs_packed *p)
+/* The scene textures' bytes (and two levels: the instance texture's). */
+static uint64_t scene_bytes(const struct rs_render_accel *a)
 {
+	const struct rs_packed *p = &a->packed;
 	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
-	uint64_t n = 0;
+	const struct rs_texture *inst = &a->two_level.instances;
+	uint64_t n = a->two_level.instance_count ? (uint64_t)inst->width * inst->height * 16u : 0;
 	for (int i = 0; i < 4; ++i)
 		n += (uint64_t)t[i]->width * t[i]->height * 16u;
 	return n;
@@ -183,9 +190,14 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	struct rs_pack_desc pack;
 	st = pack_desc(g, desc, &pack, err);
 	struct rs_bvh_desc bvh = rs_render_bvh_desc(desc);
+	bool two_level = false;
 	if (st == RS_OK)
-		st = rs_render_accel_build(scene, &bvh, &pack, &g->accel, err);
+		st = rs_gles_two_level(desc, scene, &two_level, err);
+	if (st == RS_OK)
+		st = two_level ? rs_render_accel_build_two_level(scene, &bvh, &pack, &g->accel, err)
+		               : rs_render_accel_build(scene, &bvh, &pack, &g->accel, err);
 	struct rs_trace_desc td = rs_render_trace_desc(desc);
+	td.two_level = two_level && st == RS_OK ? &g->accel.two_level : NULL;
 	if (st == RS_OK)
 		st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);
 	if (st == RS_OK)
@@ -216,7 +228,7 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	}
 	if (st == RS_OK) {
 		g->gl.Finish();
-		stats->upload_bytes = scene_bytes(&g->accel.packed);
+		stats->upload_bytes = scene_bytes(&g->accel);
 		stats->build_ms = g->accel.build_ms;
 		stats->pack_ms = g->accel.pack_ms;
 	} else {
@@ -305,9 +317,11 @@ static enum rs_status gles_update_vertices(void *impl, const struct rs_scene *sc
 		                            g->desc.rebuild_ratio, &next, err);
 	struct rs_trace_desc td = rs_render_trace_desc(&g->desc);
 	struct rs_trace_frame frame;
+	td.two_level = next.two_level.instance_count ? &next.two_level : NULL;
 	if (st == RS_OK)
 		st = rs_trace_frame_init(scene, &next.packed, &td, &frame, err);
-	if (st == RS_OK && !same_kernels(g, &next.packed, &frame)) {
+	/* two levels: both trees and the instance texture are new (set_scene) */
+	if (st == RS_OK && (td.two_level || !same_kernels(g, &next.packed, &frame))) {
 		double refit_ms = next.refit_ms, ratio = next.sah_ratio;
 		rs_render_accel_free(&next);
 		struct rs_render_desc d = g->desc;
@@ -315,7 +329,7 @@ static enum rs_status gles_update_vertices(void *impl, const struct rs_scene *sc
 		stats->update_rebuilt = true; /* set_scene builds */
 		stats->update_sah_ratio = ratio;
 		stats->refit_ms = refit_ms;
-		stats->upload_bytes = st == RS_OK ? scene_bytes(&g->accel.packed) : 0;
+		stats->upload_bytes = st == RS_OK ? scene_bytes(&g->accel) : 0;
 		return st;
 	}
 	if (st == RS_OK)
@@ -344,6 +358,41 @@ static enum rs_status gles_update_vertices(void *impl, const struct rs_scene *sc
 	stats->refit_ms = next.refit_ms;
 	stats->build_ms = next.rebuilt ? next.build_ms : 0.0;
 	stats->pack_ms = next.pack_ms;
+	stats->upload_bytes = bytes;
+	return st;
+}
+
+/* Per-frame instance transforms. Two levels: the TLAS rebuilt and merged in lib/render, and
+ * only its rows and the instance texture sent; flattened: the baked triangles moved. */
+static enum rs_status gles_update_instances(void *impl, const struct rs_scene *scene,
+                                            struct rs_render_stats *stats, struct rs_error *err)
+{
+	struct gles *g = impl;
+	if (!g->accel.two_level.instance_count) {
+		enum rs_status st = gles_update_vertices(impl, scene, stats, err);
+		stats->instance_update_baked = true;
+		return st;
+	}
+	struct rs_bvh_desc bvh = rs_render_bvh_desc(&g->desc);
+	enum rs_status st = rs_render_accel_update_instances(&g->accel, scene, &bvh, err);
+	struct rs_trace_desc td = rs_render_trace_desc(&g->desc);
+	td.two_level = &g->accel.two_level;
+	/* the TLAS frame moved with the instances: the frame is made again */
+	if (st == RS_OK)
+		st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);
+	if (st == RS_OK)
+		st = g->cops->make_current(g->ctx, err);
+	if (st != RS_OK)
+		return st;
+	double t0 = rs_now_ms();
+	uint64_t bytes = 0;
+	st = rs_gles_scene_update_top(g, &bytes, err);
+	g->gl.Finish();
+	stats->upload_ms = rs_now_ms() - t0;
+	g->cops->release(g->ctx);
+	g->scene = scene;
+	stats->tlas_build_ms = g->accel.tlas_build_ms;
+	stats->pack_ms = g->accel.pack_ms;
 	stats->upload_bytes = bytes;
 	return st;
 }
@@ -442,13 +491,15 @@ static const struct rs_renderer_ops gles_ops_egl = {.name = "egl",
                                                     .render = gles_render,
                                                     .destroy = gles_destroy,
                                                     .describe = gles_describe,
-                                                    .update_vertices = gles_update_vertices};
+                                                    .update_vertices = gles_update_vertices,
+                                                    .update_instances = gles_update_instances};
 static const struct rs_renderer_ops gles_ops_osmesa = {.name = "osmesa",
                                                        .set_scene = gles_set_scene,
                                                        .render = gles_render,
                                                        .destroy = gles_destroy,
                                                        .describe = gles_describe,
-                                                       .update_vertices = gles_update_vertices};
+                                                       .update_vertices = gles_update_vertices,
+                                                       .update_instances = gles_update_instances};
 
 enum rs_status rs_gles_renderer_create(const struct rs_gl_context_ops *ops, void *ctx,
                                        const struct rs_render_desc *desc, struct rs_renderer **out,

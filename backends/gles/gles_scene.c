@@ -61,6 +61,13 @@ enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
 			st = rs_gles_allocated(gl, names[i], format, (GLsizei)t[i]->width,
 			                       (GLsizei)t[i]->height, 1, err);
 	}
+	const struct rs_texture *inst = &g->accel.two_level.instances;
+	if (st == RS_OK && g->accel.two_level.instance_count) {
+		g->instance_tex = texture(gl, GL_RGBA32F, (GLsizei)inst->width,
+		                          (GLsizei)inst->height, GL_FLOAT, inst->texels);
+		st = rs_gles_allocated(gl, "the instance texture", GL_RGBA32F, (GLsizei)inst->width,
+		                       (GLsizei)inst->height, 1, err);
+	}
 	/* The cube map captures run the plans over face_size squares in the same targets. */
 	uint32_t face = g->desc.reflections != RS_REFLECT_TRACE ? g->face_size : 0;
 	GLsizei w = (GLsizei)(g->desc.width > face ? g->desc.width : face),
@@ -150,6 +157,65 @@ enum rs_status rs_gles_scene_update(struct gles *g, const struct rs_packed *next
 	return rs_gles_check(&g->gl, "updating the scene textures", err);
 }
 
+/* Texels [first, end) of scene texture i from `t`: the rest of the first row, whole rows,
+ * the start of the last (a buffer: one range). */
+static void send_texels(const struct gles *g, int i, const struct rs_texture *t, size_t first,
+                        size_t end)
+{
+	const struct rs_gl *gl = &g->gl;
+	const uint8_t *base = (const uint8_t *)t->texels;
+	if (g->storage == RS_SCENE_STORAGE_BUFFER) {
+		gl->BindBuffer(GL_TEXTURE_BUFFER, g->scene_buf[i]);
+		gl->BufferSubData(GL_TEXTURE_BUFFER, (GLintptr)(first * 16u),
+		                  (GLsizeiptr)((end - first) * 16u), base + first * 16u);
+		gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
+		return;
+	}
+	bool words = t->format == RS_TEXEL_RGBA32UI;
+	GLenum format = words ? GL_RGBA_INTEGER : GL_RGBA,
+	       type = words ? GL_UNSIGNED_INT : GL_FLOAT;
+	size_t w = t->width;
+	gl->BindTexture(GL_TEXTURE_2D, g->scene_tex[i]);
+	while (first < end) {
+		size_t y = first / w, x = first % w, n = w - x < end - first ? w - x : end - first;
+		if (x == 0 && end - first >= w) /* whole rows at once */
+			n = (end - first) / w * w;
+		GLsizei rows = (GLsizei)(x == 0 ? (n + w - 1) / w : 1);
+		gl->TexSubImage2D(GL_TEXTURE_2D, 0, (GLint)x, (GLint)y, (GLsizei)(rows > 1 ? w : n),
+		                  rows, format, type, base + first * 16u);
+		first += n;
+	}
+	gl->BindTexture(GL_TEXTURE_2D, 0);
+}
+
+enum rs_status rs_gles_scene_update_top(struct gles *g, uint64_t *out_bytes, struct rs_error *err)
+{
+	const struct rs_packed_two_level *two = &g->accel.two_level;
+	const struct rs_packed *p = &two->all;
+	const struct rs_texture *t[2] = {&p->nodes, &p->triangles};
+	/* the TLAS's items of the node and triangle textures (its normals never change) */
+	size_t per = p->node_format == RS_PACK_NODES_PAPER ? RS_PACK_NODE_TEXELS
+	                                                   : RS_PACK_COMPACT_NODE_TEXELS;
+	size_t first[2] = {(size_t)two->top_node_base * per,
+	                   (size_t)two->top_slot_base * RS_PACK_TRIANGLE_TEXELS};
+	size_t end[2] = {first[0] + (size_t)two->top_node_capacity * per,
+	                 first[1] + (size_t)two->instance_count * RS_PACK_TRIANGLE_TEXELS};
+	const struct rs_gl *gl = &g->gl;
+	uint64_t bytes = 0;
+	for (int i = 0; i < 2; ++i) {
+		send_texels(g, i, t[i], first[i], end[i]);
+		bytes += (uint64_t)(end[i] - first[i]) * 16u;
+	}
+	const struct rs_texture *inst = &two->instances;
+	gl->BindTexture(GL_TEXTURE_2D, g->instance_tex);
+	gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, (GLsizei)inst->width, (GLsizei)inst->height,
+	                  GL_RGBA, GL_FLOAT, inst->texels);
+	gl->BindTexture(GL_TEXTURE_2D, 0);
+	bytes += (uint64_t)inst->width * inst->height * 16u;
+	*out_bytes = bytes;
+	return rs_gles_check(gl, "updating the instances' top-level tree", err);
+}
+
 void rs_gles_scene_delete(struct gles *g)
 {
 	const struct rs_gl *gl = &g->gl;
@@ -167,6 +233,8 @@ void rs_gles_scene_delete(struct gles *g)
 	gl->DeleteTextures(1, &g->shadow);
 	gl->DeleteTextures(1, &g->envmap);
 	gl->DeleteTextures(1, &g->object_tex);
+	gl->DeleteTextures(1, &g->instance_tex);
+	g->instance_tex = 0;
 	gl->DeleteTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
 	memset(g->objmap, 0, sizeof g->objmap);
 	g->depth = g->shadow_depth = g->shadow = g->envmap = g->object_tex = 0;

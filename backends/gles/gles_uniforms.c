@@ -51,6 +51,15 @@ void rs_gles_scene_uniforms(const struct gles *g, const struct rs_gles_program *
 	rs_gles_uniform_3fv(gl, p, U_GRID_STEP, 1, pk->node_grid_step);
 	rs_gles_uniform_i(gl, p, U_TRI_COUNT, (GLint)pk->triangle_count);
 	rs_gles_uniform_i(gl, p, U_MATERIAL_COUNT, (GLint)pk->material_count);
+	const struct rs_packed_two_level *two = &g->accel.two_level;
+	if (two->instance_count) {
+		rs_gles_bind(gl, p, UNIT_INSTANCES, U_INSTANCES, GL_TEXTURE_2D, g->instance_tex);
+		rs_gles_uniform_i(gl, p, U_TOP_BASE, (GLint)two->top_node_base);
+		rs_gles_uniform_i(gl, p, U_TOP_COUNT, (GLint)two->top_node_count);
+		rs_gles_uniform_i(gl, p, U_INSTANCE_COUNT, (GLint)two->instance_count);
+		rs_gles_uniform_i(gl, p, U_PROTO_INSTANCES,
+		                  (GLint)(two->instance_count - (two->loose ? 1u : 0u)));
+	}
 	rs_gles_uniform_f(gl, p, U_SPAWN_SCALE, (GLfloat)f->spawn_scale);
 	rs_gles_uniform_f(gl, p, U_SPAWN_FLOOR, (GLfloat)f->spawn_floor);
 	rs_gles_uniform_f(gl, p, U_AMBIENT, (GLfloat)f->ambient);

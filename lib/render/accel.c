@@ -51,10 +51,85 @@ enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct 
 	return status;
 }
 
+enum rs_status rs_render_accel_build_two_level(const struct rs_scene *scene,
+                                               const struct rs_bvh_desc *bvh,
+                                               const struct rs_pack_desc *pack,
+                                               struct rs_render_accel *out, struct rs_error *err)
+{
+	RS_ASSERT(scene && out);
+	memset(out, 0, sizeof *out);
+	struct rs_packed_instances pi;
+	double t0 = rs_now_ms();
+	enum rs_status status = rs_pack_instances(scene, bvh, pack, &pi, err);
+	if (status != RS_OK)
+		return status;
+	double t1 = rs_now_ms();
+	status = rs_pack_two_level(scene, &pi, &out->two_level, err);
+	out->build_ms = pi.build_ms;
+	/* rs_pack_instances() builds and packs each tree: what is not building is packing */
+	out->pack_ms = (t1 - t0 - pi.build_ms) + (rs_now_ms() - t1);
+	out->instances = pi;
+	if (status != RS_OK) {
+		rs_render_accel_free(out);
+		return status;
+	}
+	out->packed = out->two_level.all;
+	return RS_OK;
+}
+
+enum rs_status rs_render_accel_update_instances(struct rs_render_accel *accel,
+                                                const struct rs_scene *scene,
+                                                const struct rs_bvh_desc *bvh, struct rs_error *err)
+{
+	RS_ASSERT(accel && scene);
+	if (!accel->two_level.instance_count)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "render: instance update of a scene not in two levels");
+	enum rs_status st = rs_pack_instances_update(&accel->instances, scene, bvh, err);
+	double t0 = rs_now_ms();
+	if (st == RS_OK)
+		st = rs_pack_two_level_update(scene, &accel->instances, &accel->two_level, err);
+	accel->tlas_build_ms = accel->instances.top_build_ms;
+	accel->pack_ms = accel->instances.top_pack_ms + (rs_now_ms() - t0);
+	/* the TLAS frame moved with the instances */
+	accel->packed = accel->two_level.all;
+	return st;
+}
+
+enum rs_status rs_render_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
+                                   bool *out_two_level, struct rs_error *err)
+{
+	RS_ASSERT(desc && scene && out_two_level);
+	*out_two_level = false;
+	if (desc->instances == RS_INSTANCES_FLATTEN)
+		return RS_OK;
+	if (desc->instances != RS_INSTANCES_AUTO && desc->instances != RS_INSTANCES_TWO_LEVEL)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown instances mode %d",
+		                    (int)desc->instances);
+	bool forced = desc->instances == RS_INSTANCES_TWO_LEVEL;
+	const char *why = NULL;
+	if (rs_scene_instance_count(scene) == 0)
+		why = "the scene has no instances";
+	else if (desc->pack.nodes == RS_PACK_NODES_WIDE4)
+		why = "wide4 nodes are not threaded (use compact or paper nodes)";
+	if (why && forced)
+		return rs_error_set(err, RS_ERR_UNSUPPORTED, "render: instances two-level: %s",
+		                    why);
+	*out_two_level = why == NULL;
+	return RS_OK;
+}
+
 void rs_render_accel_free(struct rs_render_accel *accel)
 {
 	if (!accel)
 		return;
+	if (accel->two_level.instance_count) {
+		/* packed is two_level.all: freed once, below */
+		memset(&accel->packed, 0, sizeof accel->packed);
+		rs_pack_two_level_free(&accel->two_level);
+	}
+	if (accel->instances.instance_count)
+		rs_pack_instances_free(&accel->instances);
 	free(accel->nodes);
 	free(accel->triangle_order);
 	rs_pack_free(&accel->packed);

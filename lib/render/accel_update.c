@@ -78,6 +78,13 @@ enum rs_status rs_render_accel_update(const struct rs_render_accel *accel,
 	if (rebuild_ratio == 0.0)
 		rebuild_ratio = RS_BVH_REBUILD_RATIO;
 	memset(out, 0, sizeof *out);
+	if (accel->two_level.instance_count) {
+		/* Two levels have no tree over the scene's triangles to refit: both levels are
+		 * built again (the same layout when the scene's instances and meshes are). */
+		enum rs_status st = rs_render_accel_build_two_level(scene, bvh, pack, out, err);
+		out->rebuilt = true;
+		return st;
+	}
 	size_t tris = rs_scene_triangle_count(scene);
 	double t0 = rs_now_ms();
 	enum rs_status st = copy_tree(accel, tris, out, err);

@@ -352,10 +352,12 @@ enum rs_status rs_renderer_update_instances(struct rs_renderer *renderer,
 		                         what),
 		            err);
 	bool baked = !r->ops->update_instances;
+	/* an op may say it took the baked path too (a renderer drawing the scene flattened) */
+	r->stats.instance_update_baked = false;
 	status = update(r, scene, baked ? r->ops->update_vertices : r->ops->update_instances, err);
 	if (status == RS_OK) {
 		r->stats.instance_updates++;
-		r->stats.instance_update_baked = baked;
+		r->stats.instance_update_baked |= baked;
 	}
 	return status;
 }

@@ -111,7 +111,21 @@ static enum rs_status cpu_set_scene(void *impl, const struct rs_scene *scene,
 	rs_render_accel_free(&cpu->accel);
 	cpu->scene = NULL;
 	struct rs_bvh_desc bvh = rs_render_bvh_desc(desc);
-	enum rs_status status = rs_render_accel_build(scene, &bvh, &desc->pack, &cpu->accel, err);
+	bool two_level = false;
+	enum rs_status status = rs_render_two_level(desc, scene, &two_level, err);
+	if (status == RS_OK && two_level && cpu->intersector) {
+		/* a peer intersector answers in the slots of one flattened tree */
+		if (desc->instances == RS_INSTANCES_TWO_LEVEL)
+			return rs_error_set(err, RS_ERR_UNSUPPORTED,
+			                    "render: instances two-level: an intersector walks the "
+			                    "flattened scene");
+		two_level = false;
+	}
+	if (status == RS_OK)
+		status = two_level
+		             ? rs_render_accel_build_two_level(scene, &bvh, &desc->pack,
+		                                               &cpu->accel, err)
+		             : rs_render_accel_build(scene, &bvh, &desc->pack, &cpu->accel, err);
 	if (status == RS_OK && cpu->intersector && cpu->intersector->prepare)
 		status = cpu->intersector->prepare(cpu->intersector->user, &cpu->accel.packed, err);
 	if (status != RS_OK) {
@@ -147,8 +161,18 @@ static void primary_ids(const struct cpu_renderer *cpu, const struct rs_camera *
 			struct rs_ray ray;
 			struct rs_hit hit;
 			rs_trace_camera_ray(camera, w, h, x + 0.5, y + 0.5, &ray);
-			rs_trace_closest(&cpu->accel.packed, cpu->desc.triangle_test, &ray, &hit,
-			                 NULL);
+			if (cpu->accel.two_level.instance_count) {
+				struct rs_instance_hit ih;
+				for (int a = 0; a < 3; ++a) /* R1: the merged packing's frame */
+					ray.origin[a] -= cpu->accel.packed.origin[a];
+				rs_trace_two_level_closest(&cpu->accel.two_level,
+				                           cpu->desc.triangle_test, &ray, &ih,
+				                           NULL);
+				hit = ih.hit;
+			} else {
+				rs_trace_closest(&cpu->accel.packed, cpu->desc.triangle_test, &ray,
+				                 &hit, NULL);
+			}
 			out[(size_t)y * w + x] = hit.triangle;
 		}
 }
@@ -162,6 +186,7 @@ static enum rs_status cpu_render(void *impl, const struct rs_camera *camera,
 	struct rs_trace_desc td = rs_render_trace_desc(d);
 	td.camera = camera;
 	td.intersector = cpu->intersector;
+	td.two_level = cpu->accel.two_level.instance_count ? &cpu->accel.two_level : NULL;
 	float *rgb = frame->rgb ? frame->rgb : frame->rgba8 ? cpu->rgb : NULL;
 	struct rs_trace_stats ts;
 	double t0 = rs_now_ms();
@@ -218,6 +243,29 @@ static enum rs_status cpu_update_vertices(void *impl, const struct rs_scene *sce
 	return RS_OK;
 }
 
+/* Two levels: the TLAS rebuilt and merged in place; flattened: the baked triangles moved. */
+static enum rs_status cpu_update_instances(void *impl, const struct rs_scene *scene,
+                                           struct rs_render_stats *stats, struct rs_error *err)
+{
+	struct cpu_renderer *cpu = impl;
+	if (!cpu->accel.two_level.instance_count) {
+		enum rs_status st = cpu_update_vertices(impl, scene, stats, err);
+		stats->instance_update_baked = true;
+		return st;
+	}
+	struct rs_bvh_desc bvh = rs_render_bvh_desc(&cpu->desc);
+	enum rs_status st = rs_render_accel_update_instances(&cpu->accel, scene, &bvh, err);
+	if (st != RS_OK) {
+		rs_render_accel_free(&cpu->accel);
+		cpu->scene = NULL;
+		return st;
+	}
+	cpu->scene = scene;
+	stats->tlas_build_ms = cpu->accel.tlas_build_ms;
+	stats->pack_ms = cpu->accel.pack_ms;
+	return RS_OK;
+}
+
 static void cpu_destroy(void *impl)
 {
 	struct cpu_renderer *cpu = impl;
@@ -240,7 +288,8 @@ static const struct rs_renderer_ops cpu_ops = {.name = "cpu",
                                                .render = cpu_render,
                                                .destroy = cpu_destroy,
                                                .describe = cpu_describe,
-                                               .update_vertices = cpu_update_vertices};
+                                               .update_vertices = cpu_update_vertices,
+                                               .update_instances = cpu_update_instances};
 
 enum rs_status rs_renderer_create_cpu(const struct rs_render_desc *desc, struct rs_renderer **out,
                                       struct rs_error *err)

@@ -28,6 +28,8 @@ static const struct rs_render_option options[] = {
     {"threads", "1..256", "cores", "CPU backend and BVH build threads; cores: the machine's"},
     {"triangle-test", "watertight|mt", "watertight", "mt: the paper's Moller-Trumbore"},
     {"chain", "fused|separate|paper", "fused", "GL: how kernels are chained"},
+    {"instances", "auto|flatten|two-level", "auto",
+     "instanced scenes: BLAS per mesh + TLAS (auto where it can), or flattened"},
 };
 
 #define COUNT (sizeof options / sizeof options[0])
@@ -58,6 +60,7 @@ static int pick(const char *value, const char *const *names, int n)
 
 static const char *const backends[] = {"auto", "cpu", "egl", "osmesa"};
 static const char *const primaries[] = {"trace", "raster"};
+static const char *const instance_modes[] = {"auto", "flatten", "two-level"};
 static const char *const storages[] = {"auto", "2d", "buffer"};
 static const char *const tests[] = {"watertight", "mt"};
 static const char *const chains[] = {"fused", "separate", "paper"};
@@ -166,6 +169,8 @@ static bool set_value(struct rs_render_desc *d, const struct rs_render_option *o
 		d->triangle_test = i ? RS_TRIANGLE_MOLLER_TRUMBORE : RS_TRIANGLE_WATERTIGHT;
 	else if (!strcmp(k, "chain") && PICK(chains))
 		d->chain = (enum rs_kernel_chain)i;
+	else if (!strcmp(k, "instances") && PICK(instance_modes))
+		d->instances = (enum rs_instances_mode)i;
 	else
 		return false;
 #undef PICK
@@ -182,7 +187,7 @@ enum rs_status rs_render_desc_set(struct rs_render_desc *desc, const char *key, 
 		                    "unknown render option '%s' (backend, size, passes, lights, "
 		                    "shadows, primary, reflections, envmap-size, bvh, nodes, "
 		                    "scene-storage, "
-		                    "threads, triangle-test, chain)",
+		                    "threads, triangle-test, chain, instances)",
 		                    key);
 	/* A failed parse leaves the descriptor as it was. */
 	struct rs_render_desc d = *desc;
@@ -272,6 +277,9 @@ enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char 
 	else if (!strcmp(key, "triangle-test"))
 		n = snprintf(out, cap, "%s",
 		             d->triangle_test == RS_TRIANGLE_MOLLER_TRUMBORE ? "mt" : "watertight");
+	else if (!strcmp(key, "instances"))
+		n = snprintf(out, cap, "%s",
+		             (unsigned)d->instances < 3 ? instance_modes[d->instances] : "?");
 	else
 		n = snprintf(out, cap, "%s", (unsigned)d->chain < 3 ? chains[d->chain] : "?");
 	if (n < 0 || (size_t)n >= cap)

@@ -14,7 +14,12 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 		desc = &zero_desc;
 	RS_ASSERT(scene && packed);
 	size_t tris = rs_scene_triangle_count(scene);
-	if (packed->triangle_count != tris)
+	const struct rs_packed_two_level *two = desc->two_level;
+	if (two && (packed->nodes.texels != two->all.nodes.texels || two->scene_triangles != tris))
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "trace: the two-level packing is not this scene's or not the "
+		                    "packed textures given");
+	if (!two && packed->triangle_count != tris)
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "trace: packed arrays hold %u triangles, the scene %zu",
 		                    packed->triangle_count, tris);
@@ -53,6 +58,7 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	out->ambient = rs_scene_ambient(scene);
 	out->has_geometry = tris > 0;
 	out->intersector = desc->intersector;
+	out->two_level = two;
 	out->rules = (struct rs_trace_rules){.box_k = RS_TRACE_BOX_K,
 	                                     .box_k_fp32 = RS_TRACE_BOX_K_FP32,
 	                                     .parallel_eps = RS_TRACE_PARALLEL_EPS,

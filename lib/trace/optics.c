@@ -104,6 +104,6 @@ enum rs_ray_state rs_trace_next_ray(const struct rs_trace_frame *frame, const st
 		reflect_dir(ray->dir, s, dir);
 		*out_weight = wr;
 	}
-	rs_trace_spawn(s, dir, hit->slot, next);
+	rs_trace_spawn(s, dir, s->skip, next);
 	return RS_RAY_ACTIVE;
 }

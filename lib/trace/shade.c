@@ -78,17 +78,69 @@ static void spawn_point(const double v0[3], const double v1[3], const double v2[
 	out->delta = delta;
 }
 
+/* The hit triangle as shading reads it: vertices (packed frame) and vertex normals, the
+ * barycentrics and the material. A two-level hit's object-space triangle goes through its
+ * instance's to_world and to_world_normal (instance texture, as the kernels read them); a
+ * mirrored instance's is rewound (v1 <-> v2, u <-> v) as the baked scene's is. */
+struct hit_triangle {
+	double v[3][3], n[3][3], u, w;
+	float material;
+};
+
+static void read_hit_triangle(const struct rs_trace_frame *frame, const struct rs_hit *hit,
+                              struct hit_triangle *h)
+{
+	const struct rs_packed *p = frame->packed;
+	for (uint32_t k = 0; k < 3; k++) {
+		texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, k),
+		       h->v[k]);
+		texel3(rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, hit->slot, k), h->n[k]);
+	}
+	h->material = rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 1)[3];
+	h->u = hit->u;
+	h->w = hit->v;
+	const struct rs_packed_two_level *two = frame->two_level;
+	if (!two || hit->instance >= two->instance_count)
+		return;
+	const float *t = rs_pack_texel(&two->instances, RS_PACK_INSTANCE_TEXELS, hit->instance, 0);
+	for (uint32_t k = 0; k < 3; k++) {
+		double v[3], n[3];
+		memcpy(v, h->v[k], sizeof v);
+		memcpy(n, h->n[k], sizeof n);
+		for (int r = 0; r < 3; r++) {
+			const float *a = t + 4 * (3 + r), *m = t + 4 * (6 + r);
+			h->v[k][r] = a[0] * v[0] + a[1] * v[1] + a[2] * v[2] + a[3];
+			h->n[k][r] = m[0] * n[0] + m[1] * n[1] + m[2] * n[2];
+		}
+		/* unit, as the baked scene's vertex normals are (interpolation weights them) */
+		rs_v3_normalize(h->n[k]);
+	}
+	if (t[4 * 7 + 3] >= 0.0f)
+		h->material = t[4 * 7 + 3];
+	if (t[4 * 8 + 3] != 0.0f) {
+		double s[3];
+		memcpy(s, h->v[1], sizeof s);
+		memcpy(h->v[1], h->v[2], sizeof s);
+		memcpy(h->v[2], s, sizeof s);
+		memcpy(s, h->n[1], sizeof s);
+		memcpy(h->n[1], h->n[2], sizeof s);
+		memcpy(h->n[2], s, sizeof s);
+		h->u = hit->v;
+		h->w = hit->u;
+	}
+}
+
 void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *ray,
                       const struct rs_hit *hit, struct rs_surface *out)
 {
 	const struct rs_packed *p = frame->packed;
-	double v0[3], v1[3], v2[3], e1[3], e2[3], g[3];
-	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 0), v0);
-	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 1), v1);
-	texel3(rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 2), v2);
-	float material_f = rs_pack_texel(&p->triangles, RS_PACK_TRIANGLE_TEXELS, hit->slot, 1)[3];
+	struct hit_triangle h;
+	read_hit_triangle(frame, hit, &h);
+	double *v0 = h.v[0], *v1 = h.v[1], *v2 = h.v[2], e1[3], e2[3], g[3];
+	float material_f = h.material;
+	out->skip = frame->two_level ? hit->triangle : hit->slot;
 
-	spawn_point(v0, v1, v2, hit->u, hit->v, frame, out);
+	spawn_point(v0, v1, v2, h.u, h.w, frame, out);
 	for (int a = 0; a < 3; ++a) {
 		e1[a] = v1[a] - v0[a];
 		e2[a] = v2[a] - v0[a];
@@ -106,12 +158,9 @@ void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *r
 
 	/* Phong normal: the hit's barycentric u, v weight n1, n2 (n0 gets 1 - u - v). The
 	 * surface is double-sided: the normal is turned to the geometric side facing the ray. */
-	double w0 = 1.0 - hit->u - hit->v, n0[3], n1[3], n2[3];
-	texel3(rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, hit->slot, 0), n0);
-	texel3(rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, hit->slot, 1), n1);
-	texel3(rs_pack_texel(&p->normals, RS_PACK_NORMAL_TEXELS, hit->slot, 2), n2);
+	double w0 = 1.0 - h.u - h.w, *n0 = h.n[0], *n1 = h.n[1], *n2 = h.n[2];
 	for (int a = 0; a < 3; ++a)
-		out->n[a] = w0 * n0[a] + hit->u * n1[a] + hit->v * n2[a];
+		out->n[a] = w0 * n0[a] + h.u * n1[a] + h.w * n2[a];
 	if (rs_v3_normalize(out->n) == 0.0)
 		memcpy(out->n, out->ng, sizeof out->n);
 	else if (rs_v3_dot(out->n, out->ng) < 0.0)
@@ -159,7 +208,7 @@ void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray
 		if (rs_v3_dot(s->ng, l) <= 0.0 || n_dot_l <= 0.0)
 			continue;
 		struct rs_ray feeler;
-		rs_trace_spawn(s, l, hit->slot, &feeler);
+		rs_trace_spawn(s, l, s->skip, &feeler);
 		for (int a = 0; a < 3; ++a)
 			feeler.dir[a] = lp[a] - feeler.origin[a];
 		feeler.tmax = rs_v3_normalize(feeler.dir);

@@ -17,6 +17,14 @@ static inline bool rs_trace_frame_closest(const struct rs_trace_frame *frame,
 {
 	if (frame->intersector)
 		return frame->intersector->closest(frame->intersector->user, ray, hit);
+	if (frame->two_level) {
+		struct rs_instance_hit ih;
+		bool found =
+		    rs_trace_two_level_closest(frame->two_level, frame->test, ray, &ih, counters);
+		*hit = ih.hit;
+		hit->instance = ih.instance;
+		return found;
+	}
 	return rs__trace_closest_local(frame->packed, frame->test, ray, hit, counters);
 }
 
@@ -26,6 +34,8 @@ static inline bool rs_trace_frame_occluded(const struct rs_trace_frame *frame,
 {
 	if (frame->intersector)
 		return frame->intersector->occluded(frame->intersector->user, ray);
+	if (frame->two_level)
+		return rs_trace_two_level_occluded(frame->two_level, frame->test, ray, counters);
 	return rs__trace_occluded_local(frame->packed, frame->test, ray, counters);
 }
 
@@ -44,6 +54,7 @@ struct rs_surface {
 	float diffuse[3];
 	float specular, shininess, reflectance, transmittance, ior;
 	uint32_t flags;
+	uint32_t skip; /* what rays leaving here skip: the slot, or two-level the scene id */
 };
 
 void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *ray,

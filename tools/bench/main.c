@@ -116,7 +116,7 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	    .option_count = sizeof opts / sizeof opts[0],
 	    .render = &o->render,
 	    .render_keys = "backend,passes,threads,bvh,nodes,scene-storage,"
-	                   "primary,shadows,reflections,envmap-size,chain,triangle-test",
+	                   "primary,shadows,reflections,envmap-size,chain,triangle-test,instances",
 	    .positional = positional,
 	    .positional_max = BENCH_MAX_SCENES,
 	    .positional_name = "SCENE..."};

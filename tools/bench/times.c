@@ -54,8 +54,9 @@ static cJSON *json_row(const char *name, const struct rs_render_desc *d,
 	cJSON_AddStringToObject(row, "scene", name);
 	cJSON_AddStringToObject(row, "backend", s->backend);
 	cJSON_AddStringToObject(row, "renderer", s->renderer);
-	static const char *const keys[] = {"size",    "passes",      "lights", "chain", "primary",
-	                                   "shadows", "reflections", "bvh",    "nodes"};
+	static const char *const keys[] = {"size",    "passes",   "lights",      "chain",
+	                                   "primary", "shadows",  "reflections", "bvh",
+	                                   "nodes",   "instances"};
 	for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i)
 		if (rs_render_desc_get(d, keys[i], text, sizeof text, NULL) == RS_OK)
 			cJSON_AddStringToObject(row, keys[i], text);

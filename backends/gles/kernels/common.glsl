@@ -4,6 +4,11 @@
 // Inputs:  u_nodes (RGBA32UI compact or wide nodes, RGBA32F paper nodes), u_tris, u_normals,
 //          u_materials (RGBA32F; layouts in rs_pack.h), u_node_count, u_tri_count,
 //          u_material_count, u_spawn_scale (R5's S), u_grid_origin, u_grid_step (compact).
+// With RS_TWO_LEVEL (an instanced scene, rs_pack_two_level): u_instances (RGBA32F 2D,
+//          RS_INSTANCE_TEXELS a instance, RS_INSTANCE_ROW_ITEMS a row), u_top_base,
+//          u_top_count (the TLAS in the node texture), u_instance_count, u_proto_instances
+//          (instances of prototypes, the loose one after them); the grid uniforms are the
+//          TLAS's. Hits and skips then name scene triangle ids, not slots.
 // Every position is in the packed frame (docs/tracer.md R1): the CPU moved the camera,
 // lights and environment by rs_packed.origin in double before handing them over.
 // With RS_SCENE_BUFFERS the four are buffer textures of the same texels in the same order
@@ -24,11 +29,12 @@
 #endif
 #if RS_COMPACT_NODES || RS_WIDE_NODES
 uniform RS_SCENE_USAMPLER u_nodes;
-uniform vec3 u_grid_origin;
-uniform vec3 u_grid_step;
 #else
 uniform RS_SCENE_SAMPLER u_nodes;
 #endif
+// the compact grid (paper nodes: unused, but the two-level walk names it for either)
+uniform vec3 u_grid_origin;
+uniform vec3 u_grid_step;
 uniform RS_SCENE_SAMPLER u_tris;
 uniform RS_SCENE_SAMPLER u_normals;
 uniform RS_SCENE_SAMPLER u_materials;
@@ -37,6 +43,13 @@ uniform int u_tri_count;
 uniform int u_material_count;
 uniform float u_spawn_scale;
 uniform float u_spawn_floor; // R5's F = max(R / 16, 2^-64), R the scene's half-size
+#if RS_TWO_LEVEL
+uniform highp sampler2D u_instances;
+uniform int u_top_base;
+uniform int u_top_count;
+uniform int u_instance_count;
+uniform int u_proto_instances;
+#endif
 
 // "No hit yet" distance: far beyond any scene, finite so no kernel depends on how a GPU
 // treats infinities.
@@ -59,12 +72,12 @@ struct Hit {
 	float t;
 	float u;
 	float v;
-	int slot; // -1: miss
+	int slot; // -1: miss; RS_TWO_LEVEL: the scene triangle id
 	float id; // scene triangle id (the tie-break's key)
 };
 
 // A hit in a hit texture: (t, u, v, slot); the id is not stored (only the walk's tie-break
-// reads it).
+// reads it). Two levels: slot is the scene id, which shading decodes (rs_locate).
 vec4 rs_hit_texel(Hit h) { return vec4(h.t, h.u, h.v, float(h.slot)); }
 Hit rs_texel_hit(vec4 t) { return Hit(t.x, t.y, t.z, int(t.w), -1.0); }
 
@@ -132,6 +145,19 @@ bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
 	vec3 t0 = (lo - r.o) * p.inv, t1 = (hi - r.o) * p.inv;
 	vec3 near = mix(t1, t0, p.pos);
 	vec3 far = mix(t0, t1, p.pos);
+	float tn = max(max(near.x, near.y), max(near.z, 0.0)) * RS_BOX_SHRINK;
+	float tf = min(min(far.x, far.y), min(far.z, tmax));
+	tf *= tf > 0.0 ? RS_BOX_GROW : RS_BOX_SHRINK;
+	return tn <= tf;
+}
+
+// rs_box from the ray's origin and 1 / d alone (the two-level walk's current ray).
+bool rs_box_at(vec3 lo, vec3 hi, vec3 o, vec3 inv, float tmax)
+{
+	vec3 t0 = (lo - o) * inv, t1 = (hi - o) * inv;
+	bvec3 pos = greaterThanEqual(inv, vec3(0.0));
+	vec3 near = mix(t1, t0, pos);
+	vec3 far = mix(t0, t1, pos);
 	float tn = max(max(near.x, near.y), max(near.z, 0.0)) * RS_BOX_SHRINK;
 	float tf = min(min(far.x, far.y), min(far.z, tmax));
 	tf *= tf > 0.0 ? RS_BOX_GROW : RS_BOX_SHRINK;
@@ -213,14 +239,15 @@ struct Node {
 	int first;
 };
 
-Node rs_node(int i)
+// go, gs: the tree's compact grid (the scene's, or two levels: the TLAS's or a BLAS's).
+Node rs_node_in(int i, vec3 go, vec3 gs)
 {
 	Node n;
 #if RS_COMPACT_NODES
 	// One fetch. Bounds = origin + q * step are exact in fp32 (power-of-two step).
 	uvec4 q = rs_fetch(u_nodes, rs_item(i, 1, 0));
-	n.lo = u_grid_origin + vec3(uvec3(q.x & 0xffffu, q.x >> 16, q.y & 0xffffu)) * u_grid_step;
-	n.hi = u_grid_origin + vec3(uvec3(q.y >> 16, q.z & 0xffffu, q.z >> 16)) * u_grid_step;
+	n.lo = go + vec3(uvec3(q.x & 0xffffu, q.x >> 16, q.y & 0xffffu)) * gs;
+	n.hi = go + vec3(uvec3(q.y >> 16, q.z & 0xffffu, q.z >> 16)) * gs;
 	bool leaf = q.w >= 0x80000000u;
 	n.next = leaf ? i + 1 : max(int(q.w), i + 1);
 	n.first = leaf ? int(q.w & 0x7fffffffu) : -1;
@@ -235,6 +262,12 @@ Node rs_node(int i)
 #endif
 	return n;
 }
+
+#if RS_COMPACT_NODES
+Node rs_node(int i) { return rs_node_in(i, u_grid_origin, u_grid_step); }
+#else
+Node rs_node(int i) { return rs_node_in(i, vec3(0.0), vec3(0.0)); }
+#endif
 #endif
 
 // The last closest hit's triangle texels as the walk read them, so shading does not fetch
@@ -242,6 +275,10 @@ Node rs_node(int i)
 // separate chains, whose hits come from a texture, fetch). 3 % on Cow17, 2 passes.
 int g_hit_slot = -1;
 vec4 g_hit_v0, g_hit_v1, g_hit_v2;
+#if RS_TWO_LEVEL
+int g_hit_inst = -1; // two levels: the instance and the slot of the cached hit (g_hit_slot
+int g_hit_blas = -1; // is its scene id); the texels are in the BLAS's frame
+#endif
 
 // A leaf's triangles from slot `first` to the one with the last flag, the closest-hit rule
 // (R4) shrinking h.t; true when `stop` (a shadow feeler) may stop at the hit found.
@@ -356,6 +393,203 @@ bool rs_traverse(Ray r, bool stop, out Hit h, inout vec2 counts)
 		entry = stack[--sp];
 	}
 	return found;
+}
+#elif RS_TWO_LEVEL
+// Texel j of instance i (RS_PACK_INSTANCE_TEXELS in rs_pack.h).
+vec4 rs_instance(int i, int j)
+{
+	return texelFetch(u_instances,
+	                  ivec2((i % RS_INSTANCE_ROW_ITEMS) * RS_INSTANCE_TEXELS + j,
+	                        i / RS_INSTANCE_ROW_ITEMS),
+	                  0);
+}
+
+// The node order of a direction (rs_pack_node_order).
+int rs_order(vec3 d)
+{
+#if RS_NODE_ORDERS > 1
+	vec3 ad = abs(d);
+	int axis = ad.y > ad.x ? 1 : 0;
+	if (ad.z > ad[axis])
+		axis = 2;
+	return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+#else
+	return 0;
+#endif
+}
+
+// A BLAS leaf's triangles (rs_leaf with scene ids: first_tri + the local id in t0.w, and
+// the loose BLAS's t0.w already the scene id with first_tri 0).
+bool rs_leaf_blas(int first, Ray r, Pre p, bool stop, float first_tri, int inst, inout Hit h,
+                  inout bool found, inout vec2 counts)
+{
+	for (int s = first; s < u_tri_count; s++) {
+		vec4 v0 = rs_tri(s, 0), v2 = rs_tri(s, 2);
+		float id = first_tri + v0.w;
+		if (int(id) != r.skip) {
+			counts.y += 1.0;
+			vec4 v1 = rs_tri(s, 1);
+			vec3 tuv;
+			if (rs_triangle(v0.xyz, v1.xyz, v2.xyz, r, p, h.t, tuv) &&
+			    rs_better(tuv.x, id, h, found, r.tmax)) {
+				found = true;
+				h = Hit(tuv.x, tuv.y, tuv.z, int(id), id);
+				if (stop)
+					return true;
+				g_hit_slot = int(id);
+				g_hit_inst = inst;
+				g_hit_blas = s;
+				g_hit_v0 = v0;
+				g_hit_v1 = v1;
+				g_hit_v2 = v2;
+			}
+		}
+		if (v2.w != 0.0)
+			break;
+	}
+	return false;
+}
+
+// The two-level walk (docs/bvh.md "Instances on the GPU"), step for step lib/trace
+// traverse_instances.c: the TLAS's threaded order of the ray's direction; at a TLAS leaf
+// each of its instances in turn: the ray into the instance's BLAS frame (to_object), the
+// BLAS's threaded order of that direction from its base, its grid, boxes widened one float
+// step as the CPU's; at the BLAS's end the next instance of the leaf, or back to the leaf's
+// escape in the TLAS with the world ray. t is the same along both rays (affine map). Box
+// tests count both levels, triangle tests the BLASes'.
+bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
+{
+	Pre pw = rs_prepare(r);
+	h = Hit(r.tmax, 0.0, 0.0, -1, -1.0);
+	bool found = false;
+	int i = u_top_base + rs_order(r.d) * u_top_count;
+	int top_end = i + u_top_count, end = top_end;
+	int inst = -1, tslot = -1, ret = 0, pending = -1;
+	float first_tri = 0.0;
+	// The ray of the tree being walked (world, or a BLAS's object ray) as plain vectors:
+	// a struct assigned inside the loop costs llvmpipe 4x per node (measured on cow1i).
+	vec3 co = r.o, cd = r.d, cinv = pw.inv;
+	vec3 go = u_grid_origin, gs = u_grid_step;
+	while (true) {
+		// boxes of both levels until a BLAS leaf the ray enters ("while-while", as the
+		// one-level walk: lanes meet the triangle loop together)
+		int first = -1;
+		while (true) {
+			if (pending >= 0) {
+				tslot = pending;
+				pending = -1;
+				inst = int(rs_tri(tslot, 0).w);
+				vec4 m0 = rs_instance(inst, 0), m1 = rs_instance(inst, 1),
+				     m2 = rs_instance(inst, 2);
+				co = vec3(dot(m0.xyz, r.o) + m0.w, dot(m1.xyz, r.o) + m1.w,
+				          dot(m2.xyz, r.o) + m2.w);
+				cd = vec3(dot(m0.xyz, r.d), dot(m1.xyz, r.d), dot(m2.xyz, r.d));
+				cinv = mix(1.0 / cd, vec3(RS_ZERO_INV), equal(cd, vec3(0.0)));
+				vec4 g0 = rs_instance(inst, 9), g1 = rs_instance(inst, 10);
+				go = g0.xyz;
+				gs = g1.xyz;
+				first_tri = rs_instance(inst, 6).w;
+				int count = int(g1.w);
+				i = int(g0.w) + rs_order(cd) * count;
+				end = i + count;
+			}
+			if (i >= end) {
+				if (inst < 0)
+					break;
+				inst = -1;
+				if (rs_tri(tslot, 2).w == 0.0) { // more instances in this TLAS leaf
+					pending = tslot + 1;
+					continue;
+				}
+				i = ret;
+				end = top_end;
+				go = u_grid_origin;
+				gs = u_grid_step;
+				co = r.o;
+				cd = r.d;
+				cinv = pw.inv;
+				continue;
+			}
+			Node n = rs_node_in(i, go, gs);
+			counts.x += 1.0;
+			bool blas = inst >= 0;
+			if (blas) {
+				// one float step outwards (traverse_instances.c, the edge slack's twin)
+				n.lo -= abs(n.lo) * 1.1920929e-7 + 1.17549435e-38;
+				n.hi += abs(n.hi) * 1.1920929e-7 + 1.17549435e-38;
+			}
+			if (!rs_box_at(n.lo, n.hi, co, cinv, h.t)) {
+				i = n.next;
+				continue;
+			}
+			if (n.first < 0) {
+				i++;
+				continue;
+			}
+			if (!blas) {
+				ret = n.next;
+				pending = n.first;
+				continue;
+			}
+			first = n.first;
+			i = n.next;
+			break;
+		}
+		if (first < 0)
+			break;
+		Ray o = Ray(co, cd, r.tmax, r.skip);
+		if (rs_leaf_blas(first, o, rs_prepare(o), any, first_tri, inst, h, found, counts))
+			return true;
+	}
+	return found;
+}
+
+// A scene triangle id's instance and slot (hit texels carry the id): the prototypes'
+// instances by a binary search of their first ids (ascending), else the loose instance,
+// whose local id is found by a binary search of its scene ids; the slot from the normal
+// texture's spare channel (rs_pack.h, RS_PACK_INSTANCE_TEXELS).
+void rs_locate(int id, out int inst, out int slot)
+{
+	float f = float(id);
+	int lo = 0, hi = u_proto_instances - 1;
+	inst = -1;
+	while (lo <= hi) {
+		int mid = (lo + hi) / 2;
+		if (f < rs_instance(mid, 6).w) {
+			hi = mid - 1;
+		} else {
+			inst = mid;
+			lo = mid + 1;
+		}
+	}
+	if (inst >= 0) {
+		vec4 t11 = rs_instance(inst, 11);
+		float local = f - rs_instance(inst, 6).w;
+		if (local < t11.x) {
+			slot = int(rs_normal(int(t11.y + local), 0).w);
+			return;
+		}
+	}
+	inst = u_instance_count - 1;
+	slot = -1;
+	if (u_proto_instances == u_instance_count)
+		return;
+	vec4 t11 = rs_instance(inst, 11);
+	int base = int(t11.y);
+	lo = 0;
+	hi = int(t11.x) - 1;
+	while (lo <= hi) {
+		int mid = (lo + hi) / 2;
+		float m = rs_normal(base + mid, 1).w;
+		if (m == f) {
+			slot = int(rs_normal(base + mid, 0).w);
+			return;
+		}
+		if (m < f)
+			lo = mid + 1;
+		else
+			hi = mid - 1;
+	}
 }
 #else
 // Stackless walk of the threaded BVH (pre-order, escape indices). `any`: stop at the first

@@ -234,6 +234,79 @@ enum rs_status rs_pack_instances(const struct rs_scene *scene, const struct rs_b
                                  struct rs_error *err);
 void rs_pack_instances_free(struct rs_packed_instances *packed);
 
+/** Texels an instance in rs_packed_two_level.instances (RGBA32F), as the kernels read them:
+ *   t0..t2  to_object rows (x, y, z, w): the TLAS frame -> the BLAS's packed frame
+ *   t3..t5  to_world rows: the BLAS's packed frame -> the TLAS frame (shading)
+ *   t6..t8  to_world_normal rows (x, y, z); t6.w = first scene triangle id,
+ *           t7.w = material (-1: the triangle's own), t8.w = 1 when mirrored (det < 0)
+ *   t9      (BLAS grid origin xyz, BLAS node base: item of its order 0)
+ *   t10     (BLAS grid step xyz, BLAS node count per order)
+ *   t11     (BLAS triangle count, BLAS first slot, 0, 0)
+ * Rows hold instance_row_items instances (a power of two).
+ * A hit texel of the kernels names a scene triangle id; shading finds its instance by a
+ * binary search of t6.w over the prototypes' instances (ascending, the loose instance last)
+ * and its slot through the normal texture's spare channel: for a BLAS with first slot b,
+ * normal texel 0 of item b + local id holds w = the slot of that triangle, and for the
+ * loose BLAS normal texel 1 of item b + local holds w = its scene id (ascending). */
+#define RS_PACK_INSTANCE_TEXELS 12u
+
+/**
+ * A two-level packing merged into one set of textures (docs/bvh.md "Instances on the GPU"):
+ * what the GLES kernels sample and the CPU reference walks for an instanced scene.
+ * all.nodes holds every BLAS (each with its tree_orders orders, escapes made absolute in
+ * the merged texture) and then, from top_node_base, the TLAS, with room for
+ * top_node_capacity items so that a new TLAS over the same instances fits in place.
+ * all.triangles / all.normals hold every BLAS's slots (leaf first slots made absolute,
+ * t0.w the prototype-local triangle id, or for the loose BLAS the scene id) and from
+ * top_slot_base the TLAS's instance boxes (t0.w = instance id).
+ * all.materials is the scene's. all.node_count counts node items (all trees, all orders,
+ * node_orders 1 for the texture); all.triangle_count counts slots; all.origin is the TLAS
+ * frame's (the frame rays are traced in); all's grid is the TLAS's.
+ * A per-frame transform update touches only the rows from top_node_base's / top_slot_base's
+ * on and the instance texture (top_bytes).
+ */
+struct rs_packed_two_level {
+	struct rs_packed all;
+	struct rs_texture instances; /**< RGBA32F, RS_PACK_INSTANCE_TEXELS per instance */
+	uint32_t instance_count;
+	uint32_t instance_row_items; /**< instances per row of `instances` */
+	uint32_t tree_orders;        /**< node orders of every tree (1 or 6) */
+	uint32_t top_node_base;      /**< item of the TLAS's order 0 */
+	uint32_t top_node_count;     /**< TLAS nodes per order */
+	uint32_t top_node_capacity;  /**< items reserved from top_node_base */
+	uint32_t top_slot_base;      /**< slot of the TLAS's first instance box */
+	uint32_t scene_triangles;    /**< the scene's triangle count */
+	bool loose;                  /**< the last instance walks the scene's loose triangles */
+	/** Bytes of the textures' TLAS rows and of the instance texture (what a transform
+	 * update sends). */
+	size_t top_bytes;
+};
+
+/**
+ * Merge a two-level packing of `scene` (from rs_pack_instances() with the same scene) into
+ * one set of textures (struct rs_packed_two_level), laid out for `pack`'s texture size
+ * limit (NULL: defaults; its row width must be the one `packed` was made with).
+ * RS_ERR_LIMIT when the merged textures exceed the texture size limit or 2^24 items, or
+ * the trees' node orders differ (pack with RS_PACK_ORDERS_SINGLE then).
+ * Free with rs_pack_two_level_free().
+ */
+enum rs_status rs_pack_two_level(const struct rs_scene *scene,
+                                 const struct rs_packed_instances *packed,
+                                 struct rs_packed_two_level *out, struct rs_error *err);
+/**
+ * After rs_pack_instances_update() of `packed` (same scene, new transforms): rewrite `out`'s
+ * TLAS items, its frame (all.origin, the TLAS grid) and the instance texture in place, the
+ * BLASes untouched, so `out` equals a fresh rs_pack_two_level(). RS_ERR_INVALID (nothing
+ * changed) when `packed` is not the layout's instances or its tree does not fit the
+ * reserved items.
+ */
+enum rs_status rs_pack_two_level_update(const struct rs_scene *scene,
+                                        const struct rs_packed_instances *packed,
+                                        struct rs_packed_two_level *out, struct rs_error *err);
+void rs_pack_two_level_free(struct rs_packed_two_level *packed);
+/** Bytes of a merged two-level packing: its four textures and the instance texture. */
+size_t rs_pack_two_level_bytes(const struct rs_packed_two_level *packed);
+
 /**
  * Per-frame instance transforms (rs_scene_set_instance_transform): rebuild and repack only the
  * TLAS of `packed` (made by rs_pack_instances() of a scene with the same prototypes,

@@ -57,6 +57,18 @@ enum rs_kernel_chain {
 	RS_CHAIN_PAPER = 2,
 };
 
+/** How a scene with instances (rs_scene_add_instance) is traced. */
+enum rs_instances_mode {
+	/** Two levels where the scene has instances and the renderer can walk them, else
+	 * flattened (rs_render_two_level() decides, and the GL plan for its own limits). */
+	RS_INSTANCES_AUTO = 0,
+	/** The instances' baked world-space triangles in one BVH, as a scene without any. */
+	RS_INSTANCES_FLATTEN = 1,
+	/** A BLAS per prototype and a TLAS over the instances, merged into the same textures
+	 * (rs_pack_two_level(), docs/bvh.md); refused where it cannot be walked. */
+	RS_INSTANCES_TWO_LEVEL = 2,
+};
+
 /** Where reflected and refracted rays (passes after the first) find their colour. */
 enum rs_reflection_mode {
 	RS_REFLECT_TRACE = 0, /**< traced through the BVH (default) */
@@ -148,6 +160,8 @@ struct rs_render_desc {
 	 * at most RS_RENDER_MAX_ENVMAP_SIZE (and the GL context's viewport and texture
 	 * limits, checked at set_scene). */
 	uint32_t envmap_size;
+	/** Instanced scenes: two levels or flattened; 0 -> RS_INSTANCES_AUTO. */
+	enum rs_instances_mode instances;
 };
 
 /** Kernel timing, GL backends (summed over the passes of one frame). */
@@ -395,6 +409,13 @@ enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char 
 
 /** A scene's BVH and its packed textures, owned together: what every backend uploads. */
 struct rs_render_accel {
+	/** Two levels (rs_render_accel_build_two_level()): the merged packing, whose `all` is
+	 * also `packed` (shared, freed once); instance_count 0 for a one-level build. */
+	struct rs_packed_two_level two_level;
+	/** Two levels: the per-tree packing two_level was merged from (its TLAS is what an
+	 * instance update rebuilds, rs_render_accel_update_instances()). */
+	struct rs_packed_instances instances;
+	double tlas_build_ms; /**< rs_render_accel_update_instances(): the TLAS build */
 	struct rs_bvh_node *nodes;
 	size_t node_count;
 	uint32_t *triangle_order;
@@ -413,6 +434,32 @@ struct rs_render_accel {
 enum rs_status rs_render_accel_build(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
                                      const struct rs_pack_desc *pack, struct rs_render_accel *out,
                                      struct rs_error *err);
+
+/** As rs_render_accel_build() but in two levels (rs_pack_instances() merged by
+ * rs_pack_two_level()): `packed` is then the merged textures and `nodes` is NULL. The scene
+ * must have instances. Free with rs_render_accel_free(). */
+enum rs_status rs_render_accel_build_two_level(const struct rs_scene *scene,
+                                               const struct rs_bvh_desc *bvh,
+                                               const struct rs_pack_desc *pack,
+                                               struct rs_render_accel *out, struct rs_error *err);
+
+/** Two levels, `scene` the accel's scene with new instance transforms (the renderer checked
+ * its instances): the TLAS rebuilt with `bvh` (rs_pack_instances_update()) and merged in
+ * place (rs_pack_two_level_update()), the BLASes untouched; tlas_build_ms and pack_ms say
+ * what it took. RS_ERR_INVALID for an accel that is not two levels. */
+enum rs_status rs_render_accel_update_instances(struct rs_render_accel *accel,
+                                                const struct rs_scene *scene,
+                                                const struct rs_bvh_desc *bvh,
+                                                struct rs_error *err);
+
+/**
+ * Whether `scene` is rendered in two levels under `desc` (desc->instances; the one
+ * decision every backend starts from, the GL plan adding its own limits): AUTO and
+ * TWO_LEVEL where the scene has instances and the node format is threaded (not wide4).
+ * RS_ERR_UNSUPPORTED, naming the reason, when TWO_LEVEL is asked and cannot be done.
+ */
+enum rs_status rs_render_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
+                                   bool *out_two_level, struct rs_error *err);
 
 /**
  * The BVH and textures of `scene`, which has the topology of the scene `accel` was built

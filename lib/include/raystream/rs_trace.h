@@ -55,6 +55,8 @@ struct rs_hit {
 	double u, v;
 	uint32_t slot;     /**< packed triangle slot (BVH order), RS_NO_SLOT on a miss */
 	uint32_t triangle; /**< scene triangle id */
+	/** Two-level frames (rs_trace_desc.two_level): the instance hit; unused otherwise. */
+	uint32_t instance;
 };
 
 /** Intersection test counts, as the paper counts them. */
@@ -124,6 +126,23 @@ bool rs_trace_instances_occluded(const struct rs_packed_instances *packed,
                                  enum rs_triangle_test test, const struct rs_ray *ray,
                                  struct rs_trace_counters *counters);
 
+/**
+ * The same two-level walk on a merged packing (rs_pack_two_level()): the layout the GLES
+ * kernels read, every instance value taken from the instance texture (floats). The ray is in
+ * the merged packing's frame (relative to packed->all.origin, as rays of a frame are) and
+ * its skip_slot is a scene triangle id; hit.slot is the merged slot, hit.triangle the scene
+ * id. Counters count the TLAS's and every BLAS's box tests and the triangle tests
+ * (docs/bvh.md "Instances on the GPU").
+ */
+bool rs_trace_two_level_closest(const struct rs_packed_two_level *packed,
+                                enum rs_triangle_test test, const struct rs_ray *ray,
+                                struct rs_instance_hit *out_hit,
+                                struct rs_trace_counters *counters);
+/** As rs_trace_two_level_closest() but stops at the first hit (shadow rays). */
+bool rs_trace_two_level_occluded(const struct rs_packed_two_level *packed,
+                                 enum rs_triangle_test test, const struct rs_ray *ray,
+                                 struct rs_trace_counters *counters);
+
 /* ---- Part 2: rendering --------------------------------------------------------------- */
 
 /** Ray states, as the paper names them. */
@@ -170,6 +189,11 @@ struct rs_trace_desc {
 	const struct rs_camera *camera;
 	/** Ray queries to use instead of walking `packed`'s BVH; NULL: the walk. */
 	const struct rs_trace_intersector *intersector;
+	/** An instanced scene packed in two levels (rs_pack_two_level()) to walk instead of a
+	 * flattened BVH; `packed` must then be two_level->all (or a copy of it). Skip slots are
+	 * scene triangle ids (a BLAS slot is shared by the instances of its mesh). NULL: one level.
+	 */
+	const struct rs_packed_two_level *two_level;
 };
 
 /** Counts over the rendered pixels. Hit numbers are means per pixel over all its rays. */
@@ -327,6 +351,7 @@ struct rs_trace_frame {
 	struct rs_environment env; /**< resolved (rs_scene_environment()), centre in the frame */
 	struct rs_trace_rules rules;
 	const struct rs_trace_intersector *intersector; /**< NULL: walk packed's BVH */
+	const struct rs_packed_two_level *two_level;    /**< rs_trace_desc.two_level */
 };
 
 /**
