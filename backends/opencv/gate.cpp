@@ -105,21 +105,30 @@ static bool fit_pose(const rs_pose_layout &layout, const cv::Vec3d P[3], rs_pose
 	return true;
 }
 
-// Whether the gate's side tests pass with marker i moved by d along u.
-static bool passes_moved(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
+// Whether the gate's side tests (and the step gate, with a prior) pass with marker i moved
+// by d along u.
+static bool passes_moved(const rs_pose_layout &layout, const double layout_sides[3],
+                         const cv::Vec3d P[3], const cv::Matx33d S[3], const StepPrior *prior,
                          int i, const cv::Vec3d &u, double d)
 {
 	cv::Vec3d Q[3] = {P[0], P[1], P[2]};
 	Q[i] += d * u;
 	double total, mc[3];
 	side_chi2(layout_sides, Q, S, &total, mc);
-	return total <= RS_OPTICAL_CHI2_3DOF && mc[0] <= RS_OPTICAL_CHI2_2DOF &&
-	       mc[1] <= RS_OPTICAL_CHI2_2DOF && mc[2] <= RS_OPTICAL_CHI2_2DOF;
+	if (!(total <= RS_OPTICAL_CHI2_3DOF && mc[0] <= RS_OPTICAL_CHI2_2DOF &&
+	      mc[1] <= RS_OPTICAL_CHI2_2DOF && mc[2] <= RS_OPTICAL_CHI2_2DOF))
+		return false;
+	if (!prior)
+		return true;
+	rs_pose T;
+	return fit_pose(layout, Q, &T) &&
+	       rs_pose_step_score(&prior->predicted, &T, prior->rot_rms, prior->pos_rms, prior->dt,
+	                          0.0) <= RS_POSE_STEP_CHI2;
 }
 
 void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], const cv::Vec3d P[3],
-                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], double *out_rot,
-                 double *out_pos)
+                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], const StepPrior *prior,
+                 double *out_rot, double *out_pos)
 {
 	*out_rot = *out_pos = INFINITY;
 	rs_pose T0;
@@ -134,14 +143,15 @@ void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], con
 				// Grow d geometrically until the gate refuses, then bisect the
 				// edge to 1 % of d (a bound, not a measurement).
 				double lo = 0, hi = 1e-4;
-				while (hi < max_d && passes_moved(layout_sides, P, S, i, u, hi)) {
+				while (hi < max_d && passes_moved(layout, layout_sides, P, S, prior, i, u, hi)) {
 					lo = hi;
 					hi *= 1.5;
 				}
 				for (int it = 0; hi < max_d && it < 6; ++it) {
 					double mid = 0.5 * (lo + hi);
-					(passes_moved(layout_sides, P, S, i, u, mid) ? lo : hi) =
-					    mid;
+					(passes_moved(layout, layout_sides, P, S, prior, i, u, mid)
+					     ? lo
+					     : hi) = mid;
 				}
 				// The refused edge: a bound errs outwards.
 				lo = std::min(hi, max_d);

@@ -207,15 +207,18 @@ static void print_pose(const struct rs_track_source *src, const struct rs_marker
 	       rs_pose_status_name(q->status), q->residual_rms_m * 1e3, q->min_height_m * 1e3,
 	       q->markers_used);
 #ifdef RS_HAVE_OPTICAL
-	/* An optical sample's own stated error (its triangulation, lens distortion included),
+	/* An optical sample's stated error (its noise law, lens distortion included, and the
+	 * faults the temporal prior has not ruled out), the noise law alone,
 	 * the error one undetectable stray spot could add (its fault bound) and, when it gave
 	 * no markers, why. */
 	struct rs_optical_quality oq;
 	if (rs_optical_source_quality(src, &oq))
-		printf(" stated=%.3fdeg/%.3fmm fault=%.3fdeg/%.3fmm optical=%s",
+		printf(" stated=%.3fdeg/%.3fmm law=%.3fdeg/%.3fmm fault=%.3fdeg/%.3fmm prior=%u "
+		       "optical=%s",
+		       oq.stated_rotation_rad * 180.0 / RS_PI, oq.stated_position_m * 1e3,
 		       oq.rotation_rms_rad * 180.0 / RS_PI, oq.position_rms_m * 1e3,
 		       oq.fault_rotation_rad * 180.0 / RS_PI, oq.fault_position_m * 1e3,
-		       rs_optical_verdict_name(oq.verdict));
+		       oq.prior_frames, rs_optical_verdict_name(oq.verdict));
 #else
 	(void)src;
 #endif

@@ -205,6 +205,15 @@ struct rs_optical_quality {
 	                                tests (docs/optical.md, "Faults the sides cannot see") */
 	double fault_position_m;   /**< the same for the display origin's position */
 	uint32_t blobs_masked[2];  /**< blobs not used: window touches the camera's mask */
+	/** The error this pose claims, what raystream-track prints as `stated=`: the noise law
+	 * (rotation_rms_rad) and the fault bound's part that the temporal prior has not ruled
+	 * out, in quadrature (docs/optical.md, "The stated error"). A cold pose (no prior)
+	 * carries its whole fault bound; a tracked one only the faults that also pass the step
+	 * gate. */
+	double stated_rotation_rad;
+	double stated_position_m; /**< the same for the display origin's position */
+	uint32_t prior_frames;    /**< reported poses in a row before this one, each following
+	                               the last within the step gate (0: a cold pose) */
 };
 
 struct rs_optical_tracker;
