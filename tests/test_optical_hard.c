@@ -400,8 +400,8 @@ static void test_camera_mask_refuses_a_static_light(void **state)
 		assert_int_not_equal(oq.verdict, RS_OPTICAL_SOLVED);
 		seq_close(&s, "mask next to a marker");
 	}
-	printf("# unmasked: %d of 6 frames a good pose beyond %.0fx its noise law\n",
-	       unmasked_bad, MAX_RATIO);
+	printf("# unmasked: %d of 6 frames a good pose beyond %.0fx its noise law\n", unmasked_bad,
+	       MAX_RATIO);
 	assert_int_equal(masked_frames, frames);
 	g_ghost_sigma = 1.6;
 	g_ghost_level = 150;

@@ -126,6 +126,71 @@ static bool passes_moved(const rs_pose_layout &layout, const double layout_sides
 	                          0.0) <= RS_POSE_STEP_CHI2;
 }
 
+// Total side chi-square with marker i moved by d along u.
+static double moved_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
+                         int i, const cv::Vec3d &u, double d)
+{
+	cv::Vec3d Q[3] = {P[0], P[1], P[2]};
+	Q[i] += d * u;
+	double total, mc[3];
+	side_chi2(layout_sides, Q, S, &total, mc);
+	return total;
+}
+
+// The far passing region along u beyond `from`, if any: each side meeting at marker i
+// returns to its layout length at a second distance along the ray (the triangle tilted the
+// other way, a mirror image in depth), and where both do, the moved triple passes again.
+// Returns the farthest passing distance found (0: none).
+static double far_region(const rs_pose_layout &layout, const double layout_sides[3],
+                         const cv::Vec3d P[3], const cv::Matx33d S[3], const StepPrior *prior,
+                         int i, const cv::Vec3d &u, double from, double max_d)
+{
+	double root[2];
+	int n = 0;
+	for (int j = 0; j < 3; ++j) {
+		if (j == i)
+			continue;
+		// |P_i - P_j + d u| = L: d^2 + 2 b d + c = 0 (the side opposite the third marker)
+		cv::Vec3d w = P[i] - P[j];
+		double L = layout_sides[3 - i - j], b = u.dot(w), c = w.dot(w) - L * L;
+		double disc = b * b - c;
+		// no root: the side comes closest at -b
+		root[n++] = disc < 0 ? -b : std::max(-b - std::sqrt(disc), -b + std::sqrt(disc));
+	}
+	double a = std::max(from, std::min(root[0], root[1]) - 0.002);
+	double e = std::min(max_d, std::max(root[0], root[1]) + 0.002);
+	if (!(e > a))
+		return 0;
+	// The chi-square's least value in [a, e]: a 9-point scan, then ternary steps.
+	double best = a, best_c = INFINITY, step = (e - a) / 8;
+	for (int k = 0; k <= 8; ++k) {
+		double c = moved_chi2(layout_sides, P, S, i, u, a + k * step);
+		if (c < best_c) {
+			best_c = c;
+			best = a + k * step;
+		}
+	}
+	double lo = std::max(a, best - step), hi = std::min(e, best + step);
+	for (int it = 0; it < 12; ++it) {
+		double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+		if (moved_chi2(layout_sides, P, S, i, u, m1) <
+		    moved_chi2(layout_sides, P, S, i, u, m2))
+			hi = m2;
+		else
+			lo = m1;
+	}
+	double d = 0.5 * (lo + hi);
+	if (!passes_moved(layout, layout_sides, P, S, prior, i, u, d))
+		return 0;
+	// Outwards to where it is refused (0.25 mm steps: the region is millimetres wide).
+	for (int k = 0; k < 400 && d < max_d; ++k) {
+		if (!passes_moved(layout, layout_sides, P, S, prior, i, u, d + 0.00025))
+			return d + 0.00025; // the refused edge: a bound errs outwards
+		d += 0.00025;
+	}
+	return std::min(d, max_d);
+}
+
 void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], const cv::Vec3d P[3],
                  const cv::Matx33d S[3], const cv::Vec3d rays[3][2], const StepPrior *prior,
                  double *out_rot, double *out_pos)
@@ -143,7 +208,8 @@ void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], con
 				// Grow d geometrically until the gate refuses, then bisect the
 				// edge to 1 % of d (a bound, not a measurement).
 				double lo = 0, hi = 1e-4;
-				while (hi < max_d && passes_moved(layout, layout_sides, P, S, prior, i, u, hi)) {
+				while (hi < max_d &&
+				       passes_moved(layout, layout_sides, P, S, prior, i, u, hi)) {
 					lo = hi;
 					hi *= 1.5;
 				}
@@ -153,19 +219,23 @@ void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], con
 					     ? lo
 					     : hi) = mid;
 				}
-				// The refused edge: a bound errs outwards.
-				lo = std::min(hi, max_d);
+				// The refused edge: a bound errs outwards. Beyond it the triple may
+				// pass again (the far region); the farther of the two counts.
+				double d = std::min(hi, max_d);
+				if (hi < max_d)
+					d = std::max(d, far_region(layout, layout_sides, P, S,
+					                           prior, i, u, hi, max_d));
 				cv::Vec3d Q[3] = {P[0], P[1], P[2]};
-				Q[i] += lo * u;
+				Q[i] += d * u;
 				rs_pose T;
 				if (!fit_pose(layout, Q, &T))
 					return;
-				double d[3];
+				double dp[3];
 				for (int k = 0; k < 3; ++k)
-					d[k] = T.position[k] - T0.position[k];
+					dp[k] = T.position[k] - T0.position[k];
 				rot = std::max(rot, rs_pose_angle_between(&T, &T0));
-				pos = std::max(pos,
-				               std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+				pos = std::max(
+				    pos, std::sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]));
 			}
 	*out_rot = rot;
 	*out_pos = pos;

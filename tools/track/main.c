@@ -198,7 +198,8 @@ static enum rs_status open_source(const struct options *o, const struct rs_pose_
 }
 
 static void print_pose(const struct rs_track_source *src, const struct rs_marker_sample *s,
-                       const struct rs_pose *p, const struct rs_pose_quality *q)
+                       const struct rs_pose *p, const struct rs_pose_quality *q,
+                       const char *solver_error)
 {
 	printf("%.6f seq=%u pos=[%+.5f %+.5f %+.5f] quat=[%+.5f %+.5f %+.5f %+.5f] %s "
 	       "rms=%.3fmm h=%.1fmm markers=%u",
@@ -222,6 +223,9 @@ static void print_pose(const struct rs_track_source *src, const struct rs_marker
 #else
 	(void)src;
 #endif
+	/* A pose not solved from this sample: the solver's reason, last on the line. */
+	if (q->status != RS_POSE_OK && q->status != RS_POSE_RELABELED && solver_error[0])
+		printf(" why=\"%s\"", solver_error);
 	putchar('\n');
 }
 
@@ -332,7 +336,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 			pose.orientation[k] = -pose.orientation[k];
 		memcpy(prev_q, pose.orientation, sizeof prev_q);
 		if (!o->quiet)
-			print_pose(src, &s, &pose, &q);
+			print_pose(src, &s, &pose, &q, rs_pose_solver_last_error(solver));
 		if (output_failed(&output_error))
 			goto out;
 	}
