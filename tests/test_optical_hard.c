@@ -407,6 +407,57 @@ static void test_camera_mask_refuses_a_static_light(void **state)
 	g_ghost_level = 150;
 }
 
+/* The same static light masked by a mask image (a nonzero disc of 7 px radius around it in
+ * camera 1's image) instead of a rectangle: the blob is not used and counted, no pose is
+ * wrong; an all-zero image masks nothing (the clean frame solves). */
+static void test_camera_mask_image_refuses_a_static_light(void **state)
+{
+	(void)state;
+	static uint8_t mask_img[W * H];
+	struct rng r = {.s = 1919};
+	g_ghost_sigma = 2.4;
+	g_ghost_level = 240;
+	for (int trial = 0; trial < 3; ++trial) {
+		struct rs_pose T;
+		facing_pose(&r, &T);
+		int k = trial % 3;
+		struct rs_optical_rig rig;
+		make_rig(0.4, &rig);
+		struct rs_pose_layout L;
+		rs_pose_layout_default(&L);
+		double X[3], G[3], u, w;
+		rs_pose_transform_point(&T, L.markers[k], X);
+		double n = sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+		for (int c = 0; c < 3; ++c)
+			G[c] = X[c] * (1 + 0.002 / n);
+		project_point(&rig, 1, G, &u, &w);
+		double ghost[1][2][2] = {{{NAN, NAN}, {u, w}}};
+		memset(mask_img, 0, sizeof mask_img);
+		struct rs_optical_mask m = {
+		    .pixels = mask_img, .width = W, .height = H, .stride = W};
+		/* all zero: nothing masked */
+		struct seq s;
+		seq_open_masked(&s, 0.4, &m);
+		s.dt = 1.0;
+		struct rs_optical_quality oq = seq_frame(&s, &T, 0, NULL, 0, (uint64_t)trial);
+		assert_int_equal(oq.blobs_masked[1], 0);
+		assert_int_equal(oq.verdict, RS_OPTICAL_SOLVED);
+		seq_close(&s, "zero mask image");
+		for (int y = 0; y < H; ++y)
+			for (int x = 0; x < W; ++x)
+				mask_img[y * W + x] = hypot(x - u, y - w) <= 7 ? 255 : 0;
+		seq_open_masked(&s, 0.4, &m);
+		memset(mask_img, 0, sizeof mask_img); /* the tracker copied it */
+		s.dt = 1.0;
+		oq = seq_frame(&s, &T, k + 1, ghost, 1, (uint64_t)trial);
+		assert_int_equal(oq.blobs_masked[1], 1);
+		assert_int_not_equal(oq.verdict, RS_OPTICAL_SOLVED);
+		seq_close(&s, "mask image over a light");
+	}
+	g_ghost_sigma = 1.6;
+	g_ghost_level = 150;
+}
+
 /* A bad mask is refused at creation. */
 static void test_bad_mask_refused(void **state)
 {
@@ -417,6 +468,15 @@ static void test_bad_mask_refused(void **state)
 	d.mask[0].count = 1; /* an empty rectangle */
 	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_ERR_INVALID);
 	d.mask[0].count = RS_OPTICAL_MAX_MASK_RECTS + 1;
+	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_ERR_INVALID);
+	/* a mask image of another size than the camera's, or a stride below its width */
+	static uint8_t px[W * H];
+	d.mask[0].count = 0;
+	d.mask[1] =
+	    (struct rs_optical_mask){.pixels = px, .width = W / 2, .height = H, .stride = W};
+	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_ERR_INVALID);
+	d.mask[1] =
+	    (struct rs_optical_mask){.pixels = px, .width = W, .height = H, .stride = W - 1};
 	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_ERR_INVALID);
 	assert_null(t);
 }
@@ -595,6 +655,7 @@ int main(void)
 	    cmocka_unit_test(test_stray_spot_on_hidden_markers_epipolar_line),
 	    cmocka_unit_test(test_marker_like_stray_within_5x_its_stated_error),
 	    cmocka_unit_test(test_camera_mask_refuses_a_static_light),
+	    cmocka_unit_test(test_camera_mask_image_refuses_a_static_light),
 	    cmocka_unit_test(test_bad_mask_refused),
 	    cmocka_unit_test(test_reflection_of_the_display),
 	    cmocka_unit_test(test_clean_frames_at_the_law),

@@ -5,6 +5,7 @@
 #include "optical_internal.hpp"
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +47,7 @@ struct rs_optical_tracker {
 	cv::Matx33d F;      // undistorted pixel coordinates: x1^T F x0 = 0
 	double layout_sides[3];
 	DetectScratch scratch;
+	Mask mask[2]; // the desc's rectangles and the integral of its mask image
 	std::vector<rs_optical_blob> blobs[2];
 	std::vector<cv::Point2d> raw[2], und[2];
 	std::vector<double> area[2];   // thresholded area of each raw centroid's spot (0: unknown)
@@ -150,6 +152,14 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 				return rs_error_set(
 				    err, RS_ERR_INVALID,
 				    "optical tracker: camera %d mask rectangle %u is empty", v, k);
+		const rs_optical_camera &c = d.rig.cam[v];
+		if (m.pixels &&
+		    (m.width != c.width || m.height != c.height || m.stride < (size_t)m.width))
+			return rs_error_set(
+			    err, RS_ERR_INVALID,
+			    "optical tracker: camera %d mask image is %dx%d (stride "
+			    "%zu), the camera's frames %dx%d",
+			    v, m.width, m.height, m.stride, c.width, c.height);
 	}
 	if (!detect_desc_valid(dd) || !(d.epipolar_gate_px > 0) ||
 	    !std::isfinite(d.epipolar_gate_px) || !(d.centroid_sigma_px > 0) ||
@@ -161,6 +171,23 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 	if (!t)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: out of memory");
 	t->d = d;
+	try {
+		for (int v = 0; v < 2; ++v) {
+			rs_optical_mask &m = t->d.mask[v];
+			t->mask[v].rects = &m;
+			if (m.pixels) {
+				cv::Mat img(m.height, m.width, CV_8UC1,
+				            const_cast<uint8_t *>(m.pixels), m.stride);
+				cv::Mat ones = (img != 0) / 255; // 1 where masked
+				cv::integral(ones, t->mask[v].sum, CV_32S);
+			}
+			m.pixels = nullptr; // the caller's; the integral is the tracker's copy
+		}
+	} catch (const cv::Exception &e) {
+		delete t;
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: %.160s",
+		                    e.msg.c_str());
+	}
 	cv::Matx33d K0 = K_of(d.rig.cam[0]), K1 = K_of(d.rig.cam[1]), R = R_of(d.rig);
 	cv::Vec3d tv = t_of(d.rig);
 	cv::Matx34d I34(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0);
@@ -433,7 +460,7 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 				// No window: the spot reaches a pixel of radius and the margin.
 				const int reach = k_centroid_margin_px + 1;
 				if (external &&
-				    window_masked(&t->d.mask[v], (int)std::floor(b.x + 0.5) - reach,
+				    window_masked(&t->mask[v], (int)std::floor(b.x + 0.5) - reach,
 				                  (int)std::floor(b.y + 0.5) - reach,
 				                  (int)std::floor(b.x + 0.5) + reach + 1,
 				                  (int)std::floor(b.y + 0.5) + reach + 1)) {
@@ -632,7 +659,7 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 	try {
 		for (int v = 0; v < 2; ++v) {
 			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v], &t->counts[v],
-			       &t->d.mask[v]);
+			       &t->mask[v]);
 			if (t->blobs[v].size() > k_max_blobs)
 				t->blobs[v].resize(k_max_blobs);
 		}

@@ -29,10 +29,10 @@
 
 struct hard_frame {
 	struct rs_pose T;
-	int occluded;                   /* 1 + marker hidden from camera 1 (0: none) */
-	int spots;                      /* extra spots, drawn in both views where not NaN */
-	double spot[MAX_SPOTS][2][2];   /* [spot][view][x y] */
-	double spot_sigma, spot_level;  /* their Gaussian shape */
+	int occluded;                  /* 1 + marker hidden from camera 1 (0: none) */
+	int spots;                     /* extra spots, drawn in both views where not NaN */
+	double spot[MAX_SPOTS][2][2];  /* [spot][view][x y] */
+	double spot_sigma, spot_level; /* their Gaussian shape */
 };
 
 struct hard_plan {
@@ -116,7 +116,8 @@ static void project(const struct rs_optical_rig *rig, int v, const double X0[3],
 	if (v) {
 		const double *R = rig->R_cam1_cam0, *t = rig->t_cam1_cam0;
 		for (int i = 0; i < 3; ++i)
-			X[i] = R[3 * i] * X0[0] + R[3 * i + 1] * X0[1] + R[3 * i + 2] * X0[2] + t[i];
+			X[i] =
+			    R[3 * i] * X0[0] + R[3 * i + 1] * X0[1] + R[3 * i + 2] * X0[2] + t[i];
 	}
 	const double *K = rig->cam[v].K;
 	*u = K[0] * X[0] / X[2] + K[2];

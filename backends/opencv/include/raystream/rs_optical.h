@@ -129,10 +129,16 @@ struct rs_optical_rect {
  * Image regions of one camera to ignore (a lamp, a window, a glossy surface that the room
  * always shows): a blob whose centroid window (its pixels and the 3 px the centroid's
  * flanks need) touches one is not used, and counted in the quality's blobs_masked.
+ * Rectangles, a mask image, or both.
  */
 struct rs_optical_mask {
 	struct rs_optical_rect rects[RS_OPTICAL_MAX_MASK_RECTS];
-	uint32_t count; /**< rects used (0: no mask) */
+	uint32_t count; /**< rects used (0: none) */
+	/** A grey mask image of the camera's size, `stride` bytes a row: a nonzero pixel is
+	 *  masked. NULL: none. The tracker copies it at creation. */
+	const uint8_t *pixels;
+	int32_t width, height;
+	size_t stride;
 };
 
 struct rs_optical_tracker_desc {
