@@ -349,6 +349,71 @@ static void test_marker_like_stray_within_5x_its_stated_error(void **state)
 	stray_runs(1);
 }
 
+/* The mirror depth: marker 2 hidden from camera 1 and a stray there where camera 1 would see
+ * marker 2 moved along camera 0's ray to the depth at which the triangle, tilted the other
+ * way, is congruent again (the display turned 10 degrees about the side 0-1, which is
+ * perpendicular to that ray: both sides meeting at marker 2 return to their lengths at the
+ * same depth). The side tests pass it exactly and the pose is 20 degrees off; the fault
+ * bound must reach it (the far region along the ray), so the pose states at least that
+ * error. Exact projections through rs_optical_tracker_process_blobs, cold. */
+static void test_stray_at_the_mirror_depth_within_its_stated_error(void **state)
+{
+	(void)state;
+	struct rs_optical_tracker_desc d = {.centroid_sigma_px = SIGMA_PX};
+	make_rig(0.4, &d.rig);
+	struct rs_optical_tracker *t = NULL;
+	assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_OK);
+	struct rs_pose_layout L;
+	rs_pose_layout_default(&L);
+	int good = 0;
+	for (int k = 0; k < 4; ++k) {
+		double th = (8.0 + 2.0 * k) * RS_PI / 180; /* 8..14 degrees */
+		struct rs_pose T = {.orientation = {sin(th / 2), 0, 0, cos(th / 2)}};
+		double m2[3];
+		rs_pose_transform_point(&T, L.markers[2], m2); /* R m2, position still 0 */
+		for (int c = 0; c < 3; ++c)                    /* marker 2 on camera 0's axis */
+			T.position[c] = (c == 2 ? 1.0 : 0.0) - m2[c];
+		double X[3][3];
+		for (int i = 0; i < 3; ++i)
+			rs_pose_transform_point(&T, L.markers[i], X[i]);
+		/* u = (0, 0, 1): the second root of |X2 + d u - X0| = |X2 - X0| */
+		double dm = -2 * (X[2][2] - X[0][2]), G[3] = {X[2][0], X[2][1], X[2][2] + dm};
+		struct rs_optical_blob b[2][3] = {{{0}}};
+		for (int i = 0; i < 3; ++i) {
+			project_point(&d.rig, 0, X[i], &b[0][i].x, &b[0][i].y);
+			project_point(&d.rig, 1, i == 2 ? G : X[i], &b[1][i].x, &b[1][i].y);
+		}
+		struct rs_marker_sample smp;
+		struct rs_optical_quality oq;
+		assert_int_equal(rs_optical_tracker_process_blobs(t, b[0], 3, b[1], 3, 10.0 * k,
+		                                                  &smp, &oq, NULL),
+		                 RS_OK);
+		if (oq.verdict != RS_OPTICAL_SOLVED)
+			continue;
+		double model[3][3], meas[3][3];
+		for (int i = 0; i < 3; ++i)
+			for (int c = 0; c < 3; ++c) {
+				model[i][c] = L.markers[i][c];
+				meas[i][c] = smp.markers[i].position[c];
+			}
+		struct rs_pose P;
+		assert_int_equal(rs_pose_fit((const double(*)[3])model, (const double(*)[3])meas, 3,
+		                             &P, NULL, NULL),
+		                 RS_OK);
+		double a = rs_pose_angle_between(&P, &T);
+		printf(
+		    "# mirror depth at %.0f degrees: %.1f mm along the ray, pose %.1f degrees off, "
+		    "stated %.1f (law %.3f, fault %.1f)\n",
+		    th * 180 / RS_PI, dm * 1e3, a * 180 / RS_PI,
+		    oq.stated_rotation_rad * 180 / RS_PI, oq.rotation_rms_rad * 180 / RS_PI,
+		    oq.fault_rotation_rad * 180 / RS_PI);
+		assert_true(a <= MAX_RATIO * oq.stated_rotation_rad);
+		good++;
+	}
+	assert_true(good >= 3); /* the case is there: the side tests pass it */
+	rs_optical_tracker_destroy(&t);
+}
+
 /* A marker-like light where the room always shows one (a lamp), on camera 1's epipolar line
  * of a marker hidden there, 2 mm out along camera 0's ray: unmasked, the side lengths
  * cannot refuse it (up to 30x the stated error, test_marker_like_stray_within_5x_its_stated_error);
@@ -654,6 +719,7 @@ int main(void)
 	    cmocka_unit_test(test_markers_at_the_corners),
 	    cmocka_unit_test(test_stray_spot_on_hidden_markers_epipolar_line),
 	    cmocka_unit_test(test_marker_like_stray_within_5x_its_stated_error),
+	    cmocka_unit_test(test_stray_at_the_mirror_depth_within_its_stated_error),
 	    cmocka_unit_test(test_camera_mask_refuses_a_static_light),
 	    cmocka_unit_test(test_camera_mask_image_refuses_a_static_light),
 	    cmocka_unit_test(test_bad_mask_refused),
