@@ -73,6 +73,13 @@ for name in edges corners stray ghosts; do
       || fail "$name $label: a good pose $worst x its stated error off"
     # Each sequence has frames the tracker solves (a check that cannot pass vacuously).
     [ "$rate" = 5 ] || [ "$good" -gt 0 ] || fail "$name $label: nothing solved"
+    # Tracked runs have poses with a prior; cold ones none (frames 0.2 s apart).
+    tracked=$(grep -c ' prior=[1-9]' "$work/$name/track-$rate.txt" || true)
+    if [ "$rate" = 60 ]; then
+      [ "$tracked" -gt 0 ] || fail "$name tracked: no pose with a prior"
+    else
+      [ "$tracked" -eq 0 ] || fail "$name cold: $tracked poses with a prior"
+    fi
   done
 done
 

@@ -102,6 +102,15 @@ static void seq_account(struct seq *s, const struct rs_marker_sample *smp,
 		 * ruled out (all of them when cold) */
 		assert_true(oq->stated_rotation_rad >= oq->rotation_rms_rad &&
 		            oq->stated_position_m >= oq->position_rms_m);
+		/* the fault part is at most the whole fault bound (what a cold pose states) */
+		assert_true(oq->stated_rotation_rad <=
+		                1.000001 * hypot(oq->rotation_rms_rad, oq->fault_rotation_rad) &&
+		            oq->stated_position_m <=
+		                1.000001 * hypot(oq->position_rms_m, oq->fault_position_m));
+		if (!oq->prior_frames) /* cold: exactly that */
+			assert_true(fabs(oq->stated_rotation_rad -
+			                 hypot(oq->rotation_rms_rad, oq->fault_rotation_rad)) <=
+			            1e-9 * oq->stated_rotation_rad);
 		double r = a / oq->stated_rotation_rad, p = e / oq->stated_position_m;
 		r = r > p ? r : p;
 		double rl = a / oq->rotation_rms_rad, pl = e / oq->position_rms_m;
