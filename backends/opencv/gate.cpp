@@ -161,23 +161,35 @@ static double far_region(const rs_pose_layout &layout, const double layout_sides
 	double e = std::min(max_d, std::max(root[0], root[1]) + 0.002);
 	if (!(e > a))
 		return 0;
-	// The chi-square's least value in [a, e]: a 9-point scan, then ternary steps.
-	double best = a, best_c = INFINITY, step = (e - a) / 8;
-	for (int k = 0; k <= 8; ++k) {
+	// The chi-square's least value in [a, e]: a 5-point scan, then golden-section steps
+	// to 0.05 mm (one new value per step).
+	double best = a, best_c = INFINITY, step = (e - a) / 4;
+	for (int k = 0; k <= 4; ++k) {
 		double c = moved_chi2(layout_sides, P, S, i, u, a + k * step);
 		if (c < best_c) {
 			best_c = c;
 			best = a + k * step;
 		}
 	}
+	const double g = 0.5 * (std::sqrt(5.0) - 1.0);
 	double lo = std::max(a, best - step), hi = std::min(e, best + step);
-	for (int it = 0; it < 12; ++it) {
-		double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
-		if (moved_chi2(layout_sides, P, S, i, u, m1) <
-		    moved_chi2(layout_sides, P, S, i, u, m2))
+	double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+	double c1 = moved_chi2(layout_sides, P, S, i, u, m1);
+	double c2 = moved_chi2(layout_sides, P, S, i, u, m2);
+	for (int it = 0; it < 24 && hi - lo > 5e-5; ++it) {
+		if (c1 < c2) {
 			hi = m2;
-		else
+			m2 = m1;
+			c2 = c1;
+			m1 = hi - g * (hi - lo);
+			c1 = moved_chi2(layout_sides, P, S, i, u, m1);
+		} else {
 			lo = m1;
+			m1 = m2;
+			c1 = c2;
+			m2 = lo + g * (hi - lo);
+			c2 = moved_chi2(layout_sides, P, S, i, u, m2);
+		}
 	}
 	double d = 0.5 * (lo + hi);
 	if (!passes_moved(layout, layout_sides, P, S, prior, i, u, d))
