@@ -358,6 +358,21 @@ static void test_marker_like_stray_within_5x_its_stated_error(void **state)
 	stray_runs(1);
 }
 
+/* The pose of a sample's three markers (id order) fitted to layout L. */
+static void fit_sample(const struct rs_pose_layout *L, const struct rs_marker_sample *smp,
+                       struct rs_pose *P)
+{
+	double model[3][3], meas[3][3];
+	for (int i = 0; i < 3; ++i)
+		for (int k = 0; k < 3; ++k) {
+			model[i][k] = L->markers[i][k];
+			meas[i][k] = smp->markers[i].position[k];
+		}
+	assert_int_equal(
+	    rs_pose_fit((const double(*)[3])model, (const double(*)[3])meas, 3, P, NULL, NULL),
+	    RS_OK);
+}
+
 /* The mirror depth: marker 2 hidden from camera 1 and a stray there where camera 1 would see
  * marker 2 moved along camera 0's ray to the depth at which the triangle, tilted the other
  * way, is congruent again (the display turned 10 degrees about the side 0-1, which is
@@ -399,16 +414,8 @@ static void test_stray_at_the_mirror_depth_within_its_stated_error(void **state)
 		                 RS_OK);
 		if (oq.verdict != RS_OPTICAL_SOLVED)
 			continue;
-		double model[3][3], meas[3][3];
-		for (int i = 0; i < 3; ++i)
-			for (int c = 0; c < 3; ++c) {
-				model[i][c] = L.markers[i][c];
-				meas[i][c] = smp.markers[i].position[c];
-			}
 		struct rs_pose P;
-		assert_int_equal(rs_pose_fit((const double(*)[3])model, (const double(*)[3])meas, 3,
-		                             &P, NULL, NULL),
-		                 RS_OK);
+		fit_sample(&L, &smp, &P);
 		double a = rs_pose_angle_between(&P, &T);
 		printf(
 		    "# mirror depth at %.0f degrees: %.1f mm along the ray, pose %.1f degrees off, "
@@ -695,16 +702,8 @@ static void test_stated_error_includes_distortion(void **state)
 		    RS_OK);
 		if (oq.markers != 3)
 			continue;
-		double model[3][3], meas[3][3];
-		for (int i = 0; i < 3; ++i)
-			for (int k = 0; k < 3; ++k) {
-				model[i][k] = L.markers[i][k];
-				meas[i][k] = smp.markers[i].position[k];
-			}
 		struct rs_pose P;
-		assert_int_equal(rs_pose_fit((const double(*)[3])model, (const double(*)[3])meas, 3,
-		                             &P, NULL, NULL),
-		                 RS_OK);
+		fit_sample(&L, &smp, &P);
 		double a = rs_pose_angle_between(&P, &T), e = pos_error(&P, &T);
 		se_r += a * a;
 		se_p += e * e;
@@ -713,7 +712,7 @@ static void test_stated_error_includes_distortion(void **state)
 		++n;
 	}
 	double kr = sqrt(se_r / st_r), kp = sqrt(se_p / st_p);
-	printf("# distorted lens, off centre: %d/1500 solved; measured / stated RMS: rotation "
+	printf("# distorted lens, off centre: %d/1500 solved; measured / law RMS: rotation "
 	       "%.3f, position %.3f\n",
 	       n, kr, kp);
 	assert_true(n >= 1470); /* a few refused: markers within 4 px of the edge */
