@@ -74,4 +74,30 @@ check_error 2 "$synth" --script fly "$work/x"
 check_error 2 "$track" "video:$work/seq/left_%04d.png?calib=$work/seq/rig.yaml"
 check_error 1 "$track" "video:$work/seq/left_%04d.png,$work/seq/right_%04d.png?calib=$work/none.yaml"
 check_error 1 "$track" "video:$work/none_%04d.png,$work/seq/right_%04d.png?calib=$work/seq/rig.yaml"
+
+# Camera masks as images (mask0file=, mask1file=: PGM or PNG of the camera's frame size,
+# nonzero pixels masked): an all-zero mask changes nothing, a full one leaves nothing to
+# match; a missing file, a file that is no image and one of another size are one-line
+# errors naming the option.
+pgm() { # pgm FILE W H BYTE
+  { printf 'P5\n%d %d\n255\n' "$2" "$3"; head -c $(($2 * $3)) /dev/zero | tr '\0' "$4"; } > "$1"
+}
+pgm "$work/zero.pgm" 640 480 '\000'
+pgm "$work/full.pgm" 640 480 '\377'
+pgm "$work/small.pgm" 320 240 '\000'
+echo "not an image" > "$work/text.pgm"
+base="video:$work/seq/left_%04d.png,$work/seq/right_%04d.png?calib=$work/seq/rig.yaml&rate=60"
+out=$("$track" --sigma 1 --stats 0 "$base&mask1file=$work/zero.pgm")
+[ "$(grep -c 'RS_POSE_OK' <<<"$out")" -eq 6 ] || fail "zero mask image: $out"
+out=$("$track" --sigma 1 --stats 0 "$base&mask0file=$work/full.pgm")
+grep -q 'RS_POSE_OK' <<<"$out" && fail "a full mask image left poses: $out"
+[ "$(grep -c 'optical=RS_OPTICAL_TOO_FEW_MATCHES' <<<"$out")" -eq 6 ] \
+  || fail "full mask image: frames not refused for too few matches: $out"
+check_error 1 "$track" "$base&mask1file=$work/none.pgm"
+grep -q "mask1file '$work/none.pgm': cannot open" "$work/err.txt" || fail "missing mask file"
+check_error 1 "$track" "$base&mask0file=$work/text.pgm"
+grep -q "mask0file .* is not an image" "$work/err.txt" || fail "mask file not an image"
+check_error 1 "$track" "$base&mask1file=$work/small.pgm"
+grep -q "mask1file .* is 320x240, camera 1's frames 640x480" "$work/err.txt" \
+  || fail "mask file of the wrong size: $(cat "$work/err.txt")"
 echo "optical_cli: all checks passed"

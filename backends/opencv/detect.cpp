@@ -42,21 +42,32 @@ static bool window_has_other(const cv::Mat &labels, int i, int x0, int y0, int x
 	return false;
 }
 
-bool window_masked(const rs_optical_mask *mask, int x0, int y0, int x1, int y1)
+bool window_masked(const Mask *mask, int x0, int y0, int x1, int y1)
 {
 	if (!mask)
 		return false;
-	for (uint32_t k = 0; k < mask->count && k < RS_OPTICAL_MAX_MASK_RECTS; ++k) {
-		const rs_optical_rect &r = mask->rects[k];
+	const rs_optical_mask *m = mask->rects;
+	for (uint32_t k = 0; m && k < m->count && k < RS_OPTICAL_MAX_MASK_RECTS; ++k) {
+		const rs_optical_rect &r = m->rects[k];
 		if (x0 < (int64_t)r.x + r.width && r.x < x1 && y0 < (int64_t)r.y + r.height &&
 		    r.y < y1)
 			return true;
 	}
-	return false;
+	if (mask->sum.empty())
+		return false;
+	// The window clipped to the image: how many masked pixels it holds.
+	int cx0 = std::max(x0, 0), cy0 = std::max(y0, 0);
+	int cx1 = std::min(x1, mask->sum.cols - 1), cy1 = std::min(y1, mask->sum.rows - 1);
+	if (cx0 >= cx1 || cy0 >= cy1)
+		return false;
+	const cv::Mat &S = mask->sum;
+	return S.at<int>(cy1, cx1) - S.at<int>(cy0, cx1) - S.at<int>(cy1, cx0) +
+	           S.at<int>(cy0, cx0) >
+	       0;
 }
 
 void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &s,
-            std::vector<rs_optical_blob> &out, DetectCounts *counts, const rs_optical_mask *mask)
+            std::vector<rs_optical_blob> &out, DetectCounts *counts, const Mask *mask)
 {
 	out.clear();
 	if (counts)

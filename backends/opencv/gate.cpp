@@ -105,21 +105,107 @@ static bool fit_pose(const rs_pose_layout &layout, const cv::Vec3d P[3], rs_pose
 	return true;
 }
 
-// Whether the gate's side tests pass with marker i moved by d along u.
-static bool passes_moved(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
+// Whether the gate's side tests (and the step gate, with a prior) pass with marker i moved
+// by d along u.
+static bool passes_moved(const rs_pose_layout &layout, const double layout_sides[3],
+                         const cv::Vec3d P[3], const cv::Matx33d S[3], const StepPrior *prior,
                          int i, const cv::Vec3d &u, double d)
 {
 	cv::Vec3d Q[3] = {P[0], P[1], P[2]};
 	Q[i] += d * u;
 	double total, mc[3];
 	side_chi2(layout_sides, Q, S, &total, mc);
-	return total <= RS_OPTICAL_CHI2_3DOF && mc[0] <= RS_OPTICAL_CHI2_2DOF &&
-	       mc[1] <= RS_OPTICAL_CHI2_2DOF && mc[2] <= RS_OPTICAL_CHI2_2DOF;
+	if (!(total <= RS_OPTICAL_CHI2_3DOF && mc[0] <= RS_OPTICAL_CHI2_2DOF &&
+	      mc[1] <= RS_OPTICAL_CHI2_2DOF && mc[2] <= RS_OPTICAL_CHI2_2DOF))
+		return false;
+	if (!prior)
+		return true;
+	rs_pose T;
+	return fit_pose(layout, Q, &T) &&
+	       rs_pose_step_score(&prior->predicted, &T, prior->rot_rms, prior->pos_rms, prior->dt,
+	                          0.0) <= RS_POSE_STEP_CHI2;
+}
+
+// Total side chi-square with marker i moved by d along u.
+static double moved_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
+                         int i, const cv::Vec3d &u, double d)
+{
+	cv::Vec3d Q[3] = {P[0], P[1], P[2]};
+	Q[i] += d * u;
+	double total, mc[3];
+	side_chi2(layout_sides, Q, S, &total, mc);
+	return total;
+}
+
+// The far passing region along u beyond `from`, if any: each side meeting at marker i
+// returns to its layout length at a second distance along the ray (the triangle tilted the
+// other way, a mirror image in depth), and where both do, the moved triple passes again.
+// Returns the farthest passing distance found (0: none).
+static double far_region(const rs_pose_layout &layout, const double layout_sides[3],
+                         const cv::Vec3d P[3], const cv::Matx33d S[3], const StepPrior *prior,
+                         int i, const cv::Vec3d &u, double from, double max_d)
+{
+	double root[2];
+	int n = 0;
+	for (int j = 0; j < 3; ++j) {
+		if (j == i)
+			continue;
+		// |P_i - P_j + d u| = L: d^2 + 2 b d + c = 0 (the side opposite the third marker)
+		cv::Vec3d w = P[i] - P[j];
+		double L = layout_sides[3 - i - j], b = u.dot(w), c = w.dot(w) - L * L;
+		double disc = b * b - c;
+		// no root: the side comes closest at -b
+		root[n++] = disc < 0 ? -b : std::max(-b - std::sqrt(disc), -b + std::sqrt(disc));
+	}
+	double a = std::max(from, std::min(root[0], root[1]) - 0.002);
+	double e = std::min(max_d, std::max(root[0], root[1]) + 0.002);
+	if (!(e > a))
+		return 0;
+	// The chi-square's least value in [a, e]: a 5-point scan, then golden-section steps
+	// to 0.05 mm (one new value per step).
+	double best = a, best_c = INFINITY, step = (e - a) / 4;
+	for (int k = 0; k <= 4; ++k) {
+		double c = moved_chi2(layout_sides, P, S, i, u, a + k * step);
+		if (c < best_c) {
+			best_c = c;
+			best = a + k * step;
+		}
+	}
+	const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+	double lo = std::max(a, best - step), hi = std::min(e, best + step);
+	double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+	double c1 = moved_chi2(layout_sides, P, S, i, u, m1);
+	double c2 = moved_chi2(layout_sides, P, S, i, u, m2);
+	for (int it = 0; it < 24 && hi - lo > 5e-5; ++it) {
+		if (c1 < c2) {
+			hi = m2;
+			m2 = m1;
+			c2 = c1;
+			m1 = hi - g * (hi - lo);
+			c1 = moved_chi2(layout_sides, P, S, i, u, m1);
+		} else {
+			lo = m1;
+			m1 = m2;
+			c1 = c2;
+			m2 = lo + g * (hi - lo);
+			c2 = moved_chi2(layout_sides, P, S, i, u, m2);
+		}
+	}
+	double d = 0.5 * (lo + hi);
+	if (!passes_moved(layout, layout_sides, P, S, prior, i, u, d))
+		return 0;
+	// Outwards to where it is refused (0.25 mm steps: the region is millimetres wide).
+	for (int k = 0; k < 400 && d < max_d; ++k) {
+		if (!passes_moved(layout, layout_sides, P, S, prior, i, u, d + 0.00025))
+			return d + 0.00025; // the refused edge: a bound errs outwards
+		d += 0.00025;
+	}
+	return std::min(d, max_d);
 }
 
 void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], const cv::Vec3d P[3],
-                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], double *out_rot,
-                 double *out_pos)
+                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], const StepPrior *prior,
+                 double *out_rot, double *out_pos)
 {
 	*out_rot = *out_pos = INFINITY;
 	rs_pose T0;
@@ -134,28 +220,34 @@ void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], con
 				// Grow d geometrically until the gate refuses, then bisect the
 				// edge to 1 % of d (a bound, not a measurement).
 				double lo = 0, hi = 1e-4;
-				while (hi < max_d && passes_moved(layout_sides, P, S, i, u, hi)) {
+				while (hi < max_d &&
+				       passes_moved(layout, layout_sides, P, S, prior, i, u, hi)) {
 					lo = hi;
 					hi *= 1.5;
 				}
 				for (int it = 0; hi < max_d && it < 6; ++it) {
 					double mid = 0.5 * (lo + hi);
-					(passes_moved(layout_sides, P, S, i, u, mid) ? lo : hi) =
-					    mid;
+					(passes_moved(layout, layout_sides, P, S, prior, i, u, mid)
+					     ? lo
+					     : hi) = mid;
 				}
-				// The refused edge: a bound errs outwards.
-				lo = std::min(hi, max_d);
+				// The refused edge: a bound errs outwards. Beyond it the triple may
+				// pass again (the far region); the farther of the two counts.
+				double d = std::min(hi, max_d);
+				if (hi < max_d)
+					d = std::max(d, far_region(layout, layout_sides, P, S,
+					                           prior, i, u, hi, max_d));
 				cv::Vec3d Q[3] = {P[0], P[1], P[2]};
-				Q[i] += lo * u;
+				Q[i] += d * u;
 				rs_pose T;
 				if (!fit_pose(layout, Q, &T))
 					return;
-				double d[3];
+				double dp[3];
 				for (int k = 0; k < 3; ++k)
-					d[k] = T.position[k] - T0.position[k];
+					dp[k] = T.position[k] - T0.position[k];
 				rot = std::max(rot, rs_pose_angle_between(&T, &T0));
-				pos = std::max(pos,
-				               std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+				pos = std::max(
+				    pos, std::sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]));
 			}
 	*out_rot = rot;
 	*out_pos = pos;

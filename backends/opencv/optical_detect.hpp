@@ -27,14 +27,21 @@ struct DetectCounts {
 	uint32_t at_edge = 0, crowded = 0, masked = 0;
 };
 
+// One camera's mask as the detector tests it: the rectangles and, from a mask image, the
+// integral image of its nonzero pixels.
+struct Mask {
+	const rs_optical_mask *rects = nullptr;
+	cv::Mat sum; // CV_32S, (rows + 1) x (cols + 1); empty: no mask image
+};
+
 // Blobs of `img` passing the gates, largest first; `counts` (may be null) the refused ones;
 // `mask` (may be null) the regions a blob's window must not touch.
 void detect(const cv::Mat &img, const rs_optical_detect_desc &d, DetectScratch &s,
-            std::vector<rs_optical_blob> &out, DetectCounts *counts,
-            const rs_optical_mask *mask = nullptr);
+            std::vector<rs_optical_blob> &out, DetectCounts *counts, const Mask *mask = nullptr);
 
-// Whether the window [x0, x1) x [y0, y1) overlaps a rectangle of `mask` (may be null).
-bool window_masked(const rs_optical_mask *mask, int x0, int y0, int x1, int y1);
+// Whether the window [x0, x1) x [y0, y1) overlaps a rectangle of `mask` or a masked pixel
+// of its image (mask may be null).
+bool window_masked(const Mask *mask, int x0, int y0, int x1, int y1);
 
 } // namespace rs_optical
 

@@ -58,12 +58,20 @@ cv::Matx22d centroid_weight(const rs_optical_camera &c, cv::Point2d undistorted)
 void side_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Matx33d S[3],
                double *out_total, double out_marker[3]);
 
+// The temporal prior of the step gate: the last reported pose moved on to this frame, and
+// the stated errors rs_pose_step_score() weighs a step with.
+struct StepPrior {
+	rs_pose predicted;
+	double rot_rms, pos_rms, dt;
+};
+
 // The largest pose error (rotation rad, position m) one gross centroid fault could cause
-// and still pass the side tests: a centroid moved along its epipolar line moves marker i
-// along the other camera's ray, rays[i][v] (unit, v the camera whose ray it is).
+// and still pass the side tests (and, with a prior, the step gate): a centroid moved along
+// its epipolar line moves marker i along the other camera's ray, rays[i][v] (unit, v the
+// camera whose ray it is).
 void fault_bound(const rs_pose_layout &layout, const double layout_sides[3], const cv::Vec3d P[3],
-                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], double *out_rot,
-                 double *out_pos);
+                 const cv::Matx33d S[3], const cv::Vec3d rays[3][2], const StepPrior *prior,
+                 double *out_rot, double *out_pos);
 
 } // namespace rs_optical
 

@@ -2,6 +2,8 @@
 // rs_optical_tracker into marker samples.
 #include "optical_internal.hpp"
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -53,6 +55,7 @@ struct Options {
 	double rate_hz = 60.0;
 	double sigma_px = 0.0; // centroid noise the gate and the stated errors use (0: default)
 	rs_optical_mask mask[2] = {};
+	std::string mask_file[2]; // mask0file, mask1file: mask images
 };
 
 // mask0=X,Y,W,H[+X,Y,W,H...]: one camera's rectangles to ignore.
@@ -77,6 +80,40 @@ bool parse_mask(const std::string &v, rs_optical_mask *m)
 		pos = plus + 1;
 	}
 	return false;
+}
+
+// mask<v>file=PATH: a grey image (PGM, PNG, anything OpenCV reads) of camera v's frame size
+// whose nonzero pixels are masked, into `m` (pointing into `img`, which the caller keeps
+// until the tracker has copied it).
+rs_status load_mask_image(const std::string &path, int v, const rs_optical_camera &c, cv::Mat *img,
+                          rs_optical_mask *m, rs_error *err)
+{
+	FILE *f = std::fopen(path.c_str(), "rb");
+	if (!f)
+		return rs_error_set(err, RS_ERR_NOT_FOUND,
+		                    "optical: mask%dfile '%.200s': cannot open", v, path.c_str());
+	std::fclose(f);
+	try {
+		*img = cv::imread(path, cv::IMREAD_GRAYSCALE);
+	} catch (const cv::Exception &) {
+		img->release();
+	}
+	if (img->empty())
+		return rs_error_set(
+		    err, RS_ERR_BAD_DATA,
+		    "optical: mask%dfile '%.200s' is not an image OpenCV reads (PGM, "
+		    "PNG)",
+		    v, path.c_str());
+	if (img->cols != c.width || img->rows != c.height)
+		return rs_error_set(
+		    err, RS_ERR_BAD_DATA,
+		    "optical: mask%dfile '%.200s' is %dx%d, camera %d's frames %dx%d", v,
+		    path.c_str(), img->cols, img->rows, v, c.width, c.height);
+	m->pixels = img->data;
+	m->width = img->cols;
+	m->height = img->rows;
+	m->stride = img->step[0];
+	return RS_OK;
 }
 
 rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
@@ -118,6 +155,8 @@ rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
 			if (*end || !(o->sigma_px >= 1e-4 && o->sigma_px <= 100))
 				return rs_error_set(err, RS_ERR_PARSE, "%s: bad sigma_px '%.40s'",
 				                    scheme, v.c_str());
+		} else if (k == "mask0file" || k == "mask1file") {
+			o->mask_file[k[4] - '0'] = v;
 		} else if (k == "mask0" || k == "mask1") {
 			if (!parse_mask(v, &o->mask[k[4] - '0']))
 				return rs_error_set(
@@ -127,7 +166,7 @@ rs_status parse(const char *scheme, const char *rest, Options *o, rs_error *err)
 		} else {
 			return rs_error_set(err, RS_ERR_PARSE,
 			                    "%s: unknown option '%.40s' (calib, layout, rate, "
-			                    "sigma_px, mask0, mask1)",
+			                    "sigma_px, mask0, mask1, mask0file, mask1file)",
 			                    scheme, k.c_str());
 		}
 		if (amp == std::string::npos)
@@ -200,6 +239,12 @@ extern "C" enum rs_status rs_optical_open_uri(const char *scheme, const char *re
 	if (!o.layout.empty() &&
 	    (st = rs_pose_layout_load(o.layout.c_str(), &d.layout, err)) != RS_OK)
 		return st;
+	cv::Mat mask_img[2];
+	for (int v = 0; v < 2; ++v)
+		if (!o.mask_file[v].empty() &&
+		    (st = load_mask_image(o.mask_file[v], v, d.rig.cam[v], &mask_img[v], &d.mask[v],
+		                          err)) != RS_OK)
+			return st;
 	OpticalSource *s = new (std::nothrow) OpticalSource();
 	if (!s)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical: out of memory");

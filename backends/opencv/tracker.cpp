@@ -5,6 +5,7 @@
 #include "optical_internal.hpp"
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +47,7 @@ struct rs_optical_tracker {
 	cv::Matx33d F;      // undistorted pixel coordinates: x1^T F x0 = 0
 	double layout_sides[3];
 	DetectScratch scratch;
+	Mask mask[2]; // the desc's rectangles and the integral of its mask image
 	std::vector<rs_optical_blob> blobs[2];
 	std::vector<cv::Point2d> raw[2], und[2];
 	std::vector<double> area[2];   // thresholded area of each raw centroid's spot (0: unknown)
@@ -60,6 +62,10 @@ struct rs_optical_tracker {
 	// step gate's prediction.
 	rs_pose last_pose;
 	double last_rot_rms = 0, last_pos_rms = 0;
+	uint32_t chain = 0; // reported poses in a row, each within the step gate of the last
+	// The last reported pose's bound on what an undetected stray spot may have added to its
+	// error (rotation rad, position m): the stated error's fault part.
+	double last_bound_rot = 0, last_bound_pos = 0;
 	double velocity[3] = {0, 0, 0}, angular_velocity[3] = {0, 0, 0};
 };
 
@@ -146,6 +152,14 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 				return rs_error_set(
 				    err, RS_ERR_INVALID,
 				    "optical tracker: camera %d mask rectangle %u is empty", v, k);
+		const rs_optical_camera &c = d.rig.cam[v];
+		if (m.pixels &&
+		    (m.width != c.width || m.height != c.height || m.stride < (size_t)m.width))
+			return rs_error_set(
+			    err, RS_ERR_INVALID,
+			    "optical tracker: camera %d mask image is %dx%d (stride "
+			    "%zu), the camera's frames %dx%d",
+			    v, m.width, m.height, m.stride, c.width, c.height);
 	}
 	if (!detect_desc_valid(dd) || !(d.epipolar_gate_px > 0) ||
 	    !std::isfinite(d.epipolar_gate_px) || !(d.centroid_sigma_px > 0) ||
@@ -157,6 +171,23 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 	if (!t)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: out of memory");
 	t->d = d;
+	try {
+		for (int v = 0; v < 2; ++v) {
+			rs_optical_mask &m = t->d.mask[v];
+			t->mask[v].rects = &m;
+			if (m.pixels) {
+				cv::Mat img(m.height, m.width, CV_8UC1,
+				            const_cast<uint8_t *>(m.pixels), m.stride);
+				cv::Mat ones = (img != 0) / 255; // 1 where masked
+				cv::integral(ones, t->mask[v].sum, CV_32S);
+			}
+			m.pixels = nullptr; // the caller's; the integral is the tracker's copy
+		}
+	} catch (const cv::Exception &e) {
+		delete t;
+		return rs_error_set(err, RS_ERR_NO_MEMORY, "optical tracker: %.160s",
+		                    e.msg.c_str());
+	}
 	cv::Matx33d K0 = K_of(d.rig.cam[0]), K1 = K_of(d.rig.cam[1]), R = R_of(d.rig);
 	cv::Vec3d tv = t_of(d.rig);
 	cv::Matx34d I34(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0);
@@ -338,10 +369,29 @@ static bool spot_sizes_agree(const rs_optical_tracker &t, const std::vector<Pair
 	return true;
 }
 
-// The display pose of the labelled markers, and whether it follows the last reported one
-// (constant velocity) within both poses' stated errors and a hand's acceleration.
+// The temporal prior at time_s: the last reported pose moved on at the raw velocity of the
+// last two, with the errors a step from it is weighed by. False without a recent one.
+static bool step_prior(const rs_optical_tracker &t, double time_s, const rs_optical_quality &q,
+                       StepPrior *out)
+{
+	double since = time_s - t.last_time;
+	if (!t.have_last || !(since > 0) || since > k_prior_max_age_s)
+		return false;
+	rs_pose_extrapolate(&t.last_pose, t.velocity, t.angular_velocity, since, &out->predicted);
+	// Variance of the step: this pose's, the last one's, and the velocity's (two poses'
+	// differences over one interval, extrapolated over about one).
+	double lr = t.last_rot_rms, lp = t.last_pos_rms;
+	out->rot_rms = std::sqrt(3 * lr * lr + q.rotation_rms_rad * q.rotation_rms_rad);
+	out->pos_rms = std::sqrt(3 * lp * lp + q.position_rms_m * q.position_rms_m);
+	out->dt = since;
+	return true;
+}
+
+// The display pose of the labelled markers, and whether it follows the prior (constant
+// velocity) within both poses' stated errors and a hand's acceleration.
 static rs_optical_verdict step_gate(const rs_optical_tracker &t, const cv::Vec3d pts[3],
-                                    double time_s, rs_optical_quality &q, rs_pose *pose)
+                                    double time_s, const StepPrior *prior, rs_optical_quality &q,
+                                    rs_pose *pose)
 {
 	double model[3][3], measured[3][3];
 	for (int i = 0; i < 3; ++i)
@@ -355,17 +405,10 @@ static rs_optical_verdict step_gate(const rs_optical_tracker &t, const cv::Vec3d
 		return RS_OPTICAL_SIDE_RESIDUAL; // collinear: the side test cannot have passed
 	rs_pose_compose(&T, &t.d.layout.T_markers_display, pose);
 	pose->time_s = time_s;
-	double since = time_s - t.last_time;
-	if (!t.have_last || !(since > 0) || since > k_prior_max_age_s)
+	if (!prior)
 		return RS_OPTICAL_SOLVED;
-	rs_pose predicted;
-	rs_pose_extrapolate(&t.last_pose, t.velocity, t.angular_velocity, since, &predicted);
-	// Variance of the step: this pose's, the last one's, and the velocity's (two poses'
-	// differences over one interval, extrapolated over about one).
-	double lr = t.last_rot_rms, lp = t.last_pos_rms;
-	double rot = std::sqrt(3 * lr * lr + q.rotation_rms_rad * q.rotation_rms_rad);
-	double pos = std::sqrt(3 * lp * lp + q.position_rms_m * q.position_rms_m);
-	q.step_score = rs_pose_step_score(&predicted, pose, rot, pos, since, 0.0);
+	q.step_score = rs_pose_step_score(&prior->predicted, pose, prior->rot_rms, prior->pos_rms,
+	                                  prior->dt, 0.0);
 	return q.step_score <= RS_POSE_STEP_CHI2 ? RS_OPTICAL_SOLVED : RS_OPTICAL_STEP;
 }
 
@@ -417,7 +460,7 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 				// No window: the spot reaches a pixel of radius and the margin.
 				const int reach = k_centroid_margin_px + 1;
 				if (external &&
-				    window_masked(&t->d.mask[v], (int)std::floor(b.x + 0.5) - reach,
+				    window_masked(&t->mask[v], (int)std::floor(b.x + 0.5) - reach,
 				                  (int)std::floor(b.y + 0.5) - reach,
 				                  (int)std::floor(b.x + 0.5) + reach + 1,
 				                  (int)std::floor(b.y + 0.5) + reach + 1)) {
@@ -522,6 +565,9 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 	q.side_error_m = best_worst;
 	q.sigma_m = std::sqrt(sig / 3.0);
 	pose_error_law(t->d.layout, pts, cov, &q.rotation_rms_rad, &q.position_rms_m);
+	double bound_rot, bound_pos;
+	StepPrior prior_store;
+	const StepPrior *prior = step_prior(*t, time_s, q, &prior_store) ? &prior_store : nullptr;
 	{
 		// A stray spot on marker id's epipolar line in one view moves it along the
 		// other view's ray: rays[id][v] is camera v's.
@@ -530,20 +576,42 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 			rays[id][0] = pts[id] / cv::norm(pts[id]);
 			rays[id][1] = (pts[id] - c1) / cv::norm(pts[id] - c1);
 		}
-		fault_bound(t->d.layout, t->layout_sides, pts, cov, rays, &q.fault_rotation_rad,
-		            &q.fault_position_m);
+		fault_bound(t->d.layout, t->layout_sides, pts, cov, rays, nullptr,
+		            &q.fault_rotation_rad, &q.fault_position_m);
+		// What the pose claims: its noise and what an undetected stray may have added. A
+		// cold pose carries its whole fault bound. With a prior, a stray that appeared
+		// since the last pose can move this one only as far as the step gate lets it
+		// (the bound with the prior, R), and the last pose's own bound carries over (the
+		// prediction inherits its fault): min(F, last bound + R).
+		double br = q.fault_rotation_rad, bp = q.fault_position_m;
+		if (prior) {
+			double rr, rp;
+			fault_bound(t->d.layout, t->layout_sides, pts, cov, rays, prior, &rr, &rp);
+			br = std::min(br, t->last_bound_rot + rr);
+			bp = std::min(bp, t->last_bound_pos + rp);
+		}
+		q.stated_rotation_rad = std::hypot(q.rotation_rms_rad, br);
+		q.stated_position_m = std::hypot(q.position_rms_m, bp);
+		bound_rot = br;
+		bound_pos = bp;
 	}
 	q.verdict = gate(*t, pts, cov, q);
 	rs_pose pose;
 	if (q.verdict == RS_OPTICAL_SOLVED)
-		q.verdict = step_gate(*t, pts, time_s, q, &pose);
-	if (q.verdict != RS_OPTICAL_SOLVED)
+		q.verdict = step_gate(*t, pts, time_s, prior, q, &pose);
+	if (q.verdict != RS_OPTICAL_SOLVED) {
+		t->chain = 0;
 		return RS_OK; // held by the solver: never a pose the gate refuses
+	}
+	q.prior_frames = prior ? t->chain : 0;
+	t->chain = q.prior_frames + 1;
 	rs_pose_velocity_update(t->have_last ? &t->last_pose : nullptr, &pose, k_velocity_tc_s,
 	                        k_prior_max_age_s, t->velocity, t->angular_velocity);
 	t->last_pose = pose;
 	t->last_rot_rms = q.rotation_rms_rad;
 	t->last_pos_rms = q.position_rms_m;
+	t->last_bound_rot = bound_rot;
+	t->last_bound_pos = bound_pos;
 	t->have_last = true;
 	t->last_time = time_s;
 	t->last_centroid = (pts[0] + pts[1] + pts[2]) / 3.0;
@@ -591,7 +659,7 @@ extern "C" enum rs_status rs_optical_tracker_process(struct rs_optical_tracker *
 	try {
 		for (int v = 0; v < 2; ++v) {
 			detect(wrap(*img[v]), t->d.detect, t->scratch, t->blobs[v], &t->counts[v],
-			       &t->d.mask[v]);
+			       &t->mask[v]);
 			if (t->blobs[v].size() > k_max_blobs)
 				t->blobs[v].resize(k_max_blobs);
 		}

@@ -45,21 +45,36 @@ static void keep_hemisphere(double q[4], const double prev[4])
 			q[k] = -q[k];
 }
 
-static int generate(const char *dir, const struct optsynth_options *o)
+/* The simulator's script as a frame source for optsynth_write(). */
+struct script_frames {
+	struct rs_sim *sim;
+};
+
+static int script_frame(void *ctx, const struct optsynth_options *o,
+                        const struct rs_optical_rig *rig, const struct rs_pose_layout *L, int i,
+                        struct rs_pose *T, uint8_t *img0, uint8_t *img1, struct rs_error *err)
+{
+	struct script_frames *f = ctx;
+	if (i >= o->frames)
+		return 0;
+	struct rs_marker_sample s;
+	struct rs_pose T_tracker_body;
+	if (rs_sim_next(f->sim, &s, &T_tracker_body, NULL) != RS_OK)
+		return 0;
+	camera_from_tracker(&T_tracker_body, T);
+	T->time_s = s.host_time_s;
+	struct rs_optical_synth_desc d = o->synth;
+	d.seed = o->seed * 100003u + (uint64_t)i;
+	return rs_optical_synth_render(rig, L, T, &d, img0, img1, err) == RS_OK ? 1 : -1;
+}
+
+int optsynth_write(const char *dir, const struct optsynth_options *o, optsynth_frame_fn frame,
+                   void *ctx)
 {
 	struct rs_error err;
 	char path[4096], tmp[4200];
-	/* The script is checked before anything is written: a refused run leaves nothing. */
-	struct rs_sim_desc sd = {
-	    .seed = o->seed, .rate_hz = o->rate, .script = o->script ? o->script : OPTSYNTH_SCRIPT};
-	struct rs_sim *sim = NULL;
-	if (rs_sim_create(&sd, &sim, &err) != RS_OK) {
-		fprintf(stderr, TOOL ": %s\n", err.message);
-		return 2;
-	}
 	if (rs_cli_make_dir(dir, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": %s\n", err.message);
-		rs_sim_destroy(&sim);
 		return 1;
 	}
 	struct rs_optical_rig rig;
@@ -67,7 +82,6 @@ static int generate(const char *dir, const struct optsynth_options *o)
 	snprintf(path, sizeof path, "%s/rig.yaml", dir);
 	if (rs_optical_rig_save(path, &rig, &err) != RS_OK) {
 		fprintf(stderr, TOOL ": %s\n", err.message);
-		rs_sim_destroy(&sim);
 		return 1;
 	}
 	size_t bytes = (size_t)o->width * (size_t)o->height;
@@ -75,7 +89,7 @@ static int generate(const char *dir, const struct optsynth_options *o)
 	snprintf(path, sizeof path, "%s/truth.txt", dir);
 	snprintf(tmp, sizeof tmp, "%s.tmp", path);
 	FILE *truth = fopen(tmp, "w");
-	int code = 1;
+	int code = 1, n = 0;
 	if (!img[0] || !img[1] || !truth) {
 		fprintf(stderr, TOOL ": cannot write %s\n", path);
 		goto done;
@@ -84,21 +98,18 @@ static int generate(const char *dir, const struct optsynth_options *o)
 	rs_pose_layout_default(&L);
 	fprintf(truth, "# frame time_s T_cam0_markers: x y z (m) qx qy qz qw\n");
 	double prev_q[4];
-	for (int i = 0; i < o->frames; ++i) {
-		struct rs_marker_sample s;
-		struct rs_pose T_tracker_body, T;
-		if (rs_sim_next(sim, &s, &T_tracker_body, NULL) != RS_OK)
-			break;
-		camera_from_tracker(&T_tracker_body, &T);
-		if (i > 0)
-			keep_hemisphere(T.orientation, prev_q);
-		memcpy(prev_q, T.orientation, sizeof prev_q);
-		struct rs_optical_synth_desc d = o->synth;
-		d.seed = o->seed * 100003u + (uint64_t)i;
-		if (rs_optical_synth_render(&rig, &L, &T, &d, img[0], img[1], &err) != RS_OK) {
+	for (int i = 0;; ++i) {
+		struct rs_pose T;
+		int got = frame(ctx, o, &rig, &L, i, &T, img[0], img[1], &err);
+		if (got < 0) {
 			fprintf(stderr, TOOL ": %s\n", err.message);
 			goto done;
 		}
+		if (!got)
+			break;
+		if (i > 0)
+			keep_hemisphere(T.orientation, prev_q);
+		memcpy(prev_q, T.orientation, sizeof prev_q);
 		for (int v = 0; v < 2; ++v) {
 			snprintf(path, sizeof path, "%s/%s_%04d.png", dir, v ? "right" : "left", i);
 			if (rs_optical_write_png(path, img[v], o->width, o->height, &err) !=
@@ -107,9 +118,10 @@ static int generate(const char *dir, const struct optsynth_options *o)
 				goto done;
 			}
 		}
-		fprintf(truth, "%d %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f\n", i, s.host_time_s,
+		fprintf(truth, "%d %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f\n", i, T.time_s,
 		        T.position[0], T.position[1], T.position[2], T.orientation[0],
 		        T.orientation[1], T.orientation[2], T.orientation[3]);
+		n++;
 	}
 	snprintf(path, sizeof path, "%s/truth.txt", dir);
 	if (fclose(truth) != 0 || rename(tmp, path) != 0) {
@@ -124,7 +136,7 @@ static int generate(const char *dir, const struct optsynth_options *o)
 	rs_cli_wrote(path);
 	printf("%s: %d frame pairs, rig.yaml, truth.txt; try\n  raystream-track --sigma 1 "
 	       "'video:%s/left_%%04d.png,%s/right_%%04d.png?calib=%s/rig.yaml&rate=%g'\n",
-	       dir, o->frames, dir, dir, dir, o->rate);
+	       dir, n, dir, dir, dir, o->rate);
 	code = 0;
 done:
 	if (truth) {
@@ -133,7 +145,22 @@ done:
 	}
 	free(img[0]);
 	free(img[1]);
-	rs_sim_destroy(&sim);
+	return code;
+}
+
+static int generate(const char *dir, const struct optsynth_options *o)
+{
+	struct rs_error err;
+	/* The script is checked before anything is written: a refused run leaves nothing. */
+	struct rs_sim_desc sd = {
+	    .seed = o->seed, .rate_hz = o->rate, .script = o->script ? o->script : OPTSYNTH_SCRIPT};
+	struct script_frames f = {0};
+	if (rs_sim_create(&sd, &f.sim, &err) != RS_OK) {
+		fprintf(stderr, TOOL ": %s\n", err.message);
+		return 2;
+	}
+	int code = optsynth_write(dir, o, script_frame, &f);
+	rs_sim_destroy(&f.sim);
 	return code;
 }
 
@@ -163,7 +190,13 @@ static const char about[] =
     "made) for raystream-track 'video:...'; the default script walks a 15 cm square in\n"
     "view of both cameras (" OPTSYNTH_SCRIPT ").\n"
     "--bench: the optical path's frame pairs per second and pose error against noise\n"
-    "(markdown). -n is --frames.\n";
+    "(markdown). -n is --frames.\n"
+    "--hard NAME: the optical tracker's hard cases as runs with the display out of view\n"
+    "for 8 frames between them: edges (a marker's spot walking across each image edge\n"
+    "of either camera), corners (a marker at each corner of camera 0), stray (a marker\n"
+    "hidden from camera 1 and a marker-like spot on its epipolar line there, 1-45 mm\n"
+    "off), ghosts (the display mirrored in a table 10 cm below). --size, --baseline,\n"
+    "--noise, --blur, --rate and --seed apply.\n";
 
 int main(int argc, char **argv)
 {
@@ -172,7 +205,7 @@ int main(int argc, char **argv)
 	uint32_t frames = 120, runs = 5;
 	double seed = 1;
 	bool bench = false, stray = false, reflection = false;
-	const char *dir = NULL;
+	const char *dir = NULL, *hard = NULL;
 	const struct rs_cli_option opts[] = {
 	    RS_CLI_U32_OPT("--frames", &frames, 1, 100000, "frame pairs"),
 	    RS_CLI_DOUBLE_OPT("--rate", &o.rate, "0.01..10000", 0.01, 1e4, "frame rate, Hz"),
@@ -202,19 +235,27 @@ int main(int argc, char **argv)
 	    RS_CLI_FLAG_OPT("--stray", &stray, "a stray lamp beside the markers"),
 	    RS_CLI_FLAG_OPT("--reflection", &reflection, "a specular streak beside the markers"),
 	    RS_CLI_DOUBLE_OPT("--seed", &seed, "0..1e15", 0, 1e15, "noise and motion seed"),
+	    {.name = "--hard",
+	     .kind = RS_CLI_STRING,
+	     .out = &hard,
+	     .arg = "NAME",
+	     .help = "a hard-case sequence instead of the script: edges, corners, stray, ghosts "
+	             "(below)",
+	     .fallback = "none"},
 	    RS_CLI_FLAG_OPT("--bench", &bench, "benchmark instead of writing frames"),
 	    RS_CLI_U32_OPT("--runs", &runs, 1, 64, "--bench: runs per noise level"),
 	};
 	static const char *const short_names[][2] = {{"-n", "--frames"}};
 	rs_tool_long_options(argc, argv, short_names, 1);
-	struct rs_cli cli = {.prog = TOOL,
-	                     .usage = "[options] DIR  |  --bench [--runs N]",
-	                     .about = about,
-	                     .options = opts,
-	                     .option_count = sizeof opts / sizeof opts[0],
-	                     .positional = &dir,
-	                     .positional_max = 1,
-	                     .positional_name = "DIR"};
+	struct rs_cli cli = {
+	    .prog = TOOL,
+	    .usage = "[options] DIR  |  --hard NAME [options] DIR  |  --bench [--runs N]",
+	    .about = about,
+	    .options = opts,
+	    .option_count = sizeof opts / sizeof opts[0],
+	    .positional = &dir,
+	    .positional_max = 1,
+	    .positional_name = "DIR"};
 	int code;
 	if (!rs_cli_parse(&cli, argc, argv, &code))
 		return code;
@@ -225,10 +266,25 @@ int main(int argc, char **argv)
 	o.seed = (uint64_t)seed;
 	o.synth.stray_light = stray;
 	o.synth.reflection = reflection;
+	if (bench && hard)
+		return rs_cli_usage_error(&cli, "--bench and --hard exclude each other");
 	if (bench)
 		return dir ? rs_cli_usage_error(&cli, "--bench writes no files ('%s')", dir)
 		           : optsynth_bench(&o);
 	if (!dir)
 		return rs_cli_usage_error(&cli, "no output folder DIR");
+	if (hard) {
+		if (!optsynth_hard_known(hard))
+			return rs_cli_usage_error(
+			    &cli, "--hard: '%s' is not edges, corners, stray or ghosts", hard);
+		/* A hard sequence has its own length, motion and disturbances. */
+		if (frames != 120 || o.script || stray || reflection || o.synth.dim_marker ||
+		    o.synth.occluded_marker)
+			return rs_cli_usage_error(&cli,
+			                          "--hard %s: --frames, --script, --stray, "
+			                          "--reflection, --dim and --occlude do not apply",
+			                          hard);
+		return optsynth_hard(dir, &o, hard);
+	}
 	return generate(dir, &o);
 }

@@ -198,7 +198,8 @@ static enum rs_status open_source(const struct options *o, const struct rs_pose_
 }
 
 static void print_pose(const struct rs_track_source *src, const struct rs_marker_sample *s,
-                       const struct rs_pose *p, const struct rs_pose_quality *q)
+                       const struct rs_pose *p, const struct rs_pose_quality *q,
+                       const char *solver_error)
 {
 	printf("%.6f seq=%u pos=[%+.5f %+.5f %+.5f] quat=[%+.5f %+.5f %+.5f %+.5f] %s "
 	       "rms=%.3fmm h=%.1fmm markers=%u",
@@ -207,18 +208,24 @@ static void print_pose(const struct rs_track_source *src, const struct rs_marker
 	       rs_pose_status_name(q->status), q->residual_rms_m * 1e3, q->min_height_m * 1e3,
 	       q->markers_used);
 #ifdef RS_HAVE_OPTICAL
-	/* An optical sample's own stated error (its triangulation, lens distortion included),
+	/* An optical sample's stated error (its noise law, lens distortion included, and the
+	 * faults the temporal prior has not ruled out), the noise law alone,
 	 * the error one undetectable stray spot could add (its fault bound) and, when it gave
 	 * no markers, why. */
 	struct rs_optical_quality oq;
 	if (rs_optical_source_quality(src, &oq))
-		printf(" stated=%.3fdeg/%.3fmm fault=%.3fdeg/%.3fmm optical=%s",
+		printf(" stated=%.3fdeg/%.3fmm law=%.3fdeg/%.3fmm fault=%.3fdeg/%.3fmm prior=%u "
+		       "optical=%s",
+		       oq.stated_rotation_rad * 180.0 / RS_PI, oq.stated_position_m * 1e3,
 		       oq.rotation_rms_rad * 180.0 / RS_PI, oq.position_rms_m * 1e3,
 		       oq.fault_rotation_rad * 180.0 / RS_PI, oq.fault_position_m * 1e3,
-		       rs_optical_verdict_name(oq.verdict));
+		       oq.prior_frames, rs_optical_verdict_name(oq.verdict));
 #else
 	(void)src;
 #endif
+	/* A pose not solved from this sample: the solver's reason, last on the line. */
+	if (q->status != RS_POSE_OK && q->status != RS_POSE_RELABELED && solver_error[0])
+		printf(" why=\"%s\"", solver_error);
 	putchar('\n');
 }
 
@@ -329,7 +336,7 @@ static int run(const struct options *o, const struct rs_pose_layout *layout)
 			pose.orientation[k] = -pose.orientation[k];
 		memcpy(prev_q, pose.orientation, sizeof prev_q);
 		if (!o->quiet)
-			print_pose(src, &s, &pose, &q);
+			print_pose(src, &s, &pose, &q, rs_pose_solver_last_error(solver));
 		if (output_failed(&output_error))
 			goto out;
 	}

@@ -129,10 +129,16 @@ struct rs_optical_rect {
  * Image regions of one camera to ignore (a lamp, a window, a glossy surface that the room
  * always shows): a blob whose centroid window (its pixels and the 3 px the centroid's
  * flanks need) touches one is not used, and counted in the quality's blobs_masked.
+ * Rectangles, a mask image, or both.
  */
 struct rs_optical_mask {
 	struct rs_optical_rect rects[RS_OPTICAL_MAX_MASK_RECTS];
-	uint32_t count; /**< rects used (0: no mask) */
+	uint32_t count; /**< rects used (0: none) */
+	/** A grey mask image of the camera's size, `stride` bytes a row: a nonzero pixel is
+	 *  masked. NULL: none. The tracker copies it at creation. */
+	const uint8_t *pixels;
+	int32_t width, height;
+	size_t stride;
 };
 
 struct rs_optical_tracker_desc {
@@ -205,6 +211,15 @@ struct rs_optical_quality {
 	                                tests (docs/optical.md, "Faults the sides cannot see") */
 	double fault_position_m;   /**< the same for the display origin's position */
 	uint32_t blobs_masked[2];  /**< blobs not used: window touches the camera's mask */
+	/** The error this pose claims, what raystream-track prints as `stated=`: the noise law
+	 * (rotation_rms_rad) and the fault bound's part that the temporal prior has not ruled
+	 * out, in quadrature (docs/optical.md, "The stated error"). A cold pose (no prior)
+	 * carries its whole fault bound; a tracked one only the faults that also pass the step
+	 * gate. */
+	double stated_rotation_rad;
+	double stated_position_m; /**< the same for the display origin's position */
+	uint32_t prior_frames;    /**< reported poses in a row before this one, each following
+	                               the last within the step gate (0: a cold pose) */
 };
 
 struct rs_optical_tracker;
