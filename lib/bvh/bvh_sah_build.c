@@ -1,9 +1,12 @@
 /* The SAH build on the threads it is given. One thread builds straight into the output.
- * With more, the nodes above subtrees of at most `defer` records are built first (their big
- * nodes binned in chunks on every thread), the subtrees are then built on the threads,
- * largest first, each into its own range of the output array, and one sweep moves them to
- * their places in the pre-order array. Each node is decided by bvh_sah.c from its records alone, so
- * the tree is the same for every thread count; only where its nodes were written differs. */
+ * With more, the caller's thread builds the nodes above subtrees of at most `defer` records
+ * (their big nodes binned in chunks on every thread); each subtree is handed out as soon as
+ * it is emitted and built by a helper between those chunk loops, or by any thread once the
+ * upper nodes are done (the largest waiting first), each into its own range of the output
+ * array, and one sweep moves them to their places in the pre-order array. Each node is
+ * decided by bvh_sah.c from its records alone, so the tree is the same for every thread
+ * count; only where its nodes were written differs. */
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,10 +20,6 @@
 /* Children binned ahead that may wait at once (pending upper nodes; beyond, a child is
  * binned when its turn comes). */
 #define MAX_PREBINS 64u
-
-struct by_size {
-	uint32_t size, index;
-};
 
 struct build {
 	struct rs_bvh__sah s;
@@ -38,12 +37,19 @@ struct build {
 	struct rs_bvh__task *fill_bounds;
 	uint32_t *fill_stop;
 	uint32_t fill_chunks;
-	/* The nodes above the subtrees, the subtrees (by size, largest first), where subtree
-	 * j was built (nodes[sub_at[j]...), parent links local) and its node count. */
+	/* The nodes above the subtrees, where subtree j was built (nodes[sub_at[j]...),
+	 * parent links local) and its node count. */
 	struct rs_bvh__emit top;
 	uint32_t *top_sub; /* top entry -> 1 + its subtree, 0 for a top node */
-	struct by_size *by_size;
 	size_t *sub_at, *sub_count;
+	/* End of the last subtree's slot, and the top nodes emitted before it (place_subtree()). */
+	size_t slots, slots_tops;
+	/* Subtrees emitted and not yet taken (indices into top.deferred), under lock; done
+	 * is signalled when the last one posted is finished. */
+	pthread_mutex_t lock;
+	pthread_cond_t done;
+	uint32_t *waiting;
+	uint32_t waiting_count, posted, finished;
 	/* Subtree j's node count per level, levels[sub_at[j] ...] (its slot has room: a tree
 	 * over m records is at most m - 1 levels high), sub_levels[j] of them; then, in the
 	 * stitch, the nodes on each level before it in the pre-order. */
@@ -77,10 +83,8 @@ static void order_chunk(void *ctx, uint32_t c, uint32_t worker)
 		b->order[t] = rs_bvh__item_id(&b->s.items[t]);
 }
 
-static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
+static void build_deferred(struct build *b, uint32_t j, uint32_t worker)
 {
-	struct build *b = ctx;
-	uint32_t j = b->by_size[job].index;
 	struct rs_bvh__emit e = {.nodes = b->nodes + b->sub_at[j],
 	                         .parent = b->parent + b->sub_at[j]};
 	rs_bvh__build_subtree(&b->sub, &b->scratch[worker], &b->top.deferred[j], &e);
@@ -94,33 +98,55 @@ static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 	b->sub_levels[j] = top + 1;
 }
 
-/* Larger first; equal sizes in list order (qsort is not stable). */
-static int larger_first(const void *pa, const void *pb)
+/* One waiting subtree built on this thread, the largest (equal sizes: the first emitted);
+ * 0 when none waits. The pool's idle work on the helpers. */
+static int take_subtree(void *ctx, uint32_t worker)
 {
-	const struct by_size *a = pa, *b = pb;
-	if (a->size != b->size)
-		return a->size < b->size ? 1 : -1;
-	return (a->index > b->index) - (a->index < b->index);
+	struct build *b = ctx;
+	pthread_mutex_lock(&b->lock);
+	if (b->waiting_count == 0) {
+		pthread_mutex_unlock(&b->lock);
+		return 0;
+	}
+	uint32_t best = 0;
+	for (uint32_t i = 1; i < b->waiting_count; i++) {
+		const struct rs_bvh__task *t = &b->top.deferred[b->waiting[i]];
+		const struct rs_bvh__task *o = &b->top.deferred[b->waiting[best]];
+		uint32_t m = t->end - t->begin, mo = o->end - o->begin;
+		if (m > mo || (m == mo && b->waiting[i] < b->waiting[best]))
+			best = i;
+	}
+	uint32_t j = b->waiting[best];
+	b->waiting[best] = b->waiting[--b->waiting_count];
+	pthread_mutex_unlock(&b->lock);
+	build_deferred(b, j, worker);
+	pthread_mutex_lock(&b->lock);
+	if (++b->finished == b->posted)
+		pthread_cond_signal(&b->done);
+	pthread_mutex_unlock(&b->lock);
+	return 1;
 }
 
-/* Where each subtree is built: the top tree's entries in pre-order, each top node given one
- * slot and subtree j room for its worst case, 2 m_j - 1 nodes. A full binary tree over D
- * subtrees has D - 1 top nodes, so the slots add up to exactly 2n - 1, the output's
+/* Where subtree j, emitted as top entry k, is built; then it is handed to the helpers.
+ * The top tree's entries in pre-order (the order they are emitted in), each top node given
+ * one slot and subtree j room for its worst case, 2 m_j - 1 nodes. A full binary tree over
+ * D subtrees has D - 1 top nodes, so the slots add up to exactly 2n - 1, the output's
  * capacity; and an entry's final place (actual counts before it) is never to the right of
  * its slot (worst cases before it). */
-static void place_subtrees(struct build *b)
+static void place_subtree(void *ctx, uint32_t j, size_t k)
 {
-	size_t at = 0;
-	for (size_t i = 0; i < b->top.count; i++) {
-		const struct rs_bvh_node *node = &b->top.nodes[i];
-		if (node->level != RS_BVH_DEFERRED) {
-			at++;
-			continue;
-		}
-		const struct rs_bvh__task *t = &b->top.deferred[node->first];
-		b->sub_at[node->first] = at;
-		at += 2 * (size_t)(t->end - t->begin) - 1;
-	}
+	struct build *b = ctx;
+	const struct rs_bvh__task *t = &b->top.deferred[j];
+	/* Before entry k: k - j top nodes and subtrees 0 .. j - 1. */
+	size_t at = b->slots + (k - j - b->slots_tops);
+	b->sub_at[j] = at;
+	b->slots = at + 2 * (size_t)(t->end - t->begin) - 1;
+	b->slots_tops = k - j;
+	pthread_mutex_lock(&b->lock);
+	b->waiting[b->waiting_count++] = j;
+	b->posted++;
+	pthread_mutex_unlock(&b->lock);
+	rs_bvh__pool_poke(b->s.pool);
 }
 
 /* The top tree finished bottom-up as rs_bvh__finalize_up() would (a placeholder stands for
@@ -190,15 +216,18 @@ static size_t stitch(struct build *b)
 
 static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
 {
+	b->top.on_defer = place_subtree;
+	b->top.defer_ctx = b;
+	rs_bvh__pool_idle(b->s.pool, take_subtree, b);
 	rs_bvh__build_subtree(&b->s, &b->scratch[0], root, &b->top);
-	size_t subs = b->top.deferred_count;
-	for (size_t j = 0; j < subs; j++) {
-		const struct rs_bvh__task *t = &b->top.deferred[j];
-		b->by_size[j] = (struct by_size){t->end - t->begin, (uint32_t)j};
-	}
-	qsort(b->by_size, subs, sizeof *b->by_size, larger_first);
-	place_subtrees(b);
-	rs_bvh__pool_run(b->s.pool, (uint32_t)subs, build_deferred, b);
+	/* Every subtree is posted now: the rest are built here and on the helpers. */
+	while (take_subtree(b, 0))
+		;
+	pthread_mutex_lock(&b->lock);
+	while (b->finished < b->posted)
+		pthread_cond_wait(&b->done, &b->lock);
+	pthread_mutex_unlock(&b->lock);
+	rs_bvh__pool_idle(b->s.pool, NULL, NULL);
 	return stitch(b);
 }
 
@@ -277,7 +306,7 @@ static size_t layout(struct build *b, char *block)
 	b->levels = take(block, &at, cap * sizeof *b->levels);
 	b->sub_levels = take(block, &at, n * sizeof *b->sub_levels);
 	b->rank = take(block, &at, (n + 1) * sizeof *b->rank);
-	b->by_size = take(block, &at, n * sizeof *b->by_size);
+	b->waiting = take(block, &at, n * sizeof *b->waiting);
 	b->sub_at = take(block, &at, n * sizeof *b->sub_at);
 	b->sub_count = take(block, &at, n * sizeof *b->sub_count);
 	return at;
@@ -304,9 +333,9 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		ok = b.s.pool != NULL;
 	}
 	b.workers = rs_bvh__pool_workers(b.s.pool);
-	/* Subtrees of at most `defer` records: at least eight per worker, so the largest-first
-	 * order keeps every worker busy to the end, while the upper nodes (binned and
-	 * partitioned in chunks on every thread) stay few. Measured on Cow17, two threads,
+	/* Subtrees of at most `defer` records: at least eight per worker, so taking the
+	 * largest waiting first keeps every worker busy to the end, while the upper nodes (binned
+	 * and partitioned in chunks on every thread) stay few. Measured on Cow17, two threads,
 	 * against Embree alternately (docs/benchmarks.md): n / 8 threads 1.00-1.02x Embree's
 	 * time, n / 4 1.02-1.03x, n / 2 1.09-1.11x. (Before the upper nodes were partitioned on
 	 * the threads, callgrind per thread put n / 16 at 158 M instructions on the caller
@@ -359,7 +388,11 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		b.sub = b.s;
 		b.sub.pool = NULL;
 		b.sub.prebins = 0; /* no subtree root is binned ahead (prebin_min) */
+		pthread_mutex_init(&b.lock, NULL);
+		pthread_cond_init(&b.done, NULL);
 		count = build_parallel(&b, &root);
+		pthread_cond_destroy(&b.done);
+		pthread_mutex_destroy(&b.lock);
 	} else {
 		struct rs_bvh__emit e = {.nodes = nodes, .parent = b.parent};
 		rs_bvh__build_subtree(&b.s, &b.scratch[0], &root, &e);
