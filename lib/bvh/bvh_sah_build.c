@@ -74,13 +74,19 @@ static void fill_chunk(void *ctx, uint32_t c, uint32_t worker)
 	                       fill_edge(b, c), fill_edge(b, c + 1), &b->fill_bounds[c]);
 }
 
-/* The triangle order, read from the records, in chunks of FILL_CHUNK. */
+/* The triangle order of records [begin, end), read from their final places. */
+static void order_range(struct build *b, uint32_t begin, uint32_t end)
+{
+	for (uint32_t t = begin; t < end; t++)
+		b->order[t] = rs_bvh__item_id(&b->s.items[t]);
+}
+
+/* The same in chunks of FILL_CHUNK (one thread). */
 static void order_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	struct build *b = ctx;
-	for (uint32_t t = fill_edge(b, c); t < fill_edge(b, c + 1); t++)
-		b->order[t] = rs_bvh__item_id(&b->s.items[t]);
+	order_range(b, fill_edge(b, c), fill_edge(b, c + 1));
 }
 
 static void build_deferred(struct build *b, uint32_t j, uint32_t worker)
@@ -96,6 +102,8 @@ static void build_deferred(struct build *b, uint32_t j, uint32_t worker)
 	memset(rank, 0, ((size_t)top + 1) * sizeof *rank);
 	rs_bvh__finalize_rank(e.nodes, e.count, rank);
 	b->sub_levels[j] = top + 1;
+	/* Its leaves' records are where they end (still in cache): their triangle order. */
+	order_range(b, b->top.deferred[j].begin, b->top.deferred[j].end);
 }
 
 /* One waiting subtree built on this thread, the largest (equal sizes: the first emitted);
@@ -220,6 +228,13 @@ static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
 	b->top.defer_ctx = b;
 	rs_bvh__pool_idle(b->s.pool, take_subtree, b);
 	rs_bvh__build_subtree(&b->s, &b->scratch[0], root, &b->top);
+	/* The upper tree's own leaves (only when leaf_size exceeds defer); every other record
+	 * is in a subtree, which reads its own triangle order. */
+	for (size_t i = 0; i < b->top.count; i++) {
+		const struct rs_bvh_node *node = &b->top.nodes[i];
+		if (node->level != RS_BVH_DEFERRED && node->count > 0)
+			order_range(b, node->first, node->first + node->count);
+	}
 	/* Every subtree is posted now: the rest are built here and on the helpers. */
 	while (take_subtree(b, 0))
 		;
@@ -404,8 +419,10 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory");
 	} else {
 		/* Leaves own contiguous record ranges; when the right child is emitted first
-		 * the ranges are no longer increasing in pre-order, which the layout allows. */
-		rs_bvh__pool_run(b.s.pool, b.fill_chunks, order_chunk, &b);
+		 * the ranges are no longer increasing in pre-order, which the layout allows.
+		 * Threads read the order as each subtree is done (build_deferred()). */
+		if (b.workers < 2)
+			rs_bvh__pool_run(b.s.pool, b.fill_chunks, order_chunk, &b);
 		*out_count = count;
 	}
 	free_build(&b);
