@@ -21,6 +21,13 @@
  * binned when its turn comes). */
 #define MAX_PREBINS 64u
 
+/* A node of the upper tree that the stitch has placed but not yet finished: its entry,
+ * the entry after its subtree, its place in the output and its level so far. */
+struct open_node {
+	size_t entry, end, out;
+	uint32_t level;
+};
+
 struct build {
 	struct rs_bvh__sah s;
 	/* The same, without the pool: a subtree already runs on a worker, so it bins serially
@@ -40,7 +47,7 @@ struct build {
 	/* The nodes above the subtrees, where subtree j was built (nodes[sub_at[j]...),
 	 * parent links local) and its node count. */
 	struct rs_bvh__emit top;
-	uint32_t *top_sub; /* top entry -> 1 + its subtree, 0 for a top node */
+	uint32_t *span; /* top entry -> the number of top entries in its subtree */
 	size_t *sub_at, *sub_count;
 	/* End of the last subtree's slot, and the top nodes emitted before it (place_subtree()). */
 	size_t slots, slots_tops;
@@ -50,6 +57,14 @@ struct build {
 	pthread_cond_t done;
 	uint32_t *waiting;
 	uint32_t waiting_count, posted, finished;
+	/* The stitch (stitch_some()), in pre-order as far as the subtrees are done: the next
+	 * top entry, the next place in the output, the open top nodes (ancestors of the next
+	 * entry) and how many levels of rank[] are zeroed. Under lock: ready (the upper tree
+	 * is complete), stitching (one thread at it) and each subtree's done flag. */
+	size_t st_next, st_out, st_open, rank_zeroed;
+	struct open_node *open;
+	uint8_t *sub_done;
+	int ready, stitching;
 	/* Subtree j's node count per level, levels[sub_at[j] ...] (its slot has room: a tree
 	 * over m records is at most m - 1 levels high), sub_levels[j] of them; then, in the
 	 * stitch, the nodes on each level before it in the pre-order. */
@@ -106,6 +121,106 @@ static void build_deferred(struct build *b, uint32_t j, uint32_t worker)
 	order_range(b, b->top.deferred[j].begin, b->top.deferred[j].end);
 }
 
+static void rank_zero(struct build *b, uint32_t level)
+{
+	if (level >= b->rank_zeroed) {
+		memset(b->rank + b->rank_zeroed, 0, (level + 1 - b->rank_zeroed) * sizeof *b->rank);
+		b->rank_zeroed = (size_t)level + 1;
+	}
+}
+
+/* The stitch: the upper tree's entries in pre-order, each written to its final place (the
+ * places so far plus one), a subtree moved left from its slot (never onto a slot still to
+ * be read or written: see place_subtree()) with its escapes and ranks offset by what
+ * precedes it, an upper node written when the last entry of its subtree is (its level and
+ * box from its children, as rs_bvh__finalize_up() would; its rank is the count of nodes on
+ * its level before it, and only its descendants, all lower, came since its place). It
+ * goes as far as the subtrees are done (all: every one is), so a thread that has no
+ * subtree left to build stitches while the last ones are built. One thread at a time. */
+static void stitch_some(struct build *b, int all)
+{
+	struct rs_bvh__emit *top = &b->top;
+	while (b->st_next < top->count) {
+		size_t i = b->st_next;
+		struct rs_bvh_node *node = &top->nodes[i];
+		const struct rs_bvh_node *done;
+		if (node->level == RS_BVH_DEFERRED) {
+			uint32_t j = node->first;
+			if (!all) {
+				pthread_mutex_lock(&b->lock);
+				int ready = b->sub_done[j];
+				pthread_mutex_unlock(&b->lock);
+				if (!ready)
+					return;
+			}
+			size_t from = b->sub_at[j], count = b->sub_count[j], out = b->st_out;
+			const uint32_t *levels = b->levels + from;
+			rank_zero(b, b->sub_levels[j] - 1);
+			memmove(b->nodes + out, b->nodes + from, count * sizeof *b->nodes);
+			for (size_t k = 0; k < count; k++) {
+				struct rs_bvh_node *n = &b->nodes[out + k];
+				n->escape += (uint32_t)out;
+				n->order += b->rank[n->level];
+			}
+			for (uint32_t l = 0; l < b->sub_levels[j]; l++)
+				b->rank[l] += levels[l];
+			done = &b->nodes[out];
+			b->st_out += count;
+		} else if (node->count > 0) {
+			/* A leaf of the upper tree (leaf_size above defer). */
+			rank_zero(b, 0);
+			node->level = 0;
+			node->escape = (uint32_t)b->st_out + 1;
+			node->order = b->rank[0]++;
+			b->nodes[b->st_out++] = *node;
+			done = node;
+		} else {
+			b->open[b->st_open++] = (struct open_node){i, i + b->span[i], b->st_out, 0};
+			b->st_out++;
+			b->st_next++;
+			continue;
+		}
+		b->st_next++;
+		/* Into its parent; a parent whose last entry this was is finished in turn. */
+		while (b->st_open > 0) {
+			struct open_node *o = &b->open[b->st_open - 1];
+			struct rs_bvh_node *p = &top->nodes[o->entry];
+			o->level = done->level + 1 > o->level ? done->level + 1 : o->level;
+			for (int a = 0; a < 3; a++) {
+				p->lo[a] = done->lo[a] < p->lo[a] ? done->lo[a] : p->lo[a];
+				p->hi[a] = done->hi[a] > p->hi[a] ? done->hi[a] : p->hi[a];
+			}
+			if (o->end != b->st_next)
+				break;
+			rank_zero(b, o->level);
+			p->level = o->level;
+			p->escape = (uint32_t)b->st_out;
+			p->order = b->rank[o->level]++;
+			b->nodes[o->out] = *p;
+			done = p;
+			b->st_open--;
+		}
+	}
+}
+
+/* The stitch as far as it goes now, unless another thread is at it or the upper tree is
+ * not complete yet. */
+static void try_stitch(struct build *b)
+{
+	pthread_mutex_lock(&b->lock);
+	if (!b->ready || b->stitching) {
+		pthread_mutex_unlock(&b->lock);
+		return;
+	}
+	b->stitching = 1;
+	pthread_mutex_unlock(&b->lock);
+	stitch_some(b, 0);
+	pthread_mutex_lock(&b->lock);
+	b->stitching = 0;
+	pthread_cond_broadcast(&b->done);
+	pthread_mutex_unlock(&b->lock);
+}
+
 /* One waiting subtree built on this thread, the largest (equal sizes: the first emitted);
  * 0 when none waits. The pool's idle work on the helpers. */
 static int take_subtree(void *ctx, uint32_t worker)
@@ -114,6 +229,7 @@ static int take_subtree(void *ctx, uint32_t worker)
 	pthread_mutex_lock(&b->lock);
 	if (b->waiting_count == 0) {
 		pthread_mutex_unlock(&b->lock);
+		try_stitch(b);
 		return 0;
 	}
 	uint32_t best = 0;
@@ -129,8 +245,9 @@ static int take_subtree(void *ctx, uint32_t worker)
 	pthread_mutex_unlock(&b->lock);
 	build_deferred(b, j, worker);
 	pthread_mutex_lock(&b->lock);
+	b->sub_done[j] = 1;
 	if (++b->finished == b->posted)
-		pthread_cond_signal(&b->done);
+		pthread_cond_broadcast(&b->done);
 	pthread_mutex_unlock(&b->lock);
 	return 1;
 }
@@ -151,75 +268,11 @@ static void place_subtree(void *ctx, uint32_t j, size_t k)
 	b->slots = at + 2 * (size_t)(t->end - t->begin) - 1;
 	b->slots_tops = k - j;
 	pthread_mutex_lock(&b->lock);
+	b->sub_done[j] = 0;
 	b->waiting[b->waiting_count++] = j;
 	b->posted++;
 	pthread_mutex_unlock(&b->lock);
 	rs_bvh__pool_poke(b->s.pool);
-}
-
-/* The top tree finished bottom-up as rs_bvh__finalize_up() would (a placeholder stands for
- * its subtree's finished root), then one sweep in pre-order: top nodes written, subtrees
- * moved left to their final places (never onto a slot still to be read: see
- * place_subtrees()), their escapes and ranks offset by what precedes them. */
-static size_t stitch(struct build *b)
-{
-	const struct rs_bvh__emit *top = &b->top;
-	uint32_t max_level = 0;
-	for (size_t i = 0; i < top->count; i++) {
-		struct rs_bvh_node *node = &top->nodes[i];
-		b->top_sub[i] = 0;
-		if (node->level == RS_BVH_DEFERRED) {
-			uint32_t j = node->first;
-			const struct rs_bvh_node *root = &b->nodes[b->sub_at[j]];
-			b->top_sub[i] = j + 1;
-			memcpy(node->lo, root->lo, sizeof node->lo);
-			memcpy(node->hi, root->hi, sizeof node->hi);
-			node->level = root->level;
-			node->escape = (uint32_t)b->sub_count[j];
-		} else {
-			node->level = 0;
-			node->escape = 1;
-		}
-	}
-	for (size_t i = top->count; i-- > 0;) {
-		const struct rs_bvh_node *n = &top->nodes[i];
-		max_level = n->level > max_level ? n->level : max_level;
-		if (top->parent[i] == RS_BVH_NO_PARENT)
-			continue;
-		struct rs_bvh_node *p = &top->nodes[top->parent[i]];
-		p->escape += n->escape;
-		if (p->level < n->level + 1)
-			p->level = n->level + 1;
-		for (int a = 0; a < 3; a++) {
-			p->lo[a] = n->lo[a] < p->lo[a] ? n->lo[a] : p->lo[a];
-			p->hi[a] = n->hi[a] > p->hi[a] ? n->hi[a] : p->hi[a];
-		}
-	}
-	uint32_t *rank = b->rank;
-	memset(rank, 0, ((size_t)max_level + 1) * sizeof *rank);
-	size_t out = 0;
-	for (size_t i = 0; i < top->count; i++) {
-		if (b->top_sub[i] == 0) {
-			struct rs_bvh_node node = top->nodes[i];
-			node.escape += (uint32_t)out;
-			node.order = rank[node.level]++;
-			b->nodes[out++] = node;
-			continue;
-		}
-		uint32_t j = b->top_sub[i] - 1;
-		size_t from = b->sub_at[j], count = b->sub_count[j];
-		const uint32_t *levels = b->levels + from;
-		memmove(b->nodes + out, b->nodes + from, count * sizeof *b->nodes);
-		for (size_t k = 0; k < count; k++) {
-			struct rs_bvh_node *n = &b->nodes[out + k];
-			n->escape += (uint32_t)out;
-			n->order += rank[n->level];
-		}
-		for (uint32_t l = 0; l < b->sub_levels[j]; l++)
-			rank[l] += levels[l];
-		out += count;
-	}
-	return out;
 }
 
 static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
@@ -235,15 +288,27 @@ static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
 		if (node->level != RS_BVH_DEFERRED && node->count > 0)
 			order_range(b, node->first, node->first + node->count);
 	}
-	/* Every subtree is posted now: the rest are built here and on the helpers. */
+	/* The upper tree is complete: the stitch may start. */
+	const struct rs_bvh__emit *top = &b->top;
+	for (size_t i = 0; i < top->count; i++)
+		b->span[i] = 1;
+	for (size_t i = top->count; i-- > 0;)
+		if (top->parent[i] != RS_BVH_NO_PARENT)
+			b->span[top->parent[i]] += b->span[i];
+	pthread_mutex_lock(&b->lock);
+	b->ready = 1;
+	pthread_mutex_unlock(&b->lock);
+	/* Every subtree is posted now: the rest are built here and on the helpers, and
+	 * whoever finds none left stitches meanwhile. */
 	while (take_subtree(b, 0))
 		;
 	pthread_mutex_lock(&b->lock);
-	while (b->finished < b->posted)
+	while (b->finished < b->posted || b->stitching)
 		pthread_cond_wait(&b->done, &b->lock);
 	pthread_mutex_unlock(&b->lock);
 	rs_bvh__pool_idle(b->s.pool, NULL, NULL);
-	return stitch(b);
+	stitch_some(b, 1);
+	return b->st_out;
 }
 
 static void free_build(struct build *b)
@@ -317,7 +382,9 @@ static size_t layout(struct build *b, char *block)
 	b->top.nodes = take(block, &at, cap * sizeof *b->top.nodes);
 	b->top.parent = take(block, &at, cap * sizeof *b->top.parent);
 	b->top.deferred = take(block, &at, n * sizeof *b->top.deferred);
-	b->top_sub = take(block, &at, cap * sizeof *b->top_sub);
+	b->span = take(block, &at, cap * sizeof *b->span);
+	b->open = take(block, &at, cap * sizeof *b->open);
+	b->sub_done = take(block, &at, n * sizeof *b->sub_done);
 	b->levels = take(block, &at, cap * sizeof *b->levels);
 	b->sub_levels = take(block, &at, n * sizeof *b->sub_levels);
 	b->rank = take(block, &at, (n + 1) * sizeof *b->rank);
