@@ -56,6 +56,10 @@ void rs_bvh__pool_stop(struct rs_bvh__pool *pool);
 typedef int (*rs_bvh__idle_fn)(void *ctx, uint32_t worker);
 void rs_bvh__pool_idle(struct rs_bvh__pool *pool, rs_bvh__idle_fn idle, void *ctx);
 void rs_bvh__pool_poke(struct rs_bvh__pool *pool);
+/* How many times a thread of this pool polls before it sleeps (0: it does not poll, as
+ * when threads outnumber the cores), and one poll's pause. */
+uint32_t rs_bvh__pool_polls(const struct rs_bvh__pool *pool);
+void rs_bvh__pool_relax(void);
 
 /* RS_OK, or RS_ERR_BAD_DATA naming the first of triangle tri's vertices that is out of
  * range or not finite (the message rs_bvh_build() gives for the first bad triangle). */

@@ -163,6 +163,16 @@ struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads)
 	return p;
 }
 
+uint32_t rs_bvh__pool_polls(const struct rs_bvh__pool *p)
+{
+	return p ? (uint32_t)p->spin : 0;
+}
+
+void rs_bvh__pool_relax(void)
+{
+	CPU_RELAX();
+}
+
 uint32_t rs_bvh__pool_workers(const struct rs_bvh__pool *p)
 {
 	return p ? p->started + 1 : 1;

@@ -7,6 +7,7 @@
  * decided by bvh_sah.c from its records alone, so the tree is the same for every thread
  * count; only where its nodes were written differs. */
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,7 +57,9 @@ struct build {
 	pthread_mutex_t lock;
 	pthread_cond_t done;
 	uint32_t *waiting;
-	uint32_t waiting_count, posted, finished;
+	uint32_t waiting_count, posted;
+	/* Also read without the lock, by the caller's thread polling for the end. */
+	atomic_uint finished;
 	/* The stitch (stitch_some()), in pre-order as far as the subtrees are done: the next
 	 * top entry, the next place in the output, the open top nodes (ancestors of the next
 	 * entry) and how many levels of rank[] are zeroed. Under lock: ready (the upper tree
@@ -64,7 +67,8 @@ struct build {
 	size_t st_next, st_out, st_open, rank_zeroed;
 	struct open_node *open;
 	uint8_t *sub_done;
-	int ready, stitching;
+	int ready;
+	atomic_int stitching;
 	/* Subtree j's node count per level, levels[sub_at[j] ...] (its slot has room: a tree
 	 * over m records is at most m - 1 levels high), sub_levels[j] of them; then, in the
 	 * stitch, the nodes on each level before it in the pre-order. */
@@ -302,6 +306,15 @@ static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
 	 * whoever finds none left stitches meanwhile. */
 	while (take_subtree(b, 0))
 		;
+	/* The last subtrees and the stitch: polled for a while (the pool's polls), as a wait
+	 * of a few tens of microseconds is common here and waking a sleeping thread costs
+	 * about as much; then slept on. */
+	for (uint32_t k = 0;
+	     k < rs_bvh__pool_polls(b->s.pool) &&
+	     (atomic_load_explicit(&b->finished, memory_order_relaxed) < b->posted ||
+	      atomic_load_explicit(&b->stitching, memory_order_relaxed));
+	     k++)
+		rs_bvh__pool_relax();
 	pthread_mutex_lock(&b->lock);
 	while (b->finished < b->posted || b->stitching)
 		pthread_cond_wait(&b->done, &b->lock);
