@@ -111,6 +111,14 @@ static void built_free(struct built *b)
 	free(b->order);
 }
 
+/* b is the one-thread tree `one` to the byte: nodes and triangle order. */
+static void assert_same_tree(const struct built *b, const struct built *one, size_t tris)
+{
+	assert_int_equal(b->count, one->count);
+	assert_memory_equal(b->nodes, one->nodes, one->count * sizeof *one->nodes);
+	assert_memory_equal(b->order, one->order, tris * sizeof *one->order);
+}
+
 static void assert_same_for_every_thread_count(const struct mesh *m)
 {
 	struct built one = build(m, 1);
@@ -161,9 +169,7 @@ static void repeated_builds_are_independent_of_earlier_ones(void **state)
 	for (int k = 0; k < 24; k++) {
 		struct mesh m = random_mesh(20000 + (size_t)(k % 3) * 1500);
 		struct built one = build(&m, 1), many = build(&m, 2 + (uint32_t)(k % 3));
-		assert_int_equal(many.count, one.count);
-		assert_memory_equal(many.nodes, one.nodes, one.count * sizeof *one.nodes);
-		assert_memory_equal(many.order, one.order, m.tris * sizeof *one.order);
+		assert_same_tree(&many, &one, m.tris);
 		built_free(&one);
 		built_free(&many);
 		free(m.pos);
@@ -179,9 +185,7 @@ static void big_subtrees_bin_on_their_own_thread(void **state)
 	(void)state;
 	struct mesh m = random_mesh(300000);
 	struct built one = build(&m, 1), two = build(&m, 2);
-	assert_int_equal(two.count, one.count);
-	assert_memory_equal(two.nodes, one.nodes, one.count * sizeof *one.nodes);
-	assert_memory_equal(two.order, one.order, m.tris * sizeof *one.order);
+	assert_same_tree(&two, &one, m.tris);
 	built_free(&one);
 	built_free(&two);
 	free(m.pos);
@@ -218,9 +222,7 @@ static void leaves_above_the_subtrees_keep_their_order(void **state)
 	const uint32_t counts[] = {2, 3, 4, 7};
 	for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
 		struct built b = build_leaves(&m, counts[k], 1024);
-		assert_int_equal(b.count, one.count);
-		assert_memory_equal(b.nodes, one.nodes, one.count * sizeof *one.nodes);
-		assert_memory_equal(b.order, one.order, m.tris * sizeof *one.order);
+		assert_same_tree(&b, &one, m.tris);
 		built_free(&b);
 	}
 	built_free(&one);
