@@ -22,13 +22,6 @@
  * binned when its turn comes). */
 #define MAX_PREBINS 64u
 
-/* A node of the upper tree that the stitch has placed but not yet finished: its entry,
- * the entry after its subtree, its place in the output and its level so far. */
-struct open_node {
-	size_t entry, end, out;
-	uint32_t level;
-};
-
 struct build {
 	struct rs_bvh__sah s;
 	/* The same, without the pool: a subtree already runs on a worker, so it bins serially
@@ -61,11 +54,11 @@ struct build {
 	/* Also read without the lock, by the caller's thread polling for the end. */
 	atomic_uint finished;
 	/* The stitch (stitch_some()), in pre-order as far as the subtrees are done: the next
-	 * top entry, the next place in the output, the open top nodes (ancestors of the next
-	 * entry) and how many levels of rank[] are zeroed. Under lock: ready (the upper tree
+	 * top entry, the next place in the output, how many top nodes are open (ancestors of
+	 * the next entry, kept in top.parent, free once span is known) and how many levels of
+	 * rank[] are zeroed. Under lock: ready (the upper tree
 	 * is complete), stitching (one thread at it) and each subtree's done flag. */
 	size_t st_next, st_out, st_open, rank_zeroed;
-	struct open_node *open;
 	uint8_t *sub_done;
 	int ready;
 	atomic_int stitching;
@@ -179,28 +172,30 @@ static void stitch_some(struct build *b, int all)
 			b->nodes[b->st_out++] = *node;
 			done = node;
 		} else {
-			b->open[b->st_open++] = (struct open_node){i, i + b->span[i], b->st_out, 0};
-			b->st_out++;
+			/* Open until its last entry is written: its place in escape meanwhile, its
+			 * level (0 from the upper build) grown by its children. */
+			top->parent[b->st_open++] = (uint32_t)i;
+			node->escape = (uint32_t)b->st_out++;
 			b->st_next++;
 			continue;
 		}
 		b->st_next++;
 		/* Into its parent; a parent whose last entry this was is finished in turn. */
 		while (b->st_open > 0) {
-			struct open_node *o = &b->open[b->st_open - 1];
-			struct rs_bvh_node *p = &top->nodes[o->entry];
-			o->level = done->level + 1 > o->level ? done->level + 1 : o->level;
+			uint32_t e = top->parent[b->st_open - 1];
+			struct rs_bvh_node *p = &top->nodes[e];
+			p->level = done->level + 1 > p->level ? done->level + 1 : p->level;
 			for (int a = 0; a < 3; a++) {
 				p->lo[a] = done->lo[a] < p->lo[a] ? done->lo[a] : p->lo[a];
 				p->hi[a] = done->hi[a] > p->hi[a] ? done->hi[a] : p->hi[a];
 			}
-			if (o->end != b->st_next)
+			if (e + b->span[e] != b->st_next)
 				break;
-			rank_zero(b, o->level);
-			p->level = o->level;
+			rank_zero(b, p->level);
+			uint32_t out = p->escape;
 			p->escape = (uint32_t)b->st_out;
-			p->order = b->rank[o->level]++;
-			b->nodes[o->out] = *p;
+			p->order = b->rank[p->level]++;
+			b->nodes[out] = *p;
 			done = p;
 			b->st_open--;
 		}
@@ -292,7 +287,8 @@ static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
 		if (node->level != RS_BVH_DEFERRED && node->count > 0)
 			order_range(b, node->first, node->first + node->count);
 	}
-	/* The upper tree is complete: the stitch may start. */
+	/* The upper tree is complete: the stitch may start (top.parent is free after this:
+	 * the stitch keeps its open nodes there). */
 	const struct rs_bvh__emit *top = &b->top;
 	for (size_t i = 0; i < top->count; i++)
 		b->span[i] = 1;
@@ -396,7 +392,6 @@ static size_t layout(struct build *b, char *block)
 	b->top.parent = take(block, &at, cap * sizeof *b->top.parent);
 	b->top.deferred = take(block, &at, n * sizeof *b->top.deferred);
 	b->span = take(block, &at, cap * sizeof *b->span);
-	b->open = take(block, &at, cap * sizeof *b->open);
 	b->sub_done = take(block, &at, n * sizeof *b->sub_done);
 	b->levels = take(block, &at, cap * sizeof *b->levels);
 	b->sub_levels = take(block, &at, n * sizeof *b->sub_levels);
