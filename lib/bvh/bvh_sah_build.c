@@ -3,9 +3,10 @@
  * (their big nodes binned in chunks on every thread); each subtree is handed out as soon as
  * it is emitted and built by a helper between those chunk loops, or by any thread once the
  * upper nodes are done (the largest waiting first), each into its own range of the output
- * array, and one sweep moves them to their places in the pre-order array. Each node is
- * decided by bvh_sah.c from its records alone, so the tree is the same for every thread
- * count; only where its nodes were written differs. */
+ * array; a thread with no subtree left moves the finished ones to their places in the
+ * pre-order array, in order, while the last are built. Each node is decided by bvh_sah.c
+ * from its records alone, so the tree is the same for every thread count; only where its
+ * nodes were written meanwhile differs. */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -56,8 +57,8 @@ struct build {
 	/* The stitch (stitch_some()), in pre-order as far as the subtrees are done: the next
 	 * top entry, the next place in the output, how many top nodes are open (ancestors of
 	 * the next entry, kept in top.parent, free once span is known) and how many levels of
-	 * rank[] are zeroed. Under lock: ready (the upper tree
-	 * is complete), stitching (one thread at it) and each subtree's done flag. */
+	 * rank[] are zeroed. Under lock: ready (the upper tree is complete), stitching (one
+	 * thread at it) and each subtree's done flag. */
 	size_t st_next, st_out, st_open, rank_zeroed;
 	uint8_t *sub_done;
 	int ready;
