@@ -82,13 +82,15 @@ struct built {
 	size_t count;
 };
 
-static struct built build(const struct mesh *m, uint32_t threads)
+static struct built build_leaves(const struct mesh *m, uint32_t threads, uint32_t leaf_size)
 {
-	struct rs_bvh_desc d = {.builder = RS_BVH_SAH, .threads = threads};
+	struct rs_bvh_desc d = {.builder = RS_BVH_SAH, .threads = threads, .leaf_size = leaf_size};
 	size_t cap = rs_bvh_node_bound(&d, m->tris);
 	struct built b = {malloc(cap * sizeof *b.nodes), malloc(m->tris * sizeof *b.order), 0};
 	assert_non_null(b.nodes);
 	assert_non_null(b.order);
+	/* Poisoned: a triangle order the build failed to write cannot pass for a right one. */
+	memset(b.order, 0xff, m->tris * sizeof *b.order);
 	struct rs_error err;
 	if (rs_bvh_build(&d, m->pos, m->verts, m->idx, m->tris, b.nodes, cap, b.order, &b.count,
 	                 &err) != RS_OK)
@@ -98,10 +100,23 @@ static struct built build(const struct mesh *m, uint32_t threads)
 	return b;
 }
 
+static struct built build(const struct mesh *m, uint32_t threads)
+{
+	return build_leaves(m, threads, 0);
+}
+
 static void built_free(struct built *b)
 {
 	free(b->nodes);
 	free(b->order);
+}
+
+/* b is the one-thread tree `one` to the byte: nodes and triangle order. */
+static void assert_same_tree(const struct built *b, const struct built *one, size_t tris)
+{
+	assert_int_equal(b->count, one->count);
+	assert_memory_equal(b->nodes, one->nodes, one->count * sizeof *one->nodes);
+	assert_memory_equal(b->order, one->order, tris * sizeof *one->order);
 }
 
 static void assert_same_for_every_thread_count(const struct mesh *m)
@@ -154,9 +169,7 @@ static void repeated_builds_are_independent_of_earlier_ones(void **state)
 	for (int k = 0; k < 24; k++) {
 		struct mesh m = random_mesh(20000 + (size_t)(k % 3) * 1500);
 		struct built one = build(&m, 1), many = build(&m, 2 + (uint32_t)(k % 3));
-		assert_int_equal(many.count, one.count);
-		assert_memory_equal(many.nodes, one.nodes, one.count * sizeof *one.nodes);
-		assert_memory_equal(many.order, one.order, m.tris * sizeof *one.order);
+		assert_same_tree(&many, &one, m.tris);
 		built_free(&one);
 		built_free(&many);
 		free(m.pos);
@@ -172,9 +185,7 @@ static void big_subtrees_bin_on_their_own_thread(void **state)
 	(void)state;
 	struct mesh m = random_mesh(300000);
 	struct built one = build(&m, 1), two = build(&m, 2);
-	assert_int_equal(two.count, one.count);
-	assert_memory_equal(two.nodes, one.nodes, one.count * sizeof *one.nodes);
-	assert_memory_equal(two.order, one.order, m.tris * sizeof *one.order);
+	assert_same_tree(&two, &one, m.tris);
 	built_free(&one);
 	built_free(&two);
 	free(m.pos);
@@ -186,6 +197,35 @@ static void signed_zeros_and_duplicates_are_independent_of_threads(void **state)
 	(void)state;
 	struct mesh m = zero_grid(120); /* 43,200 triangles */
 	assert_same_for_every_thread_count(&m);
+	free(m.pos);
+	free(m.idx);
+}
+
+/* leaf_size 1024 on 9,300 triangles: 800 copies of one triangle far from the rest make a
+ * node of the upper tree (above the subtrees of n / (8 threads) records) that is a leaf (its
+ * centroids coincide and it fits a leaf). The threads read each subtree's triangle order as
+ * it is done; such a leaf's must be read too. */
+static void leaves_above_the_subtrees_keep_their_order(void **state)
+{
+	(void)state;
+	struct mesh m = random_mesh(9300);
+	for (size_t t = 8500; t < m.tris; t++) {
+		const float v[9] = {500.0f, 500.0f, 500.0f, 510.0f, 500.0f,
+		                    500.0f, 500.0f, 510.0f, 500.0f};
+		memcpy(&m.pos[9 * t], v, sizeof v);
+	}
+	struct built one = build_leaves(&m, 1, 1024);
+	int top_leaf = 0;
+	for (size_t i = 0; i < one.count; i++)
+		top_leaf |= one.nodes[i].count == 800;
+	assert_true(top_leaf);
+	const uint32_t counts[] = {2, 3, 4, 7};
+	for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+		struct built b = build_leaves(&m, counts[k], 1024);
+		assert_same_tree(&b, &one, m.tris);
+		built_free(&b);
+	}
+	built_free(&one);
 	free(m.pos);
 	free(m.idx);
 }
@@ -277,6 +317,7 @@ int main(void)
 	    cmocka_unit_test(signed_zeros_and_duplicates_are_independent_of_threads),
 	    cmocka_unit_test(big_subtrees_bin_on_their_own_thread),
 	    cmocka_unit_test(repeated_builds_are_independent_of_earlier_ones),
+	    cmocka_unit_test(leaves_above_the_subtrees_keep_their_order),
 	    cmocka_unit_test(threads_keep_the_sah_cost),
 	    cmocka_unit_test(thread_count_is_validated),
 	    cmocka_unit_test(bad_input_is_named_the_same_on_threads),

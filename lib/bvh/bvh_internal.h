@@ -47,6 +47,19 @@ struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads);
 uint32_t rs_bvh__pool_workers(const struct rs_bvh__pool *pool);
 void rs_bvh__pool_run(struct rs_bvh__pool *pool, uint32_t jobs, rs_bvh__job_fn fn, void *ctx);
 void rs_bvh__pool_stop(struct rs_bvh__pool *pool);
+/* Work for the helpers between loops: once set, a helper with no loop to join calls
+ * idle(ctx, worker) until it returns 0 (nothing to do now) or a loop is published, and
+ * after a 0 waits for the next loop or rs_bvh__pool_poke() (new work). The caller's thread
+ * never calls it. NULL clears it, and returns once no helper can call the old one (which
+ * should by then return 0 at once). The idle work must make its own results visible (the
+ * pool orders nothing about it). */
+typedef int (*rs_bvh__idle_fn)(void *ctx, uint32_t worker);
+void rs_bvh__pool_idle(struct rs_bvh__pool *pool, rs_bvh__idle_fn idle, void *ctx);
+void rs_bvh__pool_poke(struct rs_bvh__pool *pool);
+/* How many times a thread of this pool polls before it sleeps (0: it does not poll, as
+ * when threads outnumber the cores), and one poll's pause. */
+uint32_t rs_bvh__pool_polls(const struct rs_bvh__pool *pool);
+void rs_bvh__pool_relax(void);
 
 /* RS_OK, or RS_ERR_BAD_DATA naming the first of triangle tri's vertices that is out of
  * range or not finite (the message rs_bvh_build() gives for the first bad triangle). */

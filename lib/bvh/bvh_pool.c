@@ -41,6 +41,15 @@ struct rs_bvh__pool {
 	 * woke late for a loop already over cannot take a job of the next one. */
 	_Atomic uint64_t ticket;
 	atomic_uint completed; /* jobs of the current loop finished */
+	/* Work a helper does between loops (rs_bvh__pool_idle()): idle(idle_ctx, worker) is
+	 * called until it returns 0 or a loop is published; pokes counts
+	 * rs_bvh__pool_poke() calls, so a helper that found nothing sleeps until the next.
+	 * idling: helpers that took idle and may still call it (idle_done: it fell to 0). */
+	rs_bvh__idle_fn idle;
+	void *idle_ctx;
+	uint32_t idling;
+	pthread_cond_t idle_done;
+	_Atomic uint64_t pokes;
 	int quit;
 };
 
@@ -76,21 +85,40 @@ static void *worker_main(void *arg)
 {
 	struct worker_arg *a = arg;
 	struct rs_bvh__pool *p = a->pool;
-	uint64_t seen = 0;
+	uint64_t seen = 0, poked = 0;
 	pthread_mutex_lock(&p->lock);
 	for (;;) {
-		while (!p->quit && p->generation == seen)
+		while (!p->quit && p->generation == seen &&
+		       atomic_load_explicit(&p->pokes, memory_order_relaxed) == poked)
 			pthread_cond_wait(&p->wake, &p->lock);
 		if (p->quit)
 			break;
+		int loop = p->generation != seen;
 		seen = p->generation;
+		poked = atomic_load_explicit(&p->pokes, memory_order_relaxed);
 		rs_bvh__job_fn fn = p->fn;
 		void *ctx = p->ctx;
 		uint32_t jobs = p->jobs;
+		rs_bvh__idle_fn idle = p->idle;
+		void *idle_ctx = p->idle_ctx;
+		p->idling += idle != NULL;
 		pthread_mutex_unlock(&p->lock);
-		run_jobs(p, fn, ctx, jobs, seen, a->worker);
+		if (loop)
+			run_jobs(p, fn, ctx, jobs, seen, a->worker);
+		if (idle) {
+			/* Between loops: a loop published meanwhile comes first (checked between
+			 * calls). */
+			while (atomic_load_explicit(&p->published, memory_order_acquire) == seen &&
+			       idle(idle_ctx, a->worker))
+				;
+			pthread_mutex_lock(&p->lock);
+			if (--p->idling == 0)
+				pthread_cond_broadcast(&p->idle_done);
+			pthread_mutex_unlock(&p->lock);
+		}
 		for (int k = 0; k < p->spin &&
-		                atomic_load_explicit(&p->published, memory_order_relaxed) == seen;
+		                atomic_load_explicit(&p->published, memory_order_relaxed) == seen &&
+		                atomic_load_explicit(&p->pokes, memory_order_relaxed) == poked;
 		     k++)
 			CPU_RELAX();
 		pthread_mutex_lock(&p->lock);
@@ -113,9 +141,11 @@ struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads)
 	}
 	pthread_cond_init(&p->wake, NULL);
 	pthread_cond_init(&p->done, NULL);
+	pthread_cond_init(&p->idle_done, NULL);
 	atomic_init(&p->ticket, 0);
 	atomic_init(&p->completed, 0);
 	atomic_init(&p->published, 0);
+	atomic_init(&p->pokes, 0);
 	long cores = sysconf(_SC_NPROCESSORS_ONLN);
 	p->spin = cores > 0 && threads <= (uint32_t)cores ? SPIN_POLLS : 0;
 	/* A helper that cannot be started only means fewer hands: the work is the same. */
@@ -131,6 +161,16 @@ struct rs_bvh__pool *rs_bvh__pool_start(uint32_t threads)
 		p->started++;
 	}
 	return p;
+}
+
+uint32_t rs_bvh__pool_polls(const struct rs_bvh__pool *p)
+{
+	return p ? (uint32_t)p->spin : 0;
+}
+
+void rs_bvh__pool_relax(void)
+{
+	CPU_RELAX();
 }
 
 uint32_t rs_bvh__pool_workers(const struct rs_bvh__pool *p)
@@ -164,6 +204,29 @@ void rs_bvh__pool_run(struct rs_bvh__pool *p, uint32_t jobs, rs_bvh__job_fn fn, 
 	pthread_mutex_unlock(&p->lock);
 }
 
+void rs_bvh__pool_idle(struct rs_bvh__pool *p, rs_bvh__idle_fn idle, void *ctx)
+{
+	if (!p)
+		return;
+	pthread_mutex_lock(&p->lock);
+	p->idle = idle;
+	p->idle_ctx = ctx;
+	/* Cleared: no helper calls the old one any more once this returns. */
+	while (!idle && p->idling > 0)
+		pthread_cond_wait(&p->idle_done, &p->lock);
+	pthread_mutex_unlock(&p->lock);
+}
+
+void rs_bvh__pool_poke(struct rs_bvh__pool *p)
+{
+	if (!p || p->started == 0)
+		return;
+	pthread_mutex_lock(&p->lock);
+	atomic_fetch_add_explicit(&p->pokes, 1, memory_order_relaxed);
+	pthread_cond_broadcast(&p->wake);
+	pthread_mutex_unlock(&p->lock);
+}
+
 void rs_bvh__pool_stop(struct rs_bvh__pool *p)
 {
 	if (!p)
@@ -178,6 +241,7 @@ void rs_bvh__pool_stop(struct rs_bvh__pool *p)
 		pthread_join(p->ids[t], NULL);
 	pthread_cond_destroy(&p->wake);
 	pthread_cond_destroy(&p->done);
+	pthread_cond_destroy(&p->idle_done);
 	pthread_mutex_destroy(&p->lock);
 	free(p->ids);
 	free(p);

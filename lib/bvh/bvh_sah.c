@@ -739,6 +739,8 @@ void rs_bvh__build_subtree(const struct rs_bvh__sah *s, struct rs_bvh__scratch *
 			node->level = RS_BVH_DEFERRED;
 			node->first = (uint32_t)out->deferred_count;
 			out->deferred[out->deferred_count++] = t;
+			if (out->on_defer)
+				out->on_defer(out->defer_ctx, node->first, k);
 			continue;
 		}
 		struct node_scale sc;

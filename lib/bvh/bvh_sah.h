@@ -129,6 +129,9 @@ struct rs_bvh__emit {
 	uint32_t defer;
 	struct rs_bvh__task *deferred;
 	size_t deferred_count;
+	/* Called (when set) as each placeholder is emitted: deferred[j] at node k. */
+	void (*on_defer)(void *ctx, uint32_t j, size_t k);
+	void *defer_ctx;
 };
 
 int rs_bvh__scratch_init(struct rs_bvh__scratch *s, uint32_t nbins, size_t max_items);

@@ -1,9 +1,14 @@
 /* The SAH build on the threads it is given. One thread builds straight into the output.
- * With more, the nodes above subtrees of at most `defer` records are built first (their big
- * nodes binned in chunks on every thread), the subtrees are then built on the threads,
- * largest first, each into its own range of the output array, and one sweep moves them to
- * their places in the pre-order array. Each node is decided by bvh_sah.c from its records alone, so
- * the tree is the same for every thread count; only where its nodes were written differs. */
+ * With more, the caller's thread builds the nodes above subtrees of at most `defer` records
+ * (their big nodes binned in chunks on every thread); each subtree is handed out as soon as
+ * it is emitted and built by a helper between those chunk loops, or by any thread once the
+ * upper nodes are done (the largest waiting first), each into its own range of the output
+ * array; a thread with no subtree left moves the finished ones to their places in the
+ * pre-order array, in order, while the last are built. Each node is decided by bvh_sah.c
+ * from its records alone, so the tree is the same for every thread count; only where its
+ * nodes were written meanwhile differs. */
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,10 +22,6 @@
 /* Children binned ahead that may wait at once (pending upper nodes; beyond, a child is
  * binned when its turn comes). */
 #define MAX_PREBINS 64u
-
-struct by_size {
-	uint32_t size, index;
-};
 
 struct build {
 	struct rs_bvh__sah s;
@@ -38,12 +39,30 @@ struct build {
 	struct rs_bvh__task *fill_bounds;
 	uint32_t *fill_stop;
 	uint32_t fill_chunks;
-	/* The nodes above the subtrees, the subtrees (by size, largest first), where subtree
-	 * j was built (nodes[sub_at[j]...), parent links local) and its node count. */
+	/* The nodes above the subtrees, where subtree j was built (nodes[sub_at[j]...),
+	 * parent links local) and its node count. */
 	struct rs_bvh__emit top;
-	uint32_t *top_sub; /* top entry -> 1 + its subtree, 0 for a top node */
-	struct by_size *by_size;
+	uint32_t *span; /* top entry -> the number of top entries in its subtree */
 	size_t *sub_at, *sub_count;
+	/* End of the last subtree's slot, and the top nodes emitted before it (place_subtree()). */
+	size_t slots, slots_tops;
+	/* Subtrees emitted and not yet taken (indices into top.deferred), under lock; done
+	 * is signalled when the last one posted is finished. */
+	pthread_mutex_t lock;
+	pthread_cond_t done;
+	uint32_t *waiting;
+	uint32_t waiting_count, posted;
+	/* Also read without the lock, by the caller's thread polling for the end. */
+	atomic_uint finished;
+	/* The stitch (stitch_some()), in pre-order as far as the subtrees are done: the next
+	 * top entry, the next place in the output, how many top nodes are open (ancestors of
+	 * the next entry, kept in top.parent, free once span is known) and how many levels of
+	 * rank[] are zeroed. Under lock: ready (the upper tree is complete), stitching (one
+	 * thread at it) and each subtree's done flag. */
+	size_t st_next, st_out, st_open, rank_zeroed;
+	uint8_t *sub_done;
+	int ready;
+	atomic_int stitching;
 	/* Subtree j's node count per level, levels[sub_at[j] ...] (its slot has room: a tree
 	 * over m records is at most m - 1 levels high), sub_levels[j] of them; then, in the
 	 * stitch, the nodes on each level before it in the pre-order. */
@@ -68,19 +87,23 @@ static void fill_chunk(void *ctx, uint32_t c, uint32_t worker)
 	                       fill_edge(b, c), fill_edge(b, c + 1), &b->fill_bounds[c]);
 }
 
-/* The triangle order, read from the records, in chunks of FILL_CHUNK. */
+/* The triangle order of records [begin, end), read from their final places. */
+static void order_range(struct build *b, uint32_t begin, uint32_t end)
+{
+	for (uint32_t t = begin; t < end; t++)
+		b->order[t] = rs_bvh__item_id(&b->s.items[t]);
+}
+
+/* The same in chunks of FILL_CHUNK (one thread). */
 static void order_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	struct build *b = ctx;
-	for (uint32_t t = fill_edge(b, c); t < fill_edge(b, c + 1); t++)
-		b->order[t] = rs_bvh__item_id(&b->s.items[t]);
+	order_range(b, fill_edge(b, c), fill_edge(b, c + 1));
 }
 
-static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
+static void build_deferred(struct build *b, uint32_t j, uint32_t worker)
 {
-	struct build *b = ctx;
-	uint32_t j = b->by_size[job].index;
 	struct rs_bvh__emit e = {.nodes = b->nodes + b->sub_at[j],
 	                         .parent = b->parent + b->sub_at[j]};
 	rs_bvh__build_subtree(&b->sub, &b->scratch[worker], &b->top.deferred[j], &e);
@@ -92,114 +115,210 @@ static void build_deferred(void *ctx, uint32_t job, uint32_t worker)
 	memset(rank, 0, ((size_t)top + 1) * sizeof *rank);
 	rs_bvh__finalize_rank(e.nodes, e.count, rank);
 	b->sub_levels[j] = top + 1;
+	/* Its leaves' records are where they end (still in cache): their triangle order. */
+	order_range(b, b->top.deferred[j].begin, b->top.deferred[j].end);
 }
 
-/* Larger first; equal sizes in list order (qsort is not stable). */
-static int larger_first(const void *pa, const void *pb)
+static void rank_zero(struct build *b, uint32_t level)
 {
-	const struct by_size *a = pa, *b = pb;
-	if (a->size != b->size)
-		return a->size < b->size ? 1 : -1;
-	return (a->index > b->index) - (a->index < b->index);
-}
-
-/* Where each subtree is built: the top tree's entries in pre-order, each top node given one
- * slot and subtree j room for its worst case, 2 m_j - 1 nodes. A full binary tree over D
- * subtrees has D - 1 top nodes, so the slots add up to exactly 2n - 1, the output's
- * capacity; and an entry's final place (actual counts before it) is never to the right of
- * its slot (worst cases before it). */
-static void place_subtrees(struct build *b)
-{
-	size_t at = 0;
-	for (size_t i = 0; i < b->top.count; i++) {
-		const struct rs_bvh_node *node = &b->top.nodes[i];
-		if (node->level != RS_BVH_DEFERRED) {
-			at++;
-			continue;
-		}
-		const struct rs_bvh__task *t = &b->top.deferred[node->first];
-		b->sub_at[node->first] = at;
-		at += 2 * (size_t)(t->end - t->begin) - 1;
+	if (level >= b->rank_zeroed) {
+		memset(b->rank + b->rank_zeroed, 0, (level + 1 - b->rank_zeroed) * sizeof *b->rank);
+		b->rank_zeroed = (size_t)level + 1;
 	}
 }
 
-/* The top tree finished bottom-up as rs_bvh__finalize_up() would (a placeholder stands for
- * its subtree's finished root), then one sweep in pre-order: top nodes written, subtrees
- * moved left to their final places (never onto a slot still to be read: see
- * place_subtrees()), their escapes and ranks offset by what precedes them. */
-static size_t stitch(struct build *b)
+/* The stitch: the upper tree's entries in pre-order, each written to its final place (the
+ * places so far plus one), a subtree moved left from its slot (never onto a slot still to
+ * be read or written: see place_subtree()) with its escapes and ranks offset by what
+ * precedes it, an upper node written when the last entry of its subtree is (its level and
+ * box from its children, as rs_bvh__finalize_up() would; its rank is the count of nodes on
+ * its level before it, and only its descendants, all lower, came since its place). It
+ * goes as far as the subtrees are done (all: every one is), so a thread that has no
+ * subtree left to build stitches while the last ones are built. One thread at a time. */
+static void stitch_some(struct build *b, int all)
 {
-	const struct rs_bvh__emit *top = &b->top;
-	uint32_t max_level = 0;
-	for (size_t i = 0; i < top->count; i++) {
+	struct rs_bvh__emit *top = &b->top;
+	while (b->st_next < top->count) {
+		size_t i = b->st_next;
 		struct rs_bvh_node *node = &top->nodes[i];
-		b->top_sub[i] = 0;
+		const struct rs_bvh_node *done;
 		if (node->level == RS_BVH_DEFERRED) {
 			uint32_t j = node->first;
-			const struct rs_bvh_node *root = &b->nodes[b->sub_at[j]];
-			b->top_sub[i] = j + 1;
-			memcpy(node->lo, root->lo, sizeof node->lo);
-			memcpy(node->hi, root->hi, sizeof node->hi);
-			node->level = root->level;
-			node->escape = (uint32_t)b->sub_count[j];
-		} else {
+			if (!all) {
+				pthread_mutex_lock(&b->lock);
+				int ready = b->sub_done[j];
+				pthread_mutex_unlock(&b->lock);
+				if (!ready)
+					return;
+			}
+			size_t from = b->sub_at[j], count = b->sub_count[j], out = b->st_out;
+			const uint32_t *levels = b->levels + from;
+			rank_zero(b, b->sub_levels[j] - 1);
+			memmove(b->nodes + out, b->nodes + from, count * sizeof *b->nodes);
+			for (size_t k = 0; k < count; k++) {
+				struct rs_bvh_node *n = &b->nodes[out + k];
+				n->escape += (uint32_t)out;
+				n->order += b->rank[n->level];
+			}
+			for (uint32_t l = 0; l < b->sub_levels[j]; l++)
+				b->rank[l] += levels[l];
+			done = &b->nodes[out];
+			b->st_out += count;
+		} else if (node->count > 0) {
+			/* A leaf of the upper tree (leaf_size above defer). */
+			rank_zero(b, 0);
 			node->level = 0;
-			node->escape = 1;
-		}
-	}
-	for (size_t i = top->count; i-- > 0;) {
-		const struct rs_bvh_node *n = &top->nodes[i];
-		max_level = n->level > max_level ? n->level : max_level;
-		if (top->parent[i] == RS_BVH_NO_PARENT)
-			continue;
-		struct rs_bvh_node *p = &top->nodes[top->parent[i]];
-		p->escape += n->escape;
-		if (p->level < n->level + 1)
-			p->level = n->level + 1;
-		for (int a = 0; a < 3; a++) {
-			p->lo[a] = n->lo[a] < p->lo[a] ? n->lo[a] : p->lo[a];
-			p->hi[a] = n->hi[a] > p->hi[a] ? n->hi[a] : p->hi[a];
-		}
-	}
-	uint32_t *rank = b->rank;
-	memset(rank, 0, ((size_t)max_level + 1) * sizeof *rank);
-	size_t out = 0;
-	for (size_t i = 0; i < top->count; i++) {
-		if (b->top_sub[i] == 0) {
-			struct rs_bvh_node node = top->nodes[i];
-			node.escape += (uint32_t)out;
-			node.order = rank[node.level]++;
-			b->nodes[out++] = node;
+			node->escape = (uint32_t)b->st_out + 1;
+			node->order = b->rank[0]++;
+			b->nodes[b->st_out++] = *node;
+			done = node;
+		} else {
+			/* Open until its last entry is written: its place in escape meanwhile, its
+			 * level (0 from the upper build) grown by its children. */
+			top->parent[b->st_open++] = (uint32_t)i;
+			node->escape = (uint32_t)b->st_out++;
+			b->st_next++;
 			continue;
 		}
-		uint32_t j = b->top_sub[i] - 1;
-		size_t from = b->sub_at[j], count = b->sub_count[j];
-		const uint32_t *levels = b->levels + from;
-		memmove(b->nodes + out, b->nodes + from, count * sizeof *b->nodes);
-		for (size_t k = 0; k < count; k++) {
-			struct rs_bvh_node *n = &b->nodes[out + k];
-			n->escape += (uint32_t)out;
-			n->order += rank[n->level];
+		b->st_next++;
+		/* Into its parent; a parent whose last entry this was is finished in turn. */
+		while (b->st_open > 0) {
+			uint32_t e = top->parent[b->st_open - 1];
+			struct rs_bvh_node *p = &top->nodes[e];
+			p->level = done->level + 1 > p->level ? done->level + 1 : p->level;
+			for (int a = 0; a < 3; a++) {
+				p->lo[a] = done->lo[a] < p->lo[a] ? done->lo[a] : p->lo[a];
+				p->hi[a] = done->hi[a] > p->hi[a] ? done->hi[a] : p->hi[a];
+			}
+			if (e + b->span[e] != b->st_next)
+				break;
+			rank_zero(b, p->level);
+			uint32_t out = p->escape;
+			p->escape = (uint32_t)b->st_out;
+			p->order = b->rank[p->level]++;
+			b->nodes[out] = *p;
+			done = p;
+			b->st_open--;
 		}
-		for (uint32_t l = 0; l < b->sub_levels[j]; l++)
-			rank[l] += levels[l];
-		out += count;
 	}
-	return out;
+}
+
+/* The stitch as far as it goes now, unless another thread is at it or the upper tree is
+ * not complete yet. */
+static void try_stitch(struct build *b)
+{
+	pthread_mutex_lock(&b->lock);
+	if (!b->ready || b->stitching) {
+		pthread_mutex_unlock(&b->lock);
+		return;
+	}
+	b->stitching = 1;
+	pthread_mutex_unlock(&b->lock);
+	stitch_some(b, 0);
+	pthread_mutex_lock(&b->lock);
+	b->stitching = 0;
+	pthread_cond_broadcast(&b->done);
+	pthread_mutex_unlock(&b->lock);
+}
+
+/* One waiting subtree built on this thread, the largest (equal sizes: the first emitted);
+ * 0 when none waits. The pool's idle work on the helpers. */
+static int take_subtree(void *ctx, uint32_t worker)
+{
+	struct build *b = ctx;
+	pthread_mutex_lock(&b->lock);
+	if (b->waiting_count == 0) {
+		pthread_mutex_unlock(&b->lock);
+		try_stitch(b);
+		return 0;
+	}
+	uint32_t best = 0;
+	for (uint32_t i = 1; i < b->waiting_count; i++) {
+		const struct rs_bvh__task *t = &b->top.deferred[b->waiting[i]];
+		const struct rs_bvh__task *o = &b->top.deferred[b->waiting[best]];
+		uint32_t m = t->end - t->begin, mo = o->end - o->begin;
+		if (m > mo || (m == mo && b->waiting[i] < b->waiting[best]))
+			best = i;
+	}
+	uint32_t j = b->waiting[best];
+	b->waiting[best] = b->waiting[--b->waiting_count];
+	pthread_mutex_unlock(&b->lock);
+	build_deferred(b, j, worker);
+	pthread_mutex_lock(&b->lock);
+	b->sub_done[j] = 1;
+	if (++b->finished == b->posted)
+		pthread_cond_broadcast(&b->done);
+	pthread_mutex_unlock(&b->lock);
+	return 1;
+}
+
+/* Where subtree j, emitted as top entry k, is built; then it is handed to the helpers.
+ * The top tree's entries in pre-order (the order they are emitted in), each top node given
+ * one slot and subtree j room for its worst case, 2 m_j - 1 nodes. A full binary tree over
+ * D subtrees has D - 1 top nodes, so the slots add up to exactly 2n - 1, the output's
+ * capacity; and an entry's final place (actual counts before it) is never to the right of
+ * its slot (worst cases before it). */
+static void place_subtree(void *ctx, uint32_t j, size_t k)
+{
+	struct build *b = ctx;
+	const struct rs_bvh__task *t = &b->top.deferred[j];
+	/* Before entry k: k - j top nodes and subtrees 0 .. j - 1. */
+	size_t at = b->slots + (k - j - b->slots_tops);
+	b->sub_at[j] = at;
+	b->slots = at + 2 * (size_t)(t->end - t->begin) - 1;
+	b->slots_tops = k - j;
+	pthread_mutex_lock(&b->lock);
+	b->sub_done[j] = 0;
+	b->waiting[b->waiting_count++] = j;
+	b->posted++;
+	pthread_mutex_unlock(&b->lock);
+	rs_bvh__pool_poke(b->s.pool);
 }
 
 static size_t build_parallel(struct build *b, struct rs_bvh__task *root)
 {
+	b->top.on_defer = place_subtree;
+	b->top.defer_ctx = b;
+	rs_bvh__pool_idle(b->s.pool, take_subtree, b);
 	rs_bvh__build_subtree(&b->s, &b->scratch[0], root, &b->top);
-	size_t subs = b->top.deferred_count;
-	for (size_t j = 0; j < subs; j++) {
-		const struct rs_bvh__task *t = &b->top.deferred[j];
-		b->by_size[j] = (struct by_size){t->end - t->begin, (uint32_t)j};
+	/* The upper tree's own leaves (only when leaf_size exceeds defer); every other record
+	 * is in a subtree, which reads its own triangle order. */
+	for (size_t i = 0; i < b->top.count; i++) {
+		const struct rs_bvh_node *node = &b->top.nodes[i];
+		if (node->level != RS_BVH_DEFERRED && node->count > 0)
+			order_range(b, node->first, node->first + node->count);
 	}
-	qsort(b->by_size, subs, sizeof *b->by_size, larger_first);
-	place_subtrees(b);
-	rs_bvh__pool_run(b->s.pool, (uint32_t)subs, build_deferred, b);
-	return stitch(b);
+	/* The upper tree is complete: the stitch may start (top.parent is free after this:
+	 * the stitch keeps its open nodes there). */
+	const struct rs_bvh__emit *top = &b->top;
+	for (size_t i = 0; i < top->count; i++)
+		b->span[i] = 1;
+	for (size_t i = top->count; i-- > 0;)
+		if (top->parent[i] != RS_BVH_NO_PARENT)
+			b->span[top->parent[i]] += b->span[i];
+	pthread_mutex_lock(&b->lock);
+	b->ready = 1;
+	pthread_mutex_unlock(&b->lock);
+	/* Every subtree is posted now: the rest are built here and on the helpers, and
+	 * whoever finds none left stitches meanwhile. */
+	while (take_subtree(b, 0))
+		;
+	/* The last subtrees and the stitch: polled for a while (the pool's polls), as a wait
+	 * of a few tens of microseconds is common here and waking a sleeping thread costs
+	 * about as much; then slept on. */
+	for (uint32_t k = 0;
+	     k < rs_bvh__pool_polls(b->s.pool) &&
+	     (atomic_load_explicit(&b->finished, memory_order_relaxed) < b->posted ||
+	      atomic_load_explicit(&b->stitching, memory_order_relaxed));
+	     k++)
+		rs_bvh__pool_relax();
+	pthread_mutex_lock(&b->lock);
+	while (b->finished < b->posted || b->stitching)
+		pthread_cond_wait(&b->done, &b->lock);
+	pthread_mutex_unlock(&b->lock);
+	rs_bvh__pool_idle(b->s.pool, NULL, NULL);
+	stitch_some(b, 1);
+	return b->st_out;
 }
 
 static void free_build(struct build *b)
@@ -273,11 +392,12 @@ static size_t layout(struct build *b, char *block)
 	b->top.nodes = take(block, &at, cap * sizeof *b->top.nodes);
 	b->top.parent = take(block, &at, cap * sizeof *b->top.parent);
 	b->top.deferred = take(block, &at, n * sizeof *b->top.deferred);
-	b->top_sub = take(block, &at, cap * sizeof *b->top_sub);
+	b->span = take(block, &at, cap * sizeof *b->span);
+	b->sub_done = take(block, &at, n * sizeof *b->sub_done);
 	b->levels = take(block, &at, cap * sizeof *b->levels);
 	b->sub_levels = take(block, &at, n * sizeof *b->sub_levels);
 	b->rank = take(block, &at, (n + 1) * sizeof *b->rank);
-	b->by_size = take(block, &at, n * sizeof *b->by_size);
+	b->waiting = take(block, &at, n * sizeof *b->waiting);
 	b->sub_at = take(block, &at, n * sizeof *b->sub_at);
 	b->sub_count = take(block, &at, n * sizeof *b->sub_count);
 	return at;
@@ -304,9 +424,9 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		ok = b.s.pool != NULL;
 	}
 	b.workers = rs_bvh__pool_workers(b.s.pool);
-	/* Subtrees of at most `defer` records: at least eight per worker, so the largest-first
-	 * order keeps every worker busy to the end, while the upper nodes (binned and
-	 * partitioned in chunks on every thread) stay few. Measured on Cow17, two threads,
+	/* Subtrees of at most `defer` records: at least eight per worker, so taking the
+	 * largest waiting first keeps every worker busy to the end, while the upper nodes (binned
+	 * and partitioned in chunks on every thread) stay few. Measured on Cow17, two threads,
 	 * against Embree alternately (docs/benchmarks.md): n / 8 threads 1.00-1.02x Embree's
 	 * time, n / 4 1.02-1.03x, n / 2 1.09-1.11x. (Before the upper nodes were partitioned on
 	 * the threads, callgrind per thread put n / 16 at 158 M instructions on the caller
@@ -359,7 +479,11 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		b.sub = b.s;
 		b.sub.pool = NULL;
 		b.sub.prebins = 0; /* no subtree root is binned ahead (prebin_min) */
+		pthread_mutex_init(&b.lock, NULL);
+		pthread_cond_init(&b.done, NULL);
 		count = build_parallel(&b, &root);
+		pthread_cond_destroy(&b.done);
+		pthread_mutex_destroy(&b.lock);
 	} else {
 		struct rs_bvh__emit e = {.nodes = nodes, .parent = b.parent};
 		rs_bvh__build_subtree(&b.s, &b.scratch[0], &root, &e);
@@ -371,8 +495,10 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "bvh: out of memory");
 	} else {
 		/* Leaves own contiguous record ranges; when the right child is emitted first
-		 * the ranges are no longer increasing in pre-order, which the layout allows. */
-		rs_bvh__pool_run(b.s.pool, b.fill_chunks, order_chunk, &b);
+		 * the ranges are no longer increasing in pre-order, which the layout allows.
+		 * Threads read the order as each subtree is done (build_deferred()). */
+		if (b.workers < 2)
+			rs_bvh__pool_run(b.s.pool, b.fill_chunks, order_chunk, &b);
 		*out_count = count;
 	}
 	free_build(&b);
