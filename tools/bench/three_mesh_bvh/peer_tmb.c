@@ -159,12 +159,20 @@ static enum rs_status compare(const struct peer_options *o, struct peer_run *p,
 		                  : p->their_ids[i] == UINT32_MAX
 		                      ? RS_NO_SLOT
 		                      : (uint32_t)tris; /* never agrees */
+	/* per frame pair, their time over ours: the spread of the ratio under load */
+	double ratio[PEER_MAX_REPEATS], lo = 1e300, hi = 0.0;
+	for (uint32_t f = 0; f < o->repeats; ++f) {
+		ratio[f] = p->theirs_ms[f] / p->ours_ms[f];
+		lo = ratio[f] < lo ? ratio[f] : lo;
+		hi = ratio[f] > hi ? ratio[f] : hi;
+	}
 	double ours_ms = rs_tool_median(p->ours_ms, o->repeats);
 	double theirs_ms = rs_tool_median(p->theirs_ms, o->repeats);
 	printf("scene %s size %ux%u rays %zu frames %u ours_ms %.2f theirs_ms %.2f ours_mrays %.2f "
-	       "theirs_mrays %.2f ratio %.2f ours_agree %.3f theirs_agree %.3f\nrenderer %s\n",
+	       "theirs_mrays %.2f ratio %.2f ratio_min %.2f ratio_max %.2f ours_agree %.3f "
+	       "theirs_agree %.3f\nrenderer %s\n",
 	       o->scene, w, h, n, o->repeats, ours_ms, theirs_ms, (double)n / (ours_ms * 1000.0),
-	       (double)n / (theirs_ms * 1000.0), theirs_ms / ours_ms,
+	       (double)n / (theirs_ms * 1000.0), theirs_ms / ours_ms, lo, hi,
 	       agreement(p->our_ids, p->cpu_ids, n), agreement(p->their_ids, p->cpu_ids, n),
 	       theirs);
 	return RS_OK;
