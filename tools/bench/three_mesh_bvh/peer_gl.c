@@ -98,8 +98,11 @@ static enum rs_status open_context(struct peer_gl *gl, struct rs_error *err)
 	                    (unsigned)eglGetError());
 }
 
-static char *read_file(const char *path, size_t *out_size, struct rs_error *err)
+/* DIR/NAME's bytes, NUL-terminated; NULL with `err` set when it cannot be read. */
+static char *read_in(const char *dir, const char *name, size_t *out_size, struct rs_error *err)
 {
+	char path[4096];
+	snprintf(path, sizeof path, "%s/%s", dir, name);
 	FILE *f = fopen(path, "rb");
 	char *data = NULL;
 	long size = -1;
@@ -138,16 +141,17 @@ static enum rs_status load_texture(struct peer_gl *gl, const char *dir, const ch
 		return rs_error_set(err, RS_ERR_INVALID,
 		                    "%s/textures.txt: '%s %s %ux%u' is not a texture of BVH", dir,
 		                    name, format, w, h);
-	char path[4096];
-	snprintf(path, sizeof path, "%s/%s.bin", dir, name);
+	char file[48];
+	snprintf(file, sizeof file, "%s.bin", name);
 	size_t size = 0;
-	char *data = read_file(path, &size, err);
+	char *data = read_in(dir, file, &size, err);
 	if (!data)
 		return err->status;
 	if (size != (size_t)w * h * formats[f].bytes) {
 		free(data);
-		return rs_error_set(err, RS_ERR_INVALID, "%s: %zu bytes, %ux%u %s needs %zu", path,
-		                    size, w, h, format, (size_t)w * h * formats[f].bytes);
+		return rs_error_set(err, RS_ERR_INVALID, "%s/%s: %zu bytes, %ux%u %s needs %zu",
+		                    dir, file, size, w, h, format,
+		                    (size_t)w * h * formats[f].bytes);
 	}
 	glGenTextures(1, &gl->textures[slot]);
 	glActiveTexture(GL_TEXTURE0 + (GLenum)slot);
@@ -160,15 +164,13 @@ static enum rs_status load_texture(struct peer_gl *gl, const char *dir, const ch
 	free(data);
 	return glGetError() == GL_NO_ERROR
 	           ? RS_OK
-	           : rs_error_set(err, RS_ERR_DEVICE, "%s: glTexImage2D failed", path);
+	           : rs_error_set(err, RS_ERR_DEVICE, "%s/%s: glTexImage2D failed", dir, file);
 }
 
 static enum rs_status load_textures(struct peer_gl *gl, const char *dir, struct rs_error *err)
 {
-	char path[4096];
-	snprintf(path, sizeof path, "%s/textures.txt", dir);
 	size_t size;
-	char *text = read_file(path, &size, err);
+	char *text = read_in(dir, "textures.txt", &size, err);
 	if (!text)
 		return err->status;
 	char *save = NULL;
@@ -178,16 +180,17 @@ static enum rs_status load_textures(struct peer_gl *gl, const char *dir, struct 
 		char name[32], format[16];
 		unsigned w, h;
 		if (sscanf(line, "%31s %15s %u %u", name, format, &w, &h) != 4)
-			st = rs_error_set(err, RS_ERR_INVALID, "%s: '%s' is not NAME FORMAT W H",
-			                  path, line);
+			st =
+			    rs_error_set(err, RS_ERR_INVALID,
+			                 "%s/textures.txt: '%s' is not NAME FORMAT W H", dir, line);
 		else
 			st = load_texture(gl, dir, name, format, w, h, err);
 	}
 	free(text);
 	for (int i = 0; i < PEER_MAX_TEXTURES && st == RS_OK; ++i)
 		if (!gl->textures[i])
-			st = rs_error_set(err, RS_ERR_INVALID, "%s: no texture '%s'", path,
-			                  sampler_names[i]);
+			st = rs_error_set(err, RS_ERR_INVALID, "%s/textures.txt: no texture '%s'",
+			                  dir, sampler_names[i]);
 	return st;
 }
 
@@ -212,10 +215,8 @@ static GLuint compile(GLenum kind, const char *const *parts, GLsizei count, stru
 
 static enum rs_status make_program(struct peer_gl *gl, const char *dir, struct rs_error *err)
 {
-	char path[4096];
-	snprintf(path, sizeof path, "%s/bvh.glsl", dir);
 	size_t size;
-	char *chunks = read_file(path, &size, err);
+	char *chunks = read_in(dir, "bvh.glsl", &size, err);
 	if (!chunks)
 		return err->status;
 	const char *vs[] = {vertex_src}, *fs[] = {fragment_head, chunks, fragment_main};
