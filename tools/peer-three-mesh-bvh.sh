@@ -49,9 +49,11 @@ command -v node >/dev/null && command -v npm >/dev/null ||
 
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/peer-tmb.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
-# The packages live in $tmp only: no package.json, lock file or node_modules in the tree.
-if ! (cd "$tmp" && npm install --no-save --no-package-lock --no-audit --no-fund --fetch-retries=0 \
-      --fetch-timeout=30000 "three@$three_version" "three-mesh-bvh@$tmb_version") >"$tmp/npm.log" 2>&1; then
+# The packages live in $tmp only (--prefix: npm would otherwise look upwards for a project to
+# install into): no package.json, lock file or node_modules in the tree.
+if ! (cd "$tmp" && npm install --prefix "$tmp" --no-save --no-package-lock --no-audit --no-fund \
+      --fetch-retries=0 --fetch-timeout=30000 "three@$three_version" "three-mesh-bvh@$tmb_version") \
+      >"$tmp/npm.log" 2>&1; then
   why=$(grep -m1 -E 'npm (ERR|error) (code|network|[0-9]{3})|E[A-Z]{4,}' "$tmp/npm.log" | tr -s ' ' || true)
   die "npm cannot install three-mesh-bvh@$tmb_version and three@$three_version (${why:-see npm}); nothing was measured"
 fi
