@@ -8,6 +8,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GLES3/gl3.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -75,8 +76,18 @@ static enum rs_status open_context(struct peer_gl *gl, struct rs_error *err)
 	    (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
 	if (query && !query(8, devices, &device_count))
 		device_count = 0;
-	/* the platforms rs_egl tries (device, then surfaceless), gbm left out: no GPU here */
-	for (EGLint i = 0; i <= device_count; ++i) {
+	/* the platforms rs_egl tries, device then surfaceless, or the one RS_EGL_PLATFORM names
+	 * as rs_egl reads it (gbm is not offered here: name device for a GPU) */
+	const char *only = getenv("RS_EGL_PLATFORM");
+	bool devices_too = !only || !*only || !strcmp(only, "device");
+	bool surfaceless = !only || !*only || !strcmp(only, "surfaceless");
+	if (!devices_too && !surfaceless)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "RS_EGL_PLATFORM=%s: the peer opens device or surfaceless",
+		                    only);
+	if (!devices_too)
+		device_count = 0;
+	for (EGLint i = 0; i < device_count + (surfaceless ? 1 : 0); ++i) {
 		gl->display = i < device_count
 		                  ? eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL)
 		                  : eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA,
