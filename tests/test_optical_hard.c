@@ -530,6 +530,55 @@ static void test_camera_mask_image_refuses_a_static_light(void **state)
 	g_ghost_level = 150;
 }
 
+/* The integrity bound: cold, the whole fault bound plus 5x the stated error; tracked (the
+ * same exact frame again 1/60 s later, so the prior predicts it), at most that (the step
+ * gate only removes faults), and never below 5x the stated error. Exact projections through
+ * rs_optical_tracker_process_blobs. */
+static void test_tracked_bound_at_most_the_cold_one(void **state)
+{
+	(void)state;
+	struct rs_optical_tracker_desc d = {.centroid_sigma_px = SIGMA_PX};
+	make_rig(0.4, &d.rig);
+	struct rs_pose_layout L;
+	rs_pose_layout_default(&L);
+	struct rng r = {.s = 77};
+	int tighter = 0;
+	for (int trial = 0; trial < 20; ++trial) {
+		struct rs_optical_tracker *t = NULL;
+		assert_int_equal(rs_optical_tracker_create(&d, &t, NULL), RS_OK);
+		struct rs_pose T;
+		facing_pose(&r, &T);
+		struct rs_optical_blob b[2][3] = {{{0}}};
+		for (int i = 0; i < 3; ++i) {
+			double X[3];
+			rs_pose_transform_point(&T, L.markers[i], X);
+			for (int v = 0; v < 2; ++v)
+				project_point(&d.rig, v, X, &b[v][i].x, &b[v][i].y);
+		}
+		struct rs_marker_sample smp;
+		struct rs_optical_quality q[3];
+		for (int f = 0; f < 3; ++f)
+			assert_int_equal(rs_optical_tracker_process_blobs(t, b[0], 3, b[1], 3, f / 60.0,
+			                                                  &smp, &q[f], NULL),
+			                 RS_OK);
+		assert_int_equal(q[0].verdict, RS_OPTICAL_SOLVED);
+		assert_int_equal(q[0].prior_frames, 0);
+		assert_true(q[0].bound_rotation_rad > MAX_RATIO * q[0].stated_rotation_rad &&
+		            q[0].bound_position_m > MAX_RATIO * q[0].stated_position_m);
+		for (int f = 1; f < 3; ++f) {
+			assert_int_equal(q[f].verdict, RS_OPTICAL_SOLVED);
+			assert_int_equal(q[f].prior_frames, (uint32_t)f);
+			assert_true(q[f].bound_rotation_rad <= q[0].bound_rotation_rad * (1 + 1e-9) &&
+			            q[f].bound_position_m <= q[0].bound_position_m * (1 + 1e-9));
+			assert_true(q[f].bound_rotation_rad >= MAX_RATIO * q[f].stated_rotation_rad &&
+			            q[f].bound_position_m >= MAX_RATIO * q[f].stated_position_m);
+		}
+		tighter += q[2].bound_rotation_rad < 0.999 * q[0].bound_rotation_rad;
+		rs_optical_tracker_destroy(&t);
+	}
+	printf("# tracked integrity bound tighter than the cold one in %d of 20 poses\n", tighter);
+}
+
 /* A bad mask is refused at creation. */
 static void test_bad_mask_refused(void **state)
 {
@@ -719,6 +768,7 @@ int main(void)
 	    cmocka_unit_test(test_stray_spot_on_hidden_markers_epipolar_line),
 	    cmocka_unit_test(test_marker_like_stray_within_its_integrity_bound),
 	    cmocka_unit_test(test_stray_at_the_mirror_depth_within_its_integrity_bound),
+	    cmocka_unit_test(test_tracked_bound_at_most_the_cold_one),
 	    cmocka_unit_test(test_camera_mask_refuses_a_static_light),
 	    cmocka_unit_test(test_camera_mask_image_refuses_a_static_light),
 	    cmocka_unit_test(test_bad_mask_refused),
