@@ -558,8 +558,8 @@ static void test_tracked_bound_at_most_the_cold_one(void **state)
 		struct rs_marker_sample smp;
 		struct rs_optical_quality q[3];
 		for (int f = 0; f < 3; ++f)
-			assert_int_equal(rs_optical_tracker_process_blobs(t, b[0], 3, b[1], 3, f / 60.0,
-			                                                  &smp, &q[f], NULL),
+			assert_int_equal(rs_optical_tracker_process_blobs(
+			                     t, b[0], 3, b[1], 3, f / 60.0, &smp, &q[f], NULL),
 			                 RS_OK);
 		assert_int_equal(q[0].verdict, RS_OPTICAL_SOLVED);
 		assert_int_equal(q[0].prior_frames, 0);
@@ -568,9 +568,11 @@ static void test_tracked_bound_at_most_the_cold_one(void **state)
 		for (int f = 1; f < 3; ++f) {
 			assert_int_equal(q[f].verdict, RS_OPTICAL_SOLVED);
 			assert_int_equal(q[f].prior_frames, (uint32_t)f);
-			assert_true(q[f].bound_rotation_rad <= q[0].bound_rotation_rad * (1 + 1e-9) &&
+			assert_true(q[f].bound_rotation_rad <=
+			                q[0].bound_rotation_rad * (1 + 1e-9) &&
 			            q[f].bound_position_m <= q[0].bound_position_m * (1 + 1e-9));
-			assert_true(q[f].bound_rotation_rad >= MAX_RATIO * q[f].stated_rotation_rad &&
+			assert_true(q[f].bound_rotation_rad >=
+			                MAX_RATIO * q[f].stated_rotation_rad &&
 			            q[f].bound_position_m >= MAX_RATIO * q[f].stated_position_m);
 		}
 		tighter += q[2].bound_rotation_rad < 0.999 * q[0].bound_rotation_rad;
