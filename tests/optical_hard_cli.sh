@@ -2,8 +2,10 @@
 # The optical tracker's hard cases as a user runs them (registered by optical_hard_cli.cmake):
 # raystream-optsynth --hard NAME writes each sequence, raystream-track tracks it from the
 # files, and every pose reported good (RS_POSE_OK / RS_POSE_RELABELED) is compared with the
-# truth: none is more than 5x its stated error off (the worst ratio is printed), and every
-# frame not solved says why (an optical verdict other than SOLVED, or the solver's why=).
+# truth: none is beyond its integrity bound (bound=), none but the marker-like stray's
+# (--hard stray, which one frame pair cannot refuse) more than 5x its stated error (stated=,
+# the expected error) off (the worst ratios are printed), and every frame not solved says
+# why (an optical verdict other than SOLVED, or the solver's why=).
 # optical_hard_cli.sh OPTSYNTH TRACK WORKDIR
 set -euo pipefail
 synth=$1
@@ -14,8 +16,8 @@ mkdir -p "$work"
 fail() { echo "optical_hard_cli: $*" >&2; exit 1; }
 
 # check NAME RATE: track DIR at RATE Hz (5 Hz: frames 0.2 s apart, no temporal prior) and
-# print "frames good worst worst_law unexplained" (worst_law: against the noise law alone,
-# printed to show what the stated error's fault part is for); the truth is matched by frame (seq=).
+# print "frames good worst worst_bound unexplained" (worst: error / stated, worst_bound:
+# error / bound); the truth is matched by frame (seq=).
 check() {
   local dir=$work/$1 rate=$2
   # sigma_px: the centroid noise of the 320x240 spots (radius ~1.6 px) at 2 grey levels
@@ -47,12 +49,13 @@ check() {
       r = ang / s[1]; if (d / s[2] > r) r = d / s[2]
       if (!(s[1] > 0 && s[2] > 0)) r = 1e9
       if (r > worst) worst = r
-      match($0, / law=[0-9.]+deg\/[0-9.]+mm/)
-      split(substr($0, RSTART + 5, RLENGTH - 7), l, "deg/")
+      match($0, / bound=[0-9.]+deg\/[0-9.]+mm/)
+      split(substr($0, RSTART + 7, RLENGTH - 9), l, "deg/")
       r = ang / l[1]; if (d / l[2] > r) r = d / l[2]
-      if (r > worst_law) worst_law = r
+      if (!(l[1] > 0 && l[2] > 0)) r = 1e9
+      if (r > worst_bound) worst_bound = r
       ngood++ }
-    END { printf "%d %d %.2f %.2f %d\n", n, ngood, worst, worst_law, unexplained + 0 }
+    END { printf "%d %d %.2f %.2f %d\n", n, ngood, worst, worst_bound, unexplained + 0 }
   ' "$dir/truth.txt" "$dir/track-$rate.txt"
 }
 
@@ -63,13 +66,18 @@ for name in edges corners stray ghosts; do
     > /dev/null || fail "--hard $name"
   frames=$(grep -vc '^#' "$work/$name/truth.txt")
   for rate in 60 5; do
-    read -r n good worst worst_law unexplained <<<"$(check "$name" "$rate")"
+    read -r n good worst worst_bound unexplained <<<"$(check "$name" "$rate")"
     label=$([ "$rate" = 60 ] && echo tracked || echo cold)
+    # The marker-like stray: no test of one frame pair can refuse it (docs/optical.md),
+    # so its error against the stated one is printed, not asserted; the bound holds.
+    asserted=$([ "$name" = stray ] && echo "printed, not asserted" || echo "asserted <= 5")
     echo "# hard $name, $label: $n frames, $good good, worst error/stated $worst" \
-         "(against the noise law alone $worst_law), $unexplained unsolved without a reason"
+         "($asserted), error/bound $worst_bound, $unexplained unsolved without a reason"
     [ "$n" -eq "$frames" ] || fail "$name: tracked $n of $frames frames"
     [ "$unexplained" -eq 0 ] || fail "$name $label: $unexplained frames not solved and no reason"
-    awk -v w="$worst" 'BEGIN { exit !(w <= 5) }' \
+    awk -v w="$worst_bound" 'BEGIN { exit !(w <= 1) }' \
+      || fail "$name $label: a good pose $worst_bound x its integrity bound off"
+    [ "$name" = stray ] || awk -v w="$worst" 'BEGIN { exit !(w <= 5) }' \
       || fail "$name $label: a good pose $worst x its stated error off"
     # Each sequence has frames the tracker solves (a check that cannot pass vacuously).
     [ "$rate" = 5 ] || [ "$good" -gt 0 ] || fail "$name $label: nothing solved"

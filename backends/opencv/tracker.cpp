@@ -32,6 +32,9 @@ const double k_prior_reach_m = 0.02;
 // Spot-size agreement of a marker between the views (spot_sizes_agree()).
 const double k_spot_size_ratio = 2.0;
 const double k_spot_size_px = 4.0;
+// The integrity bound's noise part, in stated (expected) errors: the bar for a good
+// pose's error against its noise (docs/optical.md, "The stated error and the integrity bound").
+const double k_bound_noise = 5.0;
 
 struct Pair {
 	int i, j;    // blob indices in view 0 and 1
@@ -64,7 +67,7 @@ struct rs_optical_tracker {
 	double last_rot_rms = 0, last_pos_rms = 0;
 	uint32_t chain = 0; // reported poses in a row, each within the step gate of the last
 	// The last reported pose's bound on what an undetected stray spot may have added to its
-	// error (rotation rad, position m): the stated error's fault part.
+	// error (rotation rad, position m): the integrity bound's fault part.
 	double last_bound_rot = 0, last_bound_pos = 0;
 	double velocity[3] = {0, 0, 0}, angular_velocity[3] = {0, 0, 0};
 };
@@ -576,22 +579,25 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 			rays[id][0] = pts[id] / cv::norm(pts[id]);
 			rays[id][1] = (pts[id] - c1) / cv::norm(pts[id] - c1);
 		}
-		fault_bound(t->d.layout, t->layout_sides, pts, cov, rays, nullptr,
-		            &q.fault_rotation_rad, &q.fault_position_m);
-		// What the pose claims: its noise and what an undetected stray may have added. A
-		// cold pose carries its whole fault bound. With a prior, a stray that appeared
-		// since the last pose can move this one only as far as the step gate lets it
-		// (the bound with the prior, R), and the last pose's own bound carries over (the
-		// prediction inherits its fault): min(F, last bound + R).
-		double br = q.fault_rotation_rad, bp = q.fault_position_m;
+		// What one undetected stray spot may have added (the fault part). A cold pose
+		// carries the whole fault bound F. With a prior, a stray that appeared since the
+		// last pose can move this one only as far as the step gate lets it (the bound
+		// with the prior, R), and the last pose's own fault part carries over (the
+		// prediction inherits its fault): min(F, last fault part + R).
+		double br, bp;
+		fault_bound(t->d.layout, t->layout_sides, pts, cov, rays, nullptr, &br, &bp);
 		if (prior) {
 			double rr, rp;
 			fault_bound(t->d.layout, t->layout_sides, pts, cov, rays, prior, &rr, &rp);
 			br = std::min(br, t->last_bound_rot + rr);
 			bp = std::min(bp, t->last_bound_pos + rp);
 		}
-		q.stated_rotation_rad = std::hypot(q.rotation_rms_rad, br);
-		q.stated_position_m = std::hypot(q.position_rms_m, bp);
+		// The claim is the expected error (the law); the integrity bound adds the fault
+		// part to the noise the gate's 5x bar allows (docs/optical.md).
+		q.stated_rotation_rad = q.rotation_rms_rad;
+		q.stated_position_m = q.position_rms_m;
+		q.bound_rotation_rad = br + k_bound_noise * q.rotation_rms_rad;
+		q.bound_position_m = bp + k_bound_noise * q.position_rms_m;
 		bound_rot = br;
 		bound_pos = bp;
 	}

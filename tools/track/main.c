@@ -60,6 +60,9 @@ static const char about[] =
     "     replay:FILE[?realtime=1]\n"
     "     video:LEFT,RIGHT?calib=RIG[&rate=60]  (image sequences or videos)\n"
     "     cam:0,1?calib=RIG   (two V4L2 cameras; see docs/optical.md)\n"
+    "Optical samples also print stated=DEG/MM (the pose's expected error; clean poses\n"
+    "are ~1x it off) and bound=DEG/MM (the integrity bound: the most one undetected\n"
+    "stray spot could put it off and still pass every test).\n"
     "One-letter spellings: -n --count, -d --duration, -r --record, -l --layout,\n"
     "-f --filter, -p --predict, -q --quiet; --bench N is --bench-samples N.\n";
 
@@ -208,17 +211,15 @@ static void print_pose(const struct rs_track_source *src, const struct rs_marker
 	       rs_pose_status_name(q->status), q->residual_rms_m * 1e3, q->min_height_m * 1e3,
 	       q->markers_used);
 #ifdef RS_HAVE_OPTICAL
-	/* An optical sample's stated error (its noise law, lens distortion included, and the
-	 * faults the temporal prior has not ruled out), the noise law alone,
-	 * the error one undetectable stray spot could add (its fault bound) and, when it gave
-	 * no markers, why. */
+	/* An optical sample's stated error (its expected error: the noise law, lens distortion
+	 * included), its integrity bound (the error one undetected stray spot could cause and
+	 * still pass every test, plus 5x the stated error), the poses in a row before it and,
+	 * when it gave no markers, why. */
 	struct rs_optical_quality oq;
 	if (rs_optical_source_quality(src, &oq))
-		printf(" stated=%.3fdeg/%.3fmm law=%.3fdeg/%.3fmm fault=%.3fdeg/%.3fmm prior=%u "
-		       "optical=%s",
+		printf(" stated=%.3fdeg/%.3fmm bound=%.3fdeg/%.3fmm prior=%u optical=%s",
 		       oq.stated_rotation_rad * 180.0 / RS_PI, oq.stated_position_m * 1e3,
-		       oq.rotation_rms_rad * 180.0 / RS_PI, oq.position_rms_m * 1e3,
-		       oq.fault_rotation_rad * 180.0 / RS_PI, oq.fault_position_m * 1e3,
+		       oq.bound_rotation_rad * 180.0 / RS_PI, oq.bound_position_m * 1e3,
 		       oq.prior_frames, rs_optical_verdict_name(oq.verdict));
 #else
 	(void)src;

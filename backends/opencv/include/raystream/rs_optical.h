@@ -206,16 +206,21 @@ struct rs_optical_quality {
 	double marker_chi2;        /**< worst marker's chi-square of its two sides (2 degrees) */
 	double side_chi2;          /**< side-length chi-square of the triple (3 degrees) */
 	double step_score;         /**< rs_pose_step_score() from the prediction (0: none) */
-	double fault_rotation_rad; /**< the largest rotation error one gross centroid fault along
-	                                an epipolar line could cause and still pass the side
-	                                tests (docs/optical.md, "Faults the sides cannot see") */
-	double fault_position_m;   /**< the same for the display origin's position */
+	double bound_rotation_rad; /**< the integrity bound (a protection level): the largest
+	                                rotation error this pose can have and still pass every
+	                                test if one undetected stray spot replaced a marker's
+	                                spot (the fault the side tests cannot see, cold: all of
+	                                it; tracked: what the step gate also passes), plus 5x
+	                                the stated error for the noise; raystream-track prints
+	                                it as `bound=` (docs/optical.md, "The stated error and
+	                                the integrity bound") */
+	double bound_position_m;   /**< the same for the display origin's position */
 	uint32_t blobs_masked[2];  /**< blobs not used: window touches the camera's mask */
-	/** The error this pose claims, what raystream-track prints as `stated=`: the noise law
-	 * (rotation_rms_rad) and the fault bound's part that the temporal prior has not ruled
-	 * out, in quadrature (docs/optical.md, "The stated error"). A cold pose (no prior)
-	 * carries its whole fault bound; a tracked one only the faults that also pass the step
-	 * gate. */
+	/** The error this pose claims, what raystream-track prints as `stated=`: its expected
+	 * (RMS) error, the noise law with lens distortion (equal to rotation_rms_rad; on clean
+	 * frames the measured RMS error is ~1.0x of it). What one undetected stray could add
+	 * is not in it but in bound_rotation_rad (docs/optical.md, "The stated error and the
+	 * integrity bound"). */
 	double stated_rotation_rad;
 	double stated_position_m; /**< the same for the display origin's position */
 	uint32_t prior_frames;    /**< reported poses in a row before this one, each following
