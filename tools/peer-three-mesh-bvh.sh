@@ -5,6 +5,8 @@
 # raystream-peer-tmb --mesh-out (the scene's triangles), build_bvh.mjs (their MeshBVH and
 # MeshBVHUniformStruct textures, their GLSL chunks), raystream-peer-tmb --bvh (ours and theirs
 # alternately on the same camera rays, each checked against the CPU reference's primary hits).
+# Ours is the hits-only kernel (rs_render_desc.hits_only); sep_ms and "sep ratio" are the
+# separate chain's raygen + intersect, timed in the same alternation.
 # Prints one table at the end; on any failure one line on stderr, nothing on stdout, exit 1
 # (2 for a usage error).
 set -euo pipefail
@@ -72,18 +74,19 @@ for scene in "${scenes[@]}"; do
   declare -A v=()
   read -r -a f <"$tmp/out.txt"
   for ((i = 0; i + 1 < ${#f[@]}; i += 2)); do v[${f[i]}]=${f[i + 1]}; done
-  for k in ours_ms theirs_ms ours_mrays theirs_mrays ratio ratio_min ratio_max ours_agree theirs_agree; do
+  for k in ours_ms theirs_ms ours_mrays theirs_mrays ratio ratio_min ratio_max ours_agree theirs_agree \
+    separate_ms separate_ratio separate_agree; do
     [ -n "${v[$k]:-}" ] || die "$scene: the harness printed no $k"
   done
   info=$(cat "$tmp/$scene/info.txt")
-  rows+=("$(printf '%-6s %9s %9s %11s %13s %6s %11s %10s %10s %6s %9s' "$scene" "${v[ours_ms]}" \
+  rows+=("$(printf '%-6s %9s %9s %11s %13s %6s %11s %10s %10s %6s %9s %7s %9s' "$scene" "${v[ours_ms]}" \
     "${v[theirs_ms]}" "${v[ours_mrays]}" "${v[theirs_mrays]}" "${v[ratio]}" \
     "${v[ratio_min]}-${v[ratio_max]}" "${v[ours_agree]}" "${v[theirs_agree]}" "$(awk '{print $6}' <<<"$info")" \
-    "$(awk '{print $8}' <<<"$info")")")
+    "$(awk '{print $8}' <<<"$info")" "${v[separate_ms]}" "${v[separate_ratio]}")")
   renderer=$(sed -n 's/^renderer //p' "$tmp/out.txt")
 done
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 echo "three-mesh-bvh $tmb_version (three $three_version, strategy $strategy) against raystream on $renderer, ${size}x${size}, primary closest-hit rays, median of $repeats alternating frames; load $load_before before, $load_after after"
-printf '%-6s %9s %9s %11s %13s %6s %11s %10s %10s %6s %9s\n' scene ours_ms their_ms "ours Mray/s" \
-  "theirs Mray/s" ratio "per frame" "ours agree" "their agr." nodes "build ms"
+printf '%-6s %9s %9s %11s %13s %6s %11s %10s %10s %6s %9s %7s %9s\n' scene ours_ms their_ms "ours Mray/s" \
+  "theirs Mray/s" ratio "per frame" "ours agree" "their agr." nodes "build ms" sep_ms "sep ratio"
 printf '%s\n' "${rows[@]}"

@@ -55,6 +55,7 @@ enum {
 	PROG_NEXTRAY,
 	PROG_RESOLVE,      /* rasterized primaries: exact hits from the visibility pass */
 	PROG_FUSED_RASTER, /* the fused chain's first pass over rasterized primaries */
+	PROG_PRIMARY,      /* rs_render_desc.hits_only: camera ray and closest hit, nothing else */
 	PROG_COUNT
 };
 
@@ -164,7 +165,8 @@ struct rs_gles_plan_desc {
 	enum rs_primary_mode primary;
 	enum rs_kernel_chain chain;
 	bool counters;
-	bool envmap; /* RS_REFLECT_ENVMAP or _INTERREFLECT: later passes may read cube maps */
+	bool envmap;    /* RS_REFLECT_ENVMAP or _INTERREFLECT: later passes may read cube maps */
+	bool hits_only; /* rs_render_desc.hits_only: the primary hits, nothing shaded */
 };
 
 /* Which programs run in which order into which targets, decided once (gles_plan.c). */

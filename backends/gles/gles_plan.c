@@ -10,7 +10,11 @@
  *   separate  ray generation, then per segment intersect (or the raster visibility and
  *             resolve passes) and shade;
  *   paper     as separate, with shade split into the paper's environment, shading and
- *             next-ray kernels, each writing only the state it changes.
+ *             next-ray kernels, each writing only the state it changes;
+ *   hits only (rs_render_desc.hits_only, whatever the chain) one primary.glsl pass: the
+ *             camera ray made in the kernel, its closest hit into the hit texture (pass 0's,
+ *             the frame's depth and triangle ids), no ray texture, nothing shaded; with
+ *             rasterized primaries the visibility and resolve passes instead.
  * Whether an instanced scene is walked in two levels is decided here too
  * (rs_gles_two_level), after lib/render's rs_render_two_level.
  * The state lives in ping-pong pairs: a pass reads one texture of each pair it uses and
@@ -64,17 +68,22 @@ static struct rs_gles_step *add(struct rs_gles_plan *plan, const char *name, int
 	return s;
 }
 
+/* The visibility pass of rasterized primaries, into the second hit texture (free until the
+ * second pass reads it). */
+static void raster_step(struct rs_gles_plan *plan, uint32_t pass)
+{
+	struct rs_gles_step *v = add(plan, "raster", PROG_RASTER, BIND_SCENE | BIND_CAMERA, pass);
+	v->raster = true;
+	v->out[0] = REF_HIT + 1;
+	v->n_out = 1;
+}
+
 /* The fused chain's pass: intersection and path step in one kernel. */
 static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pass, bool last,
                        bool rasterized, uint8_t envmap, bool mapped)
 {
-	if (rasterized) {
-		struct rs_gles_step *v =
-		    add(plan, "raster", PROG_RASTER, BIND_SCENE | BIND_CAMERA, pass);
-		v->raster = true;
-		v->out[0] = REF_HIT + 1; /* free until the second pass */
-		v->n_out = 1;
-	}
+	if (rasterized)
+		raster_step(plan, pass);
 	int prog = pass > 0 ? PROG_FUSED : rasterized ? PROG_FUSED_RASTER : PROG_FUSED_FIRST;
 	uint8_t bind = BIND_SCENE;
 	bind |= pass == 0 ? BIND_CAMERA | BIND_NEAR | (rasterized ? BIND_VIS : 0) : BIND_STATE;
@@ -128,6 +137,20 @@ static void path_step(struct rs_gles_plan *plan, struct cursor *c, uint32_t pass
 	s->n_out = 3;
 }
 
+/* The primary hits only: into REF_HIT (readback's depth and triangle ids). result_acc and
+ * result_cnt stay REF_NONE: there is no colour (lib/render refuses to be asked for one). */
+static void hits_only(struct rs_gles_plan *plan, bool rasterized)
+{
+	if (rasterized)
+		raster_step(plan, 0);
+	struct rs_gles_step *s =
+	    rasterized
+	        ? add(plan, "resolve", PROG_RESOLVE, BIND_SCENE | BIND_CAMERA | BIND_VIS, 0)
+	        : add(plan, "primary", PROG_PRIMARY, BIND_SCENE | BIND_CAMERA | BIND_NEAR, 0);
+	s->out[0] = REF_HIT;
+	s->n_out = 1;
+}
+
 enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
                                  bool *out_two_level, struct rs_error *err)
 {
@@ -168,6 +191,10 @@ void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *o
 	if (mapped)
 		passes = 1;
 	struct cursor c = {{0, 0, 0}, 0};
+	if (d->hits_only) {
+		hits_only(out, d->primary == RS_PRIMARY_RASTER);
+		return;
+	}
 	if (!fused) {
 		struct rs_gles_step *s =
 		    add(out, "raygen", PROG_RAYGEN, BIND_CAMERA | BIND_NEAR, 0);
@@ -184,11 +211,7 @@ void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *o
 			continue;
 		}
 		if (rasterized) {
-			struct rs_gles_step *v =
-			    add(out, "raster", PROG_RASTER, BIND_SCENE | BIND_CAMERA, pass);
-			v->raster = true;
-			v->out[0] = REF_HIT + 1;
-			v->n_out = 1;
+			raster_step(out, pass);
 			struct rs_gles_step *s = add(out, "resolve", PROG_RESOLVE,
 			                             BIND_SCENE | BIND_CAMERA | BIND_VIS, pass);
 			s->out[0] = hit;

@@ -61,6 +61,7 @@ static const struct {
                            {NULL},
                            0,
                            RASTER_FIRST_PASS},
+    [PROG_PRIMARY] = {{"common.glsl", "camera.glsl", "primary.glsl"}, 3, {NULL}, 0, ALL_PASSES},
 };
 
 /* The uniforms' names, in the order of the U_* enum. */

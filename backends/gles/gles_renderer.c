@@ -124,7 +124,8 @@ static void make_plans(struct gles *g)
 	                               .primary = d->primary,
 	                               .chain = d->chain,
 	                               .counters = d->counters,
-	                               .envmap = d->reflections != RS_REFLECT_TRACE};
+	                               .envmap = d->reflections != RS_REFLECT_TRACE,
+	                               .hits_only = d->hits_only};
 	rs_gles_plan_make(&pd, &g->plans[PLAN_FRAME]);
 	if (!pd.envmap)
 		return;
@@ -183,6 +184,11 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	enum rs_status st = g->cops->make_current(g->ctx, err);
 	if (st != RS_OK)
 		return st;
+	if (desc->hits_only && g->cops->display_target) {
+		g->cops->release(g->ctx);
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                    "gles: hits_only has no image for the window to show");
+	}
 	rs_gles_scene_delete(g);
 	g->desc = *desc;
 	g->scene = scene;

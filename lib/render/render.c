@@ -105,6 +105,14 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 		                    d.width, d.height);
 	if (d.passes == 0)
 		d.passes = 2;
+	if (d.hits_only && d.counters)
+		return rs_error_set(err, RS_ERR_INVALID,
+		                    "render: hits_only counts nothing (counters are for frames)");
+	if (d.hits_only) { /* nothing shades: one segment, nothing captured */
+		d.passes = 1;
+		d.shadows = RS_SHADOW_RAYS;
+		d.reflections = RS_REFLECT_TRACE;
+	}
 	if (d.passes > RS_TRACE_MAX_PASSES)
 		return rs_error_set(err, RS_ERR_INVALID, "render: %u passes (at most %u)", d.passes,
 		                    RS_TRACE_MAX_PASSES);
@@ -380,6 +388,11 @@ enum rs_status rs_renderer_render(struct rs_renderer *renderer, const struct rs_
 	} else {
 		rs_camera_resolve(rs_scene_camera(r->scene), &cam);
 	}
+	if (r->desc.hits_only && (frame->rgb || frame->rgba8))
+		return fail(r,
+		            rs_error_set(&r->error, RS_ERR_INVALID,
+		                         "render: a hits_only renderer has no colour (rgb, rgba8)"),
+		            err);
 	cam.width = r->desc.width;
 	cam.height = r->desc.height;
 	struct rs_render_stats *s = &r->stats;

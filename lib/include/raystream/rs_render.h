@@ -162,6 +162,13 @@ struct rs_render_desc {
 	uint32_t envmap_size;
 	/** Instanced scenes: two levels or flattened; 0 -> RS_INSTANCES_AUTO. */
 	enum rs_instances_mode instances;
+	/** The primary hits only (picking, and timing the closest-hit walk on its own): a frame
+	 * gives rs_frame.depth and .triangle, and asking it for rgb or rgba8 is refused (nothing
+	 * is shaded). rs_renderer_open() then sets passes to 1, shadows to RS_SHADOW_RAYS and
+	 * reflections to RS_REFLECT_TRACE (nothing to capture); counters are refused. GL
+	 * backends: one kernel per frame, the camera ray made in it (docs/gles.md); the CPU
+	 * backend traces its usual frame and returns its hits. */
+	bool hits_only;
 };
 
 /** Kernel timing, GL backends (summed over the passes of one frame). */

@@ -6,10 +6,13 @@
  *   --scene S --bvh DIR         time our primary rays and the peer's on the same camera rays,
  *                               alternately, frame for frame, and check both hit the
  *                               triangles the CPU reference hits, pixel for pixel.
- * Ours: the egl backend, separate chain, 1 pass, shadow maps (so no shadow rays are traced):
- * the raygen + intersect kernels' times, each glFinish'ed by the renderer. Theirs: one draw
- * of their bvhIntersectFirstHit per pixel, camera ray made in the shader (peer_gl.c),
- * glFinish'ed. Both write the closest hit only. One line of figures on stdout.
+ * Ours: the egl backend with rs_render_desc.hits_only, the primary closest hits and nothing
+ * else: one kernel ("primary") that makes each pixel's camera ray and walks the BVH, its
+ * time glFinish'ed by the renderer. Beside it, as a second figure, the separate chain's
+ * raygen + intersect kernels (1 pass, shadow maps: no shadow rays), whose ray texture round
+ * trip the hits-only kernel does not make. Theirs: one draw of their bvhIntersectFirstHit per
+ * pixel, camera ray made in the shader (peer_gl.c), glFinish'ed. Each writes the closest hit
+ * only. One line of figures on stdout.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -72,15 +75,16 @@ static enum rs_status read_slots(const char *dir, size_t triangles, uint32_t *ou
 	return RS_OK;
 }
 
-/* Ours: raygen + intersect of the frame just rendered (the separate chain's two kernels). */
-static enum rs_status our_primary_ms(const struct rs_renderer *r, double *out, struct rs_error *err)
+/* The summed times of the `want` kernels named a and b (b NULL: one kernel) of the frame
+ * just rendered: hits_only's "primary", the separate chain's "raygen" + "intersect". */
+static enum rs_status kernels_ms(const struct rs_renderer *r, const char *a, const char *b,
+                                 double *out, struct rs_error *err)
 {
 	const struct rs_render_stats *s = rs_renderer_stats(r);
-	int found = 0;
+	int found = 0, want = b ? 2 : 1;
 	*out = 0.0;
 	for (uint32_t k = 0; k < s->kernel_count; ++k)
-		if (!strcmp(s->kernels[k].name, "raygen") ||
-		    !strcmp(s->kernels[k].name, "intersect")) {
+		if (!strcmp(s->kernels[k].name, a) || (b && !strcmp(s->kernels[k].name, b))) {
 			if (s->kernels[k].calls != 1)
 				return rs_error_set(err, RS_ERR_INVALID,
 				                    "kernel %s ran %u times, not once",
@@ -88,9 +92,10 @@ static enum rs_status our_primary_ms(const struct rs_renderer *r, double *out, s
 			*out += s->kernels[k].ms;
 			++found;
 		}
-	return found == 2 ? RS_OK
-	                  : rs_error_set(err, RS_ERR_UNSUPPORTED,
-	                                 "the renderer has no raygen and intersect kernels");
+	return found == want
+	           ? RS_OK
+	           : rs_error_set(err, RS_ERR_UNSUPPORTED, "the renderer has no %s%s%s kernel", a,
+	                          b ? " and " : "", b ? b : "");
 }
 
 static double agreement(const uint32_t *a, const uint32_t *b, size_t n)
@@ -103,10 +108,10 @@ static double agreement(const uint32_t *a, const uint32_t *b, size_t n)
 
 struct peer_run {
 	struct rs_scene *scene;
-	struct rs_renderer *ours, *cpu;
+	struct rs_renderer *ours, *sep, *cpu;
 	struct peer_gl *gl;
-	uint32_t *cpu_ids, *our_ids, *their_ids, *slots;
-	double ours_ms[PEER_MAX_REPEATS], theirs_ms[PEER_MAX_REPEATS];
+	uint32_t *cpu_ids, *our_ids, *sep_ids, *their_ids, *slots;
+	double ours_ms[PEER_MAX_REPEATS], sep_ms[PEER_MAX_REPEATS], theirs_ms[PEER_MAX_REPEATS];
 };
 
 static enum rs_status compare(const struct peer_options *o, struct peer_run *p,
@@ -117,20 +122,26 @@ static enum rs_status compare(const struct peer_options *o, struct peer_run *p,
 	size_t n = (size_t)w * h, tris = rs_scene_triangle_count(p->scene);
 	p->cpu_ids = malloc(n * 4);
 	p->our_ids = malloc(n * 4);
+	p->sep_ids = malloc(n * 4);
 	p->their_ids = malloc(n * 4);
 	p->slots = malloc(tris * 4 + 4);
-	if (!p->cpu_ids || !p->our_ids || !p->their_ids || !p->slots)
+	if (!p->cpu_ids || !p->our_ids || !p->sep_ids || !p->their_ids || !p->slots)
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory");
 	enum rs_status st = read_slots(o->bvh, tris, p->slots, err);
 	if (st != RS_OK)
 		return st;
 	struct rs_render_desc ref = {.width = w, .height = h, .passes = 1, .lights = 1};
-	struct rs_frame cpu_frame = {.triangle = p->cpu_ids}, our_frame = {.triangle = p->our_ids};
+	struct rs_frame cpu_frame = {.triangle = p->cpu_ids}, our_frame = {.triangle = p->our_ids},
+	                sep_frame = {.triangle = p->sep_ids};
 	d.passes = 1;
 	d.lights = 1;
-	if ((st = rs_render_desc_parse(&d, "chain=separate,shadows=map", err)) != RS_OK ||
-	    (st = rs_renderer_open("egl", &d, &p->ours, err)) != RS_OK ||
+	struct rs_render_desc hits = d;
+	hits.hits_only = true;
+	if ((st = rs_renderer_open("egl", &hits, &p->ours, err)) != RS_OK ||
 	    (st = rs_renderer_set_scene(p->ours, p->scene, err)) != RS_OK ||
+	    (st = rs_render_desc_parse(&d, "chain=separate,shadows=map", err)) != RS_OK ||
+	    (st = rs_renderer_open("egl", &d, &p->sep, err)) != RS_OK ||
+	    (st = rs_renderer_set_scene(p->sep, p->scene, err)) != RS_OK ||
 	    (st = rs_renderer_open("cpu", &ref, &p->cpu, err)) != RS_OK ||
 	    (st = rs_renderer_set_scene(p->cpu, p->scene, err)) != RS_OK ||
 	    (st = rs_renderer_render(p->cpu, NULL, &cpu_frame, err)) != RS_OK ||
@@ -145,11 +156,14 @@ static enum rs_status compare(const struct peer_options *o, struct peer_run *p,
 	double ms;
 	/* a warm-up frame each (shader compilation happens at first draw), then alternately */
 	if ((st = rs_renderer_render(p->ours, NULL, &our_frame, err)) != RS_OK ||
+	    (st = rs_renderer_render(p->sep, NULL, &sep_frame, err)) != RS_OK ||
 	    (st = peer_gl_trace(p->gl, &view, &ms, err)) != RS_OK)
 		return st;
 	for (uint32_t f = 0; f < o->repeats; ++f)
 		if ((st = rs_renderer_render(p->ours, NULL, &our_frame, err)) != RS_OK ||
-		    (st = our_primary_ms(p->ours, &p->ours_ms[f], err)) != RS_OK ||
+		    (st = kernels_ms(p->ours, "primary", NULL, &p->ours_ms[f], err)) != RS_OK ||
+		    (st = rs_renderer_render(p->sep, NULL, &sep_frame, err)) != RS_OK ||
+		    (st = kernels_ms(p->sep, "raygen", "intersect", &p->sep_ms[f], err)) != RS_OK ||
 		    (st = peer_gl_trace(p->gl, &view, &p->theirs_ms[f], err)) != RS_OK)
 			return st;
 	if ((st = peer_gl_read(p->gl, p->their_ids, NULL, err)) != RS_OK)
@@ -168,13 +182,15 @@ static enum rs_status compare(const struct peer_options *o, struct peer_run *p,
 	}
 	double ours_ms = rs_tool_median(p->ours_ms, o->repeats);
 	double theirs_ms = rs_tool_median(p->theirs_ms, o->repeats);
+	double sep_ms = rs_tool_median(p->sep_ms, o->repeats);
 	printf("scene %s size %ux%u rays %zu frames %u ours_ms %.2f theirs_ms %.2f ours_mrays %.2f "
 	       "theirs_mrays %.2f ratio %.2f ratio_min %.2f ratio_max %.2f ours_agree %.3f "
-	       "theirs_agree %.3f\nrenderer %s\n",
+	       "theirs_agree %.3f separate_ms %.2f separate_ratio %.2f separate_agree %.3f\n"
+	       "renderer %s\n",
 	       o->scene, w, h, n, o->repeats, ours_ms, theirs_ms, (double)n / (ours_ms * 1000.0),
 	       (double)n / (theirs_ms * 1000.0), theirs_ms / ours_ms, lo, hi,
-	       agreement(p->our_ids, p->cpu_ids, n), agreement(p->their_ids, p->cpu_ids, n),
-	       theirs);
+	       agreement(p->our_ids, p->cpu_ids, n), agreement(p->their_ids, p->cpu_ids, n), sep_ms,
+	       theirs_ms / sep_ms, agreement(p->sep_ids, p->cpu_ids, n), theirs);
 	return RS_OK;
 }
 
@@ -215,10 +231,12 @@ int main(int argc, char **argv)
 		st = o.mesh_out ? write_mesh(p.scene, o.mesh_out, &err) : compare(&o, &p, &err);
 	peer_gl_destroy(&p.gl);
 	rs_renderer_destroy(&p.ours);
+	rs_renderer_destroy(&p.sep);
 	rs_renderer_destroy(&p.cpu);
 	rs_scene_destroy(&p.scene);
 	free(p.cpu_ids);
 	free(p.our_ids);
+	free(p.sep_ids);
 	free(p.their_ids);
 	free(p.slots);
 	return st == RS_OK ? 0 : rs_cli_fail(&cli, &err);
