@@ -130,9 +130,10 @@ static void look(struct rs_scene *scene, const double eye[3], const double targe
 	assert_int_equal(rs_scene_add_light(scene, &light, NULL), RS_OK);
 }
 
-/* Two levels on EGL against the same scene flattened on EGL; returns the pixels hit. */
-static size_t two_level_as_baked_with(const char *what, const struct rs_scene *scene,
-                                      struct rs_pack_desc pack)
+/* Two levels on EGL (in `storage`: the instance texture is a buffer texture with buffer
+ * storage, 2D with 2D) against the same scene flattened on EGL; returns the pixels hit. */
+static size_t two_level_in_as_baked(const char *what, const struct rs_scene *scene,
+                                    struct rs_pack_desc pack, enum rs_scene_storage storage)
 {
 	static struct image baked, two;
 	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .passes = 2, .pack = pack};
@@ -140,8 +141,15 @@ static size_t two_level_as_baked_with(const char *what, const struct rs_scene *s
 	if (!render("egl", desc, scene, &baked))
 		return 0;
 	desc.instances = RS_INSTANCES_TWO_LEVEL;
+	desc.scene_storage = storage;
 	assert_true(render("egl", desc, scene, &two));
 	return same_frame(what, &two, &baked);
+}
+
+static size_t two_level_as_baked_with(const char *what, const struct rs_scene *scene,
+                                      struct rs_pack_desc pack)
+{
+	return two_level_in_as_baked(what, scene, pack, RS_SCENE_STORAGE_AUTO);
 }
 
 static size_t two_level_as_baked(const char *what, const struct rs_scene *scene)
@@ -191,10 +199,15 @@ static void transformed_instances_render_as_baked(void **state)
 	const double eye[3] = {0.3, 4.0, 11.0}, at[3] = {0, 0, 0};
 	look(scene, eye, at);
 	size_t hits = two_level_as_baked("egl transformed instances", scene);
+	size_t hits_2d = hits
+	                     ? two_level_in_as_baked("egl transformed instances, 2D storage", scene,
+	                                             (struct rs_pack_desc){0}, RS_SCENE_STORAGE_2D)
+	                     : 0;
 	rs_scene_destroy(&scene);
 	if (!hits)
 		gl_skip();
 	assert_true(hits > SIZE * SIZE / 4);
+	assert_int_equal(hits_2d, hits);
 }
 
 static void far_from_origin_instances_render_as_baked(void **state)

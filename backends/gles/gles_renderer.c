@@ -201,7 +201,9 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	if (st == RS_OK)
 		st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);
 	if (st == RS_OK)
-		st = rs_gles_choose_storage(g, &g->accel.packed, desc->scene_storage, err);
+		st = rs_gles_choose_storage(g, &g->accel.packed,
+		                            td.two_level ? &g->accel.two_level.instances : NULL,
+		                            desc->scene_storage, err);
 	if (st == RS_OK)
 		st = check_limits(g, &g->accel.packed, &g->frame, err);
 	if (st == RS_OK)

@@ -4,8 +4,9 @@
 // Inputs:  u_nodes (RGBA32UI compact or wide nodes, RGBA32F paper nodes), u_tris, u_normals,
 //          u_materials (RGBA32F; layouts in rs_pack.h), u_node_count, u_tri_count,
 //          u_material_count, u_spawn_scale (R5's S), u_grid_origin, u_grid_step (compact).
-// With RS_TWO_LEVEL (an instanced scene, rs_pack_two_level): u_instances (RGBA32F 2D,
-//          RS_INSTANCE_TEXELS a instance, RS_INSTANCE_ROW_ITEMS a row), u_top_base,
+// With RS_TWO_LEVEL (an instanced scene, rs_pack_two_level): u_instances (RGBA32F, 2D or
+//          with RS_SCENE_BUFFERS a buffer texture; RS_INSTANCE_TEXELS a instance,
+//          RS_INSTANCE_ROW_ITEMS a 2D row), u_top_base,
 //          u_top_count (the TLAS in the node texture), u_instance_count, u_proto_instances
 //          (instances of prototypes, the loose one after them); the grid uniforms are the
 //          TLAS's. Hits and skips then name scene triangle ids, not slots.
@@ -44,7 +45,7 @@ uniform int u_material_count;
 uniform float u_spawn_scale;
 uniform float u_spawn_floor; // R5's F = max(R / 16, 2^-64), R the scene's half-size
 #if RS_TWO_LEVEL
-uniform highp sampler2D u_instances;
+uniform RS_SCENE_SAMPLER u_instances; // buffer storage: a buffer texture too
 uniform int u_top_base;
 uniform int u_top_count;
 uniform int u_instance_count;
@@ -398,10 +399,14 @@ bool rs_traverse(Ray r, bool stop, out Hit h, inout vec2 counts)
 // Texel j of instance i (RS_PACK_INSTANCE_TEXELS in rs_pack.h).
 vec4 rs_instance(int i, int j)
 {
+#if RS_SCENE_BUFFERS
+	return texelFetch(u_instances, i * RS_INSTANCE_TEXELS + j);
+#else
 	return texelFetch(u_instances,
 	                  ivec2((i % RS_INSTANCE_ROW_ITEMS) * RS_INSTANCE_TEXELS + j,
 	                        i / RS_INSTANCE_ROW_ITEMS),
 	                  0);
+#endif
 }
 
 // The node order of a direction (rs_pack_node_order).
