@@ -255,9 +255,12 @@ void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *o
 
 /* gles_plan.c: whether `scene` is walked in two levels under `desc` (rs_render_two_level()
  * and this backend's limits: traced primaries, shadow rays and reflections only);
- * RS_ERR_UNSUPPORTED naming why when instances=two-level cannot be done. */
+ * RS_ERR_UNSUPPORTED naming why when instances=two-level cannot be done. `moving`: asked
+ * by an instance update (auto then takes two levels); `max_texels`: the most texels one
+ * scene texture of this GL may hold (auto flattens a still scene that fits). */
 enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
-                                 bool *out_two_level, struct rs_error *err);
+                                 bool moving, uint64_t max_texels, bool *out_two_level,
+                                 struct rs_error *err);
 
 /* gles_frame.c. Run `plan` from `camera` over the viewport w x h (primary rays start `near`
  * from the eye), kernel times into stats. */
