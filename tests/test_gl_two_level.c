@@ -130,9 +130,10 @@ static void look(struct rs_scene *scene, const double eye[3], const double targe
 	assert_int_equal(rs_scene_add_light(scene, &light, NULL), RS_OK);
 }
 
-/* Two levels on EGL against the same scene flattened on EGL; returns the pixels hit. */
-static size_t two_level_as_baked_with(const char *what, const struct rs_scene *scene,
-                                      struct rs_pack_desc pack)
+/* Two levels on EGL (in `storage`: the instance texture is a buffer texture with buffer
+ * storage, 2D with 2D) against the same scene flattened on EGL; returns the pixels hit. */
+static size_t two_level_in_as_baked(const char *what, const struct rs_scene *scene,
+                                    struct rs_pack_desc pack, enum rs_scene_storage storage)
 {
 	static struct image baked, two;
 	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .passes = 2, .pack = pack};
@@ -140,8 +141,15 @@ static size_t two_level_as_baked_with(const char *what, const struct rs_scene *s
 	if (!render("egl", desc, scene, &baked))
 		return 0;
 	desc.instances = RS_INSTANCES_TWO_LEVEL;
+	desc.scene_storage = storage;
 	assert_true(render("egl", desc, scene, &two));
 	return same_frame(what, &two, &baked);
+}
+
+static size_t two_level_as_baked_with(const char *what, const struct rs_scene *scene,
+                                      struct rs_pack_desc pack)
+{
+	return two_level_in_as_baked(what, scene, pack, RS_SCENE_STORAGE_AUTO);
 }
 
 static size_t two_level_as_baked(const char *what, const struct rs_scene *scene)
@@ -191,10 +199,15 @@ static void transformed_instances_render_as_baked(void **state)
 	const double eye[3] = {0.3, 4.0, 11.0}, at[3] = {0, 0, 0};
 	look(scene, eye, at);
 	size_t hits = two_level_as_baked("egl transformed instances", scene);
+	size_t hits_2d = hits
+	                     ? two_level_in_as_baked("egl transformed instances, 2D storage", scene,
+	                                             (struct rs_pack_desc){0}, RS_SCENE_STORAGE_2D)
+	                     : 0;
 	rs_scene_destroy(&scene);
 	if (!hits)
 		gl_skip();
 	assert_true(hits > SIZE * SIZE / 4);
+	assert_int_equal(hits_2d, hits);
 }
 
 static void far_from_origin_instances_render_as_baked(void **state)
@@ -285,7 +298,11 @@ static void moved_instances_render_as_set_scene_sending_the_tlas_only(void **sta
 	struct rs_scene *s0 = NULL, *s5 = NULL;
 	assert_int_equal(rs_scenegen_load_frame("cow17i", 0, 0, &s0, NULL), RS_OK);
 	assert_int_equal(rs_scenegen_load_frame("cow17i", 5, 0, &s5, NULL), RS_OK);
-	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .passes = 2, .lights = 1};
+	struct rs_render_desc desc = {.width = SIZE,
+	                              .height = SIZE,
+	                              .passes = 2,
+	                              .lights = 1,
+	                              .instances = RS_INSTANCES_TWO_LEVEL};
 	struct rs_renderer *moved = gl_open("egl", &desc), *fresh = gl_open("egl", &desc);
 	if (!moved || !fresh) {
 		rs_renderer_destroy(&moved);
@@ -350,6 +367,71 @@ static void two_level_is_refused_with_raster_passes(void **state)
 	rs_scene_destroy(&inst);
 }
 
+/* Bytes set_scene uploads for `scene` under `desc` (0: no GL). */
+static uint64_t set_scene_bytes(struct rs_render_desc desc, const struct rs_scene *scene)
+{
+	struct rs_renderer *r = gl_open("egl", &desc);
+	if (!r)
+		return 0;
+	struct rs_error err;
+	if (rs_renderer_set_scene(r, scene, &err) != RS_OK)
+		fail_msg("set_scene: %s", err.message);
+	uint64_t bytes = rs_renderer_stats(r)->upload_bytes;
+	rs_renderer_destroy(&r);
+	return bytes;
+}
+
+/* instances=auto on GLES (rs_gles_two_level): a still scene flattened (its walk is faster
+ * on llvmpipe), two levels from the first update_instances on (a full set_scene once,
+ * then the TLAS only), and two levels from the start where the flattened scene is over
+ * the texture limit. */
+static void auto_flattens_a_still_scene_and_moves_it_in_two_levels(void **state)
+{
+	struct rs_scene *s0 = NULL, *s5 = NULL;
+	assert_int_equal(rs_scenegen_load_frame("cow17i", 0, 0, &s0, NULL), RS_OK);
+	assert_int_equal(rs_scenegen_load_frame("cow17i", 5, 0, &s5, NULL), RS_OK);
+	struct rs_render_desc desc = {.width = SIZE, .height = SIZE, .passes = 2, .lights = 1};
+	desc.instances = RS_INSTANCES_FLATTEN;
+	uint64_t flat = set_scene_bytes(desc, s0);
+	desc.instances = RS_INSTANCES_TWO_LEVEL;
+	uint64_t two = flat ? set_scene_bytes(desc, s0) : 0;
+	desc.instances = RS_INSTANCES_AUTO;
+	struct rs_renderer *r = flat ? gl_open("egl", &desc) : NULL;
+	if (!r) {
+		rs_scene_destroy(&s0);
+		rs_scene_destroy(&s5);
+		gl_skip();
+	}
+	struct rs_error err;
+	assert_int_equal(rs_renderer_set_scene(r, s0, &err), RS_OK);
+	const struct rs_render_stats *st = rs_renderer_stats(r);
+	print_message("auto: set_scene %llu bytes (flattened %llu, two levels %llu)\n",
+	              (unsigned long long)st->upload_bytes, (unsigned long long)flat,
+	              (unsigned long long)two);
+	assert_true(two * 10 < flat);
+	assert_int_equal(st->upload_bytes, flat);
+	assert_int_equal(rs_renderer_update_instances(r, s5, &err), RS_OK);
+	print_message("auto: first update %llu bytes\n", (unsigned long long)st->upload_bytes);
+	assert_false(st->instance_update_baked);
+	assert_int_equal(st->upload_bytes, two);
+	assert_int_equal(rs_renderer_update_instances(r, s0, &err), RS_OK);
+	print_message("auto: second update %llu bytes\n", (unsigned long long)st->upload_bytes);
+	assert_false(st->instance_update_baked);
+	assert_true(st->upload_bytes * 20 < two);
+	rs_renderer_destroy(&r);
+	/* the flattened triangle texture over the limit, the two-level one within it */
+	setenv("RS_GLES_MAX_TEXTURE_SIZE", "512", 1);
+	setenv("RS_GLES_MAX_TEXTURE_BUFFER_SIZE", "65536", 1);
+	uint64_t limited = set_scene_bytes(desc, s0);
+	unsetenv("RS_GLES_MAX_TEXTURE_SIZE");
+	unsetenv("RS_GLES_MAX_TEXTURE_BUFFER_SIZE");
+	print_message("auto, 512 texels a side: set_scene %llu bytes\n",
+	              (unsigned long long)limited);
+	assert_true(limited > 0 && limited * 10 < flat);
+	rs_scene_destroy(&s0);
+	rs_scene_destroy(&s5);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -360,6 +442,7 @@ int main(void)
 	    cmocka_unit_test(room_of_instanced_walls_leaks_no_pixel),
 	    cmocka_unit_test(moved_instances_render_as_set_scene_sending_the_tlas_only),
 	    cmocka_unit_test(two_level_is_refused_with_raster_passes),
+	    cmocka_unit_test(auto_flattens_a_still_scene_and_moves_it_in_two_levels),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -213,7 +213,10 @@ struct gles {
 	GLenum scene_target;           /* GL_TEXTURE_2D or GL_TEXTURE_BUFFER */
 	GLuint scene_tex[4];
 	GLuint scene_buf[4]; /* BUFFER: the buffer objects behind scene_tex */
-	GLuint instance_tex; /* two levels (accel.two_level): the instance texture, 2D */
+	GLuint instance_tex; /* two levels (accel.two_level): the instance texture, 2D or, with
+	                      * BUFFER storage, a buffer texture over instance_buf (one
+	                      * fetch is a third of a 2D one's time on llvmpipe, docs/gles.md) */
+	GLuint instance_buf;
 	GLuint state[2][ST_COUNT];
 	GLuint cnt[2];
 	GLuint hit[2];               /* [0]: pass 0 (depth), [1]: later passes */
@@ -254,9 +257,12 @@ void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *o
 
 /* gles_plan.c: whether `scene` is walked in two levels under `desc` (rs_render_two_level()
  * and this backend's limits: traced primaries, shadow rays and reflections only);
- * RS_ERR_UNSUPPORTED naming why when instances=two-level cannot be done. */
+ * RS_ERR_UNSUPPORTED naming why when instances=two-level cannot be done. `moving`: asked
+ * by an instance update (auto then takes two levels); `max_texels`: the most texels one
+ * scene texture of this GL may hold (auto flattens a still scene that fits). */
 enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
-                                 bool *out_two_level, struct rs_error *err);
+                                 bool moving, uint64_t max_texels, bool *out_two_level,
+                                 struct rs_error *err);
 
 /* gles_frame.c. Run `plan` from `camera` over the viewport w x h (primary rays start `near`
  * from the eye), kernel times into stats. */
@@ -356,11 +362,14 @@ GLuint rs_gles_target(const struct gles *g, uint8_t ref);
 /* gles_storage.c: at creation, whether the context has buffer textures (g->buffer_glsl, the
  * kernels' version line for them, and g->max_tex_buffer; `version` is GL_VERSION); per scene,
  * the storage (g->storage, g->scene_target; RS_ERR_UNSUPPORTED or RS_ERR_LIMIT when BUFFER
- * cannot be had), and packed texture i as a buffer texture (g->scene_buf[i], scene_tex[i]). */
+ * cannot be had; `instances`, a two-level scene's instance texture or NULL, must fit too),
+ * and a packed texture as a buffer texture (*buf, *tex: g->scene_buf[i] and scene_tex[i],
+ * or g->instance_buf and instance_tex). */
 void rs_gles_probe_buffers(struct gles *g, const char *version);
 enum rs_status rs_gles_choose_storage(struct gles *g, const struct rs_packed *p,
+                                      const struct rs_texture *instances,
                                       enum rs_scene_storage want, struct rs_error *err);
-enum rs_status rs_gles_buffer_texture(struct gles *g, int i, GLenum format,
+enum rs_status rs_gles_buffer_texture(struct gles *g, GLuint *buf, GLuint *tex, GLenum format,
                                       const struct rs_texture *t, const char *what,
                                       struct rs_error *err);
 

@@ -152,7 +152,8 @@ static void hits_only(struct rs_gles_plan *plan, bool rasterized)
 }
 
 enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct rs_scene *scene,
-                                 bool *out_two_level, struct rs_error *err)
+                                 bool moving, uint64_t max_texels, bool *out_two_level,
+                                 struct rs_error *err)
 {
 	enum rs_status st = rs_render_two_level(desc, scene, out_two_level, err);
 	if (st != RS_OK || !*out_two_level)
@@ -174,6 +175,15 @@ enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct
 		                    "instances=flatten)",
 		                    why);
 	*out_two_level = why == NULL;
+	/* auto: a still scene flattened, where its triangle texture fits (on llvmpipe the
+	 * flattened walk is 1.33-1.41x faster a frame, docs/gles.md "Instances"); instances
+	 * that move (the first update_instances sets the scene again) and a flattened scene
+	 * over the texture limit in two levels. The node texture is never larger than the
+	 * triangle texture's items (a leaf holds at least one triangle). */
+	uint64_t tris = rs_scene_triangle_count(scene);
+	bool fits = tris * RS_PACK_TRIANGLE_TEXELS <= max_texels && tris < RS_PACK_MAX_ITEMS / 2u;
+	if (*out_two_level && desc->instances == RS_INSTANCES_AUTO && !moving && fits)
+		*out_two_level = false;
 	return RS_OK;
 }
 

@@ -176,11 +176,19 @@ static uint64_t scene_bytes(const struct rs_render_accel *a)
 	return n;
 }
 
-static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
-                                     const struct rs_render_desc *desc,
-                                     struct rs_render_stats *stats, struct rs_error *err)
+/* The most texels one scene texture of this GL may hold (2D or buffer storage). */
+static uint64_t max_texels(const struct gles *g)
 {
-	struct gles *g = impl;
+	uint64_t side = (uint64_t)g->max_tex * (uint64_t)g->max_tex;
+	uint64_t buf = g->buffer_glsl ? (uint64_t)g->max_tex_buffer : 0u;
+	return side > buf ? side : buf;
+}
+
+/* set_scene; `moving`: asked by an instance update (rs_gles_two_level). */
+static enum rs_status set_scene(struct gles *g, const struct rs_scene *scene,
+                                const struct rs_render_desc *desc, bool moving,
+                                struct rs_render_stats *stats, struct rs_error *err)
+{
 	enum rs_status st = g->cops->make_current(g->ctx, err);
 	if (st != RS_OK)
 		return st;
@@ -198,7 +206,7 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	struct rs_bvh_desc bvh = rs_render_bvh_desc(desc);
 	bool two_level = false;
 	if (st == RS_OK)
-		st = rs_gles_two_level(desc, scene, &two_level, err);
+		st = rs_gles_two_level(desc, scene, moving, max_texels(g), &two_level, err);
 	if (st == RS_OK)
 		st = two_level ? rs_render_accel_build_two_level(scene, &bvh, &pack, &g->accel, err)
 		               : rs_render_accel_build(scene, &bvh, &pack, &g->accel, err);
@@ -207,7 +215,9 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	if (st == RS_OK)
 		st = rs_trace_frame_init(scene, &g->accel.packed, &td, &g->frame, err);
 	if (st == RS_OK)
-		st = rs_gles_choose_storage(g, &g->accel.packed, desc->scene_storage, err);
+		st = rs_gles_choose_storage(g, &g->accel.packed,
+		                            td.two_level ? &g->accel.two_level.instances : NULL,
+		                            desc->scene_storage, err);
 	if (st == RS_OK)
 		st = check_limits(g, &g->accel.packed, &g->frame, err);
 	if (st == RS_OK)
@@ -242,6 +252,13 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	}
 	g->cops->release(g->ctx);
 	return st;
+}
+
+static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
+                                     const struct rs_render_desc *desc,
+                                     struct rs_render_stats *stats, struct rs_error *err)
+{
+	return set_scene(impl, scene, desc, false, stats, err);
 }
 
 static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
@@ -375,6 +392,15 @@ static enum rs_status gles_update_instances(void *impl, const struct rs_scene *s
 {
 	struct gles *g = impl;
 	if (!g->accel.two_level.instance_count) {
+		/* auto flattened a still scene: now that it moves, two levels (set once) */
+		bool two_level = false;
+		if (g->desc.instances == RS_INSTANCES_AUTO &&
+		    rs_gles_two_level(&g->desc, scene, true, max_texels(g), &two_level, NULL) ==
+		        RS_OK &&
+		    two_level) {
+			struct rs_render_desc desc = g->desc;
+			return set_scene(g, scene, &desc, true, stats, err);
+		}
 		enum rs_status st = gles_update_vertices(impl, scene, stats, err);
 		stats->instance_update_baked = true;
 		return st;

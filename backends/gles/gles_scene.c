@@ -52,7 +52,8 @@ enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
 		bool words = t[i]->format == RS_TEXEL_RGBA32UI;
 		GLenum format = words ? GL_RGBA32UI : GL_RGBA32F;
 		if (g->storage == RS_SCENE_STORAGE_BUFFER)
-			st = rs_gles_buffer_texture(g, i, format, t[i], names[i], err);
+			st = rs_gles_buffer_texture(g, &g->scene_buf[i], &g->scene_tex[i], format,
+			                            t[i], names[i], err);
 		else
 			g->scene_tex[i] =
 			    texture(gl, (GLint)format, (GLsizei)t[i]->width, (GLsizei)t[i]->height,
@@ -63,10 +64,15 @@ enum rs_status rs_gles_scene_upload(struct gles *g, struct rs_error *err)
 	}
 	const struct rs_texture *inst = &g->accel.two_level.instances;
 	if (st == RS_OK && g->accel.two_level.instance_count) {
-		g->instance_tex = texture(gl, GL_RGBA32F, (GLsizei)inst->width,
-		                          (GLsizei)inst->height, GL_FLOAT, inst->texels);
-		st = rs_gles_allocated(gl, "the instance texture", GL_RGBA32F, (GLsizei)inst->width,
-		                       (GLsizei)inst->height, 1, err);
+		if (g->storage == RS_SCENE_STORAGE_BUFFER)
+			st = rs_gles_buffer_texture(g, &g->instance_buf, &g->instance_tex,
+			                            GL_RGBA32F, inst, "the instance texture", err);
+		else
+			g->instance_tex = texture(gl, GL_RGBA32F, (GLsizei)inst->width,
+			                          (GLsizei)inst->height, GL_FLOAT, inst->texels);
+		if (st == RS_OK)
+			st = rs_gles_allocated(gl, "the instance texture", GL_RGBA32F,
+			                       (GLsizei)inst->width, (GLsizei)inst->height, 1, err);
 	}
 	/* The cube map captures run the plans over face_size squares in the same targets. */
 	uint32_t face = g->desc.reflections != RS_REFLECT_TRACE ? g->face_size : 0;
@@ -207,10 +213,18 @@ enum rs_status rs_gles_scene_update_top(struct gles *g, uint64_t *out_bytes, str
 		bytes += (uint64_t)(end[i] - first[i]) * 16u;
 	}
 	const struct rs_texture *inst = &two->instances;
-	gl->BindTexture(GL_TEXTURE_2D, g->instance_tex);
-	gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, (GLsizei)inst->width, (GLsizei)inst->height,
-	                  GL_RGBA, GL_FLOAT, inst->texels);
-	gl->BindTexture(GL_TEXTURE_2D, 0);
+	if (g->storage == RS_SCENE_STORAGE_BUFFER) {
+		gl->BindBuffer(GL_TEXTURE_BUFFER, g->instance_buf);
+		gl->BufferSubData(GL_TEXTURE_BUFFER, 0,
+		                  (GLsizeiptr)((size_t)inst->width * inst->height * 16u),
+		                  inst->texels);
+		gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
+	} else {
+		gl->BindTexture(GL_TEXTURE_2D, g->instance_tex);
+		gl->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, (GLsizei)inst->width,
+		                  (GLsizei)inst->height, GL_RGBA, GL_FLOAT, inst->texels);
+		gl->BindTexture(GL_TEXTURE_2D, 0);
+	}
 	bytes += (uint64_t)inst->width * inst->height * 16u;
 	*out_bytes = bytes;
 	return rs_gles_check(gl, "updating the instances' top-level tree", err);
@@ -234,7 +248,8 @@ void rs_gles_scene_delete(struct gles *g)
 	gl->DeleteTextures(1, &g->envmap);
 	gl->DeleteTextures(1, &g->object_tex);
 	gl->DeleteTextures(1, &g->instance_tex);
-	g->instance_tex = 0;
+	gl->DeleteBuffers(1, &g->instance_buf);
+	g->instance_tex = g->instance_buf = 0;
 	gl->DeleteTextures(2 * RS_RENDER_MAX_MIRROR_OBJECTS, &g->objmap[0][0]);
 	memset(g->objmap, 0, sizeof g->objmap);
 	g->depth = g->shadow_depth = g->shadow = g->envmap = g->object_tex = 0;

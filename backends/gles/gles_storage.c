@@ -45,11 +45,12 @@ void rs_gles_probe_buffers(struct gles *g, const char *version)
 		g->buffer_glsl = glsl;
 }
 
-/* Does every packed texture fit a buffer texture of this GL? */
-static bool fits_buffers(const struct gles *g, const struct rs_texture *const t[4])
+/* Does every packed texture (and a two-level scene's instance texture) fit a buffer
+ * texture of this GL? */
+static bool fits_buffers(const struct gles *g, const struct rs_texture *const t[5])
 {
-	for (int i = 0; i < 4; ++i)
-		if ((uint64_t)t[i]->width * t[i]->height > (uint64_t)g->max_tex_buffer)
+	for (int i = 0; i < 5; ++i)
+		if (t[i] && (uint64_t)t[i]->width * t[i]->height > (uint64_t)g->max_tex_buffer)
 			return false;
 	return true;
 }
@@ -58,9 +59,11 @@ static bool fits_buffers(const struct gles *g, const struct rs_texture *const t[
  * where AUTO finds them and the scene fits, else 2D; BUFFER is refused, naming why, where
  * the context has none or the scene is over GL_MAX_TEXTURE_BUFFER_SIZE. */
 enum rs_status rs_gles_choose_storage(struct gles *g, const struct rs_packed *p,
+                                      const struct rs_texture *instances,
                                       enum rs_scene_storage want, struct rs_error *err)
 {
-	const struct rs_texture *t[4] = {&p->nodes, &p->triangles, &p->normals, &p->materials};
+	const struct rs_texture *t[5] = {&p->nodes, &p->triangles, &p->normals, &p->materials,
+	                                 instances};
 	g->storage = RS_SCENE_STORAGE_2D;
 	g->scene_target = GL_TEXTURE_2D;
 	if (want == RS_SCENE_STORAGE_2D)
@@ -85,13 +88,13 @@ enum rs_status rs_gles_choose_storage(struct gles *g, const struct rs_packed *p,
 /* Scene texture i as a buffer texture over a buffer object holding the packed texels in
  * their row-major order: texel (x, y) of the 2D layout is element y * width + x, which for
  * dense rows (rs_pack.h) is item * texels_per_item + j, what the kernels fetch. */
-enum rs_status rs_gles_buffer_texture(struct gles *g, int i, GLenum format,
+enum rs_status rs_gles_buffer_texture(struct gles *g, GLuint *buf, GLuint *tex, GLenum format,
                                       const struct rs_texture *t, const char *what,
                                       struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
-	gl->GenBuffers(1, &g->scene_buf[i]);
-	gl->BindBuffer(GL_TEXTURE_BUFFER, g->scene_buf[i]);
+	gl->GenBuffers(1, buf);
+	gl->BindBuffer(GL_TEXTURE_BUFFER, *buf);
 	gl->BufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)t->width * t->height * 16, t->texels,
 	               GL_STATIC_DRAW);
 	gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
@@ -99,9 +102,9 @@ enum rs_status rs_gles_buffer_texture(struct gles *g, int i, GLenum format,
 	    rs_gles_allocated(gl, what, format, (GLsizei)t->width, (GLsizei)t->height, 1, err);
 	if (st != RS_OK)
 		return st;
-	gl->GenTextures(1, &g->scene_tex[i]);
-	gl->BindTexture(GL_TEXTURE_BUFFER, g->scene_tex[i]);
-	gl->TexBuffer(GL_TEXTURE_BUFFER, format, g->scene_buf[i]);
+	gl->GenTextures(1, tex);
+	gl->BindTexture(GL_TEXTURE_BUFFER, *tex);
+	gl->TexBuffer(GL_TEXTURE_BUFFER, format, *buf);
 	gl->BindTexture(GL_TEXTURE_BUFFER, 0);
 	return RS_OK;
 }

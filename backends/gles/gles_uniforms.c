@@ -53,7 +53,7 @@ void rs_gles_scene_uniforms(const struct gles *g, const struct rs_gles_program *
 	rs_gles_uniform_i(gl, p, U_MATERIAL_COUNT, (GLint)pk->material_count);
 	const struct rs_packed_two_level *two = &g->accel.two_level;
 	if (two->instance_count) {
-		rs_gles_bind(gl, p, UNIT_INSTANCES, U_INSTANCES, GL_TEXTURE_2D, g->instance_tex);
+		rs_gles_bind(gl, p, UNIT_INSTANCES, U_INSTANCES, g->scene_target, g->instance_tex);
 		rs_gles_uniform_i(gl, p, U_TOP_BASE, (GLint)two->top_node_base);
 		rs_gles_uniform_i(gl, p, U_TOP_COUNT, (GLint)two->top_node_count);
 		rs_gles_uniform_i(gl, p, U_INSTANCE_COUNT, (GLint)two->instance_count);

@@ -29,7 +29,8 @@ static const struct rs_render_option options[] = {
     {"triangle-test", "watertight|mt", "watertight", "mt: the paper's Moller-Trumbore"},
     {"chain", "fused|separate|paper", "fused", "GL: how kernels are chained"},
     {"instances", "auto|flatten|two-level", "auto",
-     "instanced scenes: BLAS per mesh + TLAS (auto where it can), or flattened"},
+     "instanced scenes: BLAS per mesh + TLAS, or flattened (auto: CPU two levels; GL "
+     "flattened until instances move or where it does not fit)"},
 };
 
 #define COUNT (sizeof options / sizeof options[0])

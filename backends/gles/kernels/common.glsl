@@ -4,8 +4,9 @@
 // Inputs:  u_nodes (RGBA32UI compact or wide nodes, RGBA32F paper nodes), u_tris, u_normals,
 //          u_materials (RGBA32F; layouts in rs_pack.h), u_node_count, u_tri_count,
 //          u_material_count, u_spawn_scale (R5's S), u_grid_origin, u_grid_step (compact).
-// With RS_TWO_LEVEL (an instanced scene, rs_pack_two_level): u_instances (RGBA32F 2D,
-//          RS_INSTANCE_TEXELS a instance, RS_INSTANCE_ROW_ITEMS a row), u_top_base,
+// With RS_TWO_LEVEL (an instanced scene, rs_pack_two_level): u_instances (RGBA32F, 2D or
+//          with RS_SCENE_BUFFERS a buffer texture; RS_INSTANCE_TEXELS a instance,
+//          RS_INSTANCE_ROW_ITEMS a 2D row), u_top_base,
 //          u_top_count (the TLAS in the node texture), u_instance_count, u_proto_instances
 //          (instances of prototypes, the loose one after them); the grid uniforms are the
 //          TLAS's. Hits and skips then name scene triangle ids, not slots.
@@ -44,7 +45,7 @@ uniform int u_material_count;
 uniform float u_spawn_scale;
 uniform float u_spawn_floor; // R5's F = max(R / 16, 2^-64), R the scene's half-size
 #if RS_TWO_LEVEL
-uniform highp sampler2D u_instances;
+uniform RS_SCENE_SAMPLER u_instances; // buffer storage: a buffer texture too
 uniform int u_top_base;
 uniform int u_top_count;
 uniform int u_instance_count;
@@ -398,10 +399,14 @@ bool rs_traverse(Ray r, bool stop, out Hit h, inout vec2 counts)
 // Texel j of instance i (RS_PACK_INSTANCE_TEXELS in rs_pack.h).
 vec4 rs_instance(int i, int j)
 {
+#if RS_SCENE_BUFFERS
+	return texelFetch(u_instances, i * RS_INSTANCE_TEXELS + j);
+#else
 	return texelFetch(u_instances,
 	                  ivec2((i % RS_INSTANCE_ROW_ITEMS) * RS_INSTANCE_TEXELS + j,
 	                        i / RS_INSTANCE_ROW_ITEMS),
 	                  0);
+#endif
 }
 
 // The node order of a direction (rs_pack_node_order).
@@ -464,56 +469,22 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 	bool found = false;
 	int i = u_top_base + rs_order(r.d) * u_top_count;
 	int top_end = i + u_top_count, end = top_end;
-	int inst = -1, tslot = -1, ret = 0, pending = -1;
+	int inst = -1, tslot = -1, ret = 0;
 	float first_tri = 0.0;
 	// The ray of the tree being walked (world, or a BLAS's object ray) as plain vectors:
 	// a struct assigned inside the loop costs llvmpipe 4x per node (measured on cow1i).
 	vec3 co = r.o, cd = r.d, cinv = pw.inv;
 	vec3 go = u_grid_origin, gs = u_grid_step;
 	while (true) {
-		// boxes of both levels until a BLAS leaf the ray enters ("while-while", as the
-		// one-level walk: lanes meet the triangle loop together)
+		// The inner loop is the node step alone, as the one-level walk's: llvmpipe runs
+		// every block of a loop body whose condition differs between lanes for all lanes
+		// (masked), so the entry (seven fetches) and exit of a BLAS must stay out of it:
+		// inside it they cost every node step 3.4x (docs/gles.md "Instances").
 		int first = -1;
-		while (true) {
-			if (pending >= 0) {
-				tslot = pending;
-				pending = -1;
-				inst = int(rs_tri(tslot, 0).w);
-				vec4 m0 = rs_instance(inst, 0), m1 = rs_instance(inst, 1),
-				     m2 = rs_instance(inst, 2);
-				co = vec3(dot(m0.xyz, r.o) + m0.w, dot(m1.xyz, r.o) + m1.w,
-				          dot(m2.xyz, r.o) + m2.w);
-				cd = vec3(dot(m0.xyz, r.d), dot(m1.xyz, r.d), dot(m2.xyz, r.d));
-				cinv = mix(1.0 / cd, vec3(RS_ZERO_INV), equal(cd, vec3(0.0)));
-				vec4 g0 = rs_instance(inst, 9), g1 = rs_instance(inst, 10);
-				go = g0.xyz;
-				gs = g1.xyz;
-				first_tri = rs_instance(inst, 6).w;
-				int count = int(g1.w);
-				i = int(g0.w) + rs_order(cd) * count;
-				end = i + count;
-			}
-			if (i >= end) {
-				if (inst < 0)
-					break;
-				inst = -1;
-				if (rs_tri(tslot, 2).w == 0.0) { // more instances in this TLAS leaf
-					pending = tslot + 1;
-					continue;
-				}
-				i = ret;
-				end = top_end;
-				go = u_grid_origin;
-				gs = u_grid_step;
-				co = r.o;
-				cd = r.d;
-				cinv = pw.inv;
-				continue;
-			}
+		while (i < end) {
 			Node n = rs_node_in(i, go, gs);
 			counts.x += 1.0;
-			bool blas = inst >= 0;
-			if (blas) {
+			if (inst >= 0) {
 				// one float step outwards (traverse_instances.c, the edge slack's twin)
 				n.lo -= abs(n.lo) * 1.1920929e-7 + 1.17549435e-38;
 				n.hi += abs(n.hi) * 1.1920929e-7 + 1.17549435e-38;
@@ -526,20 +497,54 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 				i++;
 				continue;
 			}
-			if (!blas) {
-				ret = n.next;
-				pending = n.first;
-				continue;
-			}
 			first = n.first;
 			i = n.next;
 			break;
 		}
-		if (first < 0)
-			break;
-		Ray o = Ray(co, cd, r.tmax, r.skip);
-		if (rs_leaf_blas(first, o, rs_prepare(o), any, first_tri, inst, h, found, counts))
-			return true;
+		// a BLAS leaf's triangles, a TLAS leaf's first instance, a BLAS's end (the leaf's
+		// next instance or back to its escape in the TLAS), or the TLAS's end
+		int enter = -1;
+		if (first >= 0) {
+			if (inst >= 0) {
+				Ray o = Ray(co, cd, r.tmax, r.skip);
+				if (rs_leaf_blas(first, o, rs_prepare(o), any, first_tri, inst, h, found,
+				                 counts))
+					return true;
+			} else {
+				ret = i;
+				enter = first;
+			}
+		} else {
+			if (inst < 0)
+				break;
+			inst = -1;
+			if (rs_tri(tslot, 2).w == 0.0) { // more instances in this TLAS leaf
+				enter = tslot + 1;
+			} else {
+				i = ret;
+				end = top_end;
+				go = u_grid_origin;
+				gs = u_grid_step;
+				co = r.o;
+				cd = r.d;
+				cinv = pw.inv;
+			}
+		}
+		if (enter >= 0) {
+			tslot = enter;
+			inst = int(rs_tri(tslot, 0).w);
+			vec4 m0 = rs_instance(inst, 0), m1 = rs_instance(inst, 1), m2 = rs_instance(inst, 2);
+			co = vec3(dot(m0.xyz, r.o) + m0.w, dot(m1.xyz, r.o) + m1.w, dot(m2.xyz, r.o) + m2.w);
+			cd = vec3(dot(m0.xyz, r.d), dot(m1.xyz, r.d), dot(m2.xyz, r.d));
+			cinv = mix(1.0 / cd, vec3(RS_ZERO_INV), equal(cd, vec3(0.0)));
+			vec4 g0 = rs_instance(inst, 9), g1 = rs_instance(inst, 10);
+			go = g0.xyz;
+			gs = g1.xyz;
+			first_tri = rs_instance(inst, 6).w;
+			int count = int(g1.w);
+			i = int(g0.w) + rs_order(cd) * count;
+			end = i + count;
+		}
 	}
 	return found;
 }

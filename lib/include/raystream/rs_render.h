@@ -60,7 +60,9 @@ enum rs_kernel_chain {
 /** How a scene with instances (rs_scene_add_instance) is traced. */
 enum rs_instances_mode {
 	/** Two levels where the scene has instances and the renderer can walk them, else
-	 * flattened (rs_render_two_level() decides, and the GL plan for its own limits). */
+	 * flattened (rs_render_two_level() decides, and the GL plan for its own limits: on GL
+	 * a still scene is flattened where it fits the texture limit, its walk being the
+	 * faster there, and the first update_instances sets it again in two levels). */
 	RS_INSTANCES_AUTO = 0,
 	/** The instances' baked world-space triangles in one BVH, as a scene without any. */
 	RS_INSTANCES_FLATTEN = 1,
