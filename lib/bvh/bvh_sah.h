@@ -87,10 +87,8 @@ struct rs_bvh__sah {
 	struct rs_bvh__item *items, *tmp;
 	uint32_t nbins, leaf_size;
 	double ct;
-	/* Parallel binning and partition of the nodes above the subtrees (NULL: serial): chunk
-	 * c of a big node bins into chunk_bins[c] (chunk 0's end holding the merged bins),
-	 * whose counts give the chunk's sides, and is partitioned in the same range
-	 * (chunk_part[c]). */
+	/* Parallel binning of the nodes above the subtrees (NULL: serial): chunk c of a big
+	 * node bins into chunk_bins[c]. */
 	struct rs_bvh__pool *pool;
 	struct rs_bvh__binning *chunk_bins;
 	struct rs_bvh__part *chunk_part;
