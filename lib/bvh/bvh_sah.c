@@ -420,6 +420,21 @@ static int leaf_is_cheapest(const struct rs_bvh__sah *s, const struct rs_bvh__ta
 	return (double)(t->end - t->begin) * area <= bound * (1.0 - 1e-9);
 }
 
+/* Task t's bins if they were made while its parent's records were moved (the slot is
+ * freed: only the thread that builds the upper nodes partitions in chunks). */
+static const struct rs_bvh__binning *prebinned(const struct rs_bvh__sah *s,
+                                               const struct rs_bvh__task *t)
+{
+	for (uint32_t i = 0; i < s->prebins; i++) {
+		struct rs_bvh__prebin *p = &s->prebin[i];
+		if (p->used && p->begin == t->begin && p->end == t->end) {
+			p->used = 0;
+			return &p->b;
+		}
+	}
+	return NULL;
+}
+
 /* Best split of task t, or SPLIT_LEAF when making a leaf is better (or required). */
 static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
                        const struct rs_bvh__task *t, struct node_scale *sc, struct split *out)
@@ -448,7 +463,9 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		split_small(s, w, t, sc, area, out);
 		price_size_split(s, &w->binning, n, area, out);
 	} else {
-		const struct rs_bvh__binning *b = bin_node(s, w, t, sc);
+		const struct rs_bvh__binning *b = prebinned(s, t);
+		if (!b)
+			b = bin_node(s, w, t, sc);
 		for (int a = 0; a < 3; a++)
 			if (sc->k[a] != 0.0f)
 				sweep_axis(s, b, a, area, out);
@@ -529,14 +546,51 @@ struct part_job {
 	const struct node_scale *sc;
 	const struct split *sp;
 	uint32_t chunks;
+	/* Whether the left and right child are binned as their records are moved. */
+	int bin_child[2];
+	struct node_scale child_sc[2];
 };
 
-/* Chunk c of a chunked partition: its records written once, straight to their final places
- * in the other buffer, where the whole node's part_range() would put them: its left ones
- * after the left ones of the chunks before it, its right ones (in reverse order) below
- * their right ones. The chunks' counts are known before (chunk_counts()), their centroid
- * bounds are gathered on the way. One store per record, to an address chosen without a
- * branch (never to both ends as part_range() does: a spare slot here is another chunk's). */
+/* Pass 1 of a chunked partition, chunk c: how many of its records go left and right and
+ * the two sides' centroid bounds (part_range()'s counts and bounds, nothing moved). */
+static void count_chunk(void *ctx, uint32_t c, uint32_t worker)
+{
+	(void)worker;
+	const struct part_job *j = ctx;
+	const struct rs_bvh__item *src = task_items(j->s, j->t);
+	uint32_t begin = chunk_edge(j->t, c, j->chunks), end = chunk_edge(j->t, c + 1, j->chunks);
+	const rs_v4 pad[2] = {rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f),
+	                      rs_v4_set(INFINITY, INFINITY, INFINITY, INFINITY)};
+	float lo[4], hi[4];
+	box_empty4(lo, hi);
+	rs_v4 lclo = rs_v4_load(lo), lchi = rs_v4_load(hi), rclo = lclo, rchi = lchi;
+	int a = j->sp->axis, size = j->sp->kind == SPLIT_SIZE;
+	rs_v4 plane = split_plane(j->sp);
+	uint32_t left = 0;
+	for (uint32_t i = begin; i < end; i++) {
+		rs_v4 cc = rs_v4_centroid(rs_v4_load(src[i].lo), rs_v4_load(src[i].hi));
+		int go_left = goes_left(&src[i], cc, j->sc, size, a, plane);
+		left += (uint32_t)go_left;
+		lclo = rs_v4_min(lclo, rs_v4_add(cc, pad[!go_left]));
+		lchi = rs_v4_max(lchi, rs_v4_sub(cc, pad[!go_left]));
+		rclo = rs_v4_min(rclo, rs_v4_add(cc, pad[go_left]));
+		rchi = rs_v4_max(rchi, rs_v4_sub(cc, pad[go_left]));
+	}
+	struct rs_bvh__part *p = &j->s->chunk_part[c];
+	p->left = left;
+	p->right = (end - begin) - left;
+	rs_v4_store(p->lclo, lclo);
+	rs_v4_store(p->lchi, lchi);
+	rs_v4_store(p->rclo, rclo);
+	rs_v4_store(p->rchi, rchi);
+}
+
+/* Pass 2, chunk c: its records written once, straight to their final places in the other
+ * buffer, where the whole node's part_range() would put them: its left ones after the left
+ * ones of the chunks before it, its right ones (in reverse order) below their right ones.
+ * One store per record to an address chosen without a branch (never both ends, as
+ * part_range() does: a spare slot here is another chunk's). Then the children that are
+ * binned ahead are binned from the blocks just written (still in cache). */
 static void scatter_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
@@ -551,64 +605,52 @@ static void scatter_chunk(void *ctx, uint32_t c, uint32_t worker)
 	const struct rs_bvh__item *src = task_items(s, t);
 	struct rs_bvh__item *dst = t->buf ? s->items : s->tmp;
 	uint32_t begin = chunk_edge(t, c, j->chunks), end = chunk_edge(t, c + 1, j->chunks);
-	const rs_v4 pad[2] = {rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f),
-	                      rs_v4_set(INFINITY, INFINITY, INFINITY, INFINITY)};
-	float lo[4], hi[4];
-	box_empty4(lo, hi);
-	rs_v4 lclo = rs_v4_load(lo), lchi = rs_v4_load(hi), rclo = lclo, rchi = lchi;
 	int a = j->sp->axis, size = j->sp->kind == SPLIT_SIZE;
 	rs_v4 plane = split_plane(j->sp);
 	uint32_t li = l0, ri = r0;
 	for (uint32_t i = begin; i < end; i++) {
 		const struct rs_bvh__item *it = &src[i];
 		rs_v4 cc = rs_v4_centroid(rs_v4_load(it->lo), rs_v4_load(it->hi));
-		int go_left = goes_left(it, cc, j->sc, size, a, plane);
-		lclo = rs_v4_min(lclo, rs_v4_add(cc, pad[!go_left]));
-		lchi = rs_v4_max(lchi, rs_v4_sub(cc, pad[!go_left]));
-		rclo = rs_v4_min(rclo, rs_v4_add(cc, pad[go_left]));
-		rchi = rs_v4_max(rchi, rs_v4_sub(cc, pad[go_left]));
-		uint32_t m = 0u - (uint32_t)go_left;
+		uint32_t go_left = (uint32_t)goes_left(it, cc, j->sc, size, a, plane);
+		uint32_t m = 0u - go_left;
 		dst[(li & m) | ((ri - 1) & ~m)] = *it;
-		li += (uint32_t)go_left;
-		ri -= (uint32_t)!go_left;
+		li += go_left;
+		ri -= 1u - go_left;
 	}
-	/* The counts came from the bins: the plane test must have agreed with them. */
-	RS_ASSERT(li - l0 == s->chunk_part[c].left);
-	struct rs_bvh__part *p = &s->chunk_part[c];
-	rs_v4_store(p->lclo, lclo);
-	rs_v4_store(p->lchi, lchi);
-	rs_v4_store(p->rclo, rclo);
-	rs_v4_store(p->rchi, rchi);
+	if (j->bin_child[0])
+		bin_range(dst, l0, li, &j->child_sc[0], s->nbins, &s->child_bins[2 * c]);
+	if (j->bin_child[1])
+		bin_range(dst, ri, r0, &j->child_sc[1], s->nbins, &s->child_bins[2 * c + 1]);
 }
 
-/* How many of each chunk's records go left, from the node's chunk bins (bin_node() binned
- * it in the same chunks, and chunk_bins[0] ends holding the merged bins): the records in the
- * bins below the plane, or the large ones. A record is in a bin below B exactly when
- * goes_left() sends it left (part_range()). */
-static void chunk_counts(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
-                         const struct split *sp, uint32_t chunks)
+/* Child k's chunk bins merged in chunk order into a free prebin slot. */
+static void keep_child_bins(const struct rs_bvh__sah *s, const struct rs_bvh__task *child,
+                            uint32_t k, uint32_t chunks, struct rs_bvh__prebin *slot)
 {
-	uint32_t rest = 0, all = 0;
-	for (uint32_t c = chunks; c-- > 0;) {
-		const struct rs_bvh__binning *b = &s->chunk_bins[c];
-		uint32_t left = 0;
-		if (sp->kind == SPLIT_SIZE) {
-			left = b->large;
-		} else {
-			const uint32_t *counts = &b->counts[(uint32_t)sp->axis * s->nbins];
-			for (uint32_t j = 0; j < sp->bin; j++)
-				left += counts[j];
-		}
-		if (c == 0)
-			left -= rest; /* the merged bins: every chunk's */
-		else
-			rest += left;
-		uint32_t n = chunk_edge(t, c + 1, chunks) - chunk_edge(t, c, chunks);
-		s->chunk_part[c].left = left;
-		s->chunk_part[c].right = n - left;
-		all += n;
+	uint32_t nb = s->nbins;
+	struct rs_bvh__binning *b = &s->child_bins[k];
+	for (uint32_t c = 1; c < chunks; c++) {
+		merge_bins(b, &s->child_bins[2 * c + k], nb);
 	}
-	RS_ASSERT(all == t->end - t->begin);
+	memcpy(slot->b.bins, b->bins, 3 * (size_t)nb * sizeof *b->bins);
+	memcpy(slot->b.counts, b->counts, 3 * (size_t)nb * sizeof *b->counts);
+	memcpy(slot->b.blo, b->blo, sizeof b->blo);
+	memcpy(slot->b.bhi, b->bhi, sizeof b->bhi);
+	memcpy(slot->b.slo, b->slo, sizeof b->slo);
+	memcpy(slot->b.shi, b->shi, sizeof b->shi);
+	slot->b.large = b->large;
+	slot->begin = child->begin;
+	slot->end = child->end;
+	slot->used = 1;
+}
+
+static struct rs_bvh__prebin *free_slot(const struct rs_bvh__sah *s,
+                                        const struct rs_bvh__prebin * not )
+{
+	for (uint32_t i = 0; i < s->prebins; i++)
+		if (!s->prebin[i].used && &s->prebin[i] != not )
+			return &s->prebin[i];
+	return NULL;
 }
 
 /* The children's ranges and bounds from the partition's counts and the split. */
@@ -677,9 +719,10 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 		           sc, sp, &p);
 		left->buf = right->buf = !t->buf;
 	} else {
-		struct part_job job = {.s = s, .t = t, .sc = sc, .sp = sp, .chunks = chunks};
-		chunk_counts(s, t, sp, chunks);
-		rs_bvh__pool_run(s->pool, chunks, scatter_chunk, &job);
+		struct part_job job;
+		memset(&job, 0, sizeof job);
+		job = (struct part_job){.s = s, .t = t, .sc = sc, .sp = sp, .chunks = chunks};
+		rs_bvh__pool_run(s->pool, chunks, count_chunk, &job);
 		/* min, max and counts merge exactly, in any grouping. */
 		p = s->chunk_part[0];
 		for (uint32_t c = 1; c < chunks; c++) {
@@ -689,7 +732,21 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 			grow(p.rclo, p.rchi, o->rclo, o->rchi);
 		}
 		child_tasks(t, sp, &p, left, right);
+		struct rs_bvh__task *child[2] = {left, right};
+		struct rs_bvh__prebin *slot[2] = {NULL, NULL};
+		for (int k = 0; k < 2; k++) {
+			uint32_t m = child[k]->end - child[k]->begin;
+			if (m < PAR_BIN_MIN || m < s->prebin_min || m <= SMALL_NODE)
+				continue;
+			node_scale(s->nbins, child[k], &job.child_sc[k]);
+			slot[k] = job.child_sc[k].axes ? free_slot(s, slot[0]) : NULL;
+			job.bin_child[k] = slot[k] != NULL;
+		}
+		rs_bvh__pool_run(s->pool, chunks, scatter_chunk, &job);
 		left->buf = right->buf = !t->buf;
+		for (int k = 0; k < 2; k++)
+			if (slot[k])
+				keep_child_bins(s, child[k], (uint32_t)k, chunks, slot[k]);
 		return;
 	}
 	child_tasks(t, sp, &p, left, right);

@@ -93,6 +93,20 @@ struct rs_bvh__sah {
 	struct rs_bvh__binning *chunk_bins;
 	struct rs_bvh__part *chunk_part;
 	uint32_t max_chunks;
+	/* Children of a chunked partition with at least prebin_min records are binned while
+	 * their records are copied into place (chunk c's left and right blocks into
+	 * child_bins[2c] and [2c + 1]), merged into a free prebin slot, and find_split() takes
+	 * the slot instead of binning them again. The bins are the same (min, max and counts
+	 * merge exactly in any grouping). */
+	struct rs_bvh__binning *child_bins;
+	struct rs_bvh__prebin *prebin;
+	uint32_t prebins, prebin_min;
+};
+
+struct rs_bvh__prebin {
+	struct rs_bvh__binning b;
+	uint32_t begin, end;
+	int used;
 };
 
 /* One thread's scratch: the bins of the node at hand and the task stack. */

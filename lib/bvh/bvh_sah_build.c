@@ -19,6 +19,9 @@
 /* Record setup chunk, and the most chunks a big node is binned in. */
 #define FILL_CHUNK 16384u
 #define MAX_CHUNKS 64u
+/* Children binned ahead that may wait at once (pending upper nodes; beyond, a child is
+ * binned when its turn comes). */
+#define MAX_PREBINS 64u
 
 struct build {
 	struct rs_bvh__sah s;
@@ -368,6 +371,23 @@ static size_t layout(struct build *b, char *block)
 		b->s.chunk_bins[c].bins = bins + c * bin_stride;
 		b->s.chunk_bins[c].counts = counts + c * count_stride;
 	}
+	/* Both children of each chunk, and the slots the merged bins wait in. */
+	b->s.child_bins = take(block, &at, 2 * MAX_CHUNKS * sizeof *b->s.child_bins);
+	bins = take(block, &at, 2 * MAX_CHUNKS * bin_stride * sizeof(struct rs_bvh__bin));
+	counts = take(block, &at, 2 * MAX_CHUNKS * count_stride * sizeof(uint32_t));
+	for (uint32_t c = 0; block && c < 2 * MAX_CHUNKS; c++) {
+		b->s.child_bins[c].bins = bins + c * bin_stride;
+		b->s.child_bins[c].counts = counts + c * count_stride;
+	}
+	b->s.prebins = MAX_PREBINS;
+	b->s.prebin = take(block, &at, MAX_PREBINS * sizeof *b->s.prebin);
+	bins = take(block, &at, MAX_PREBINS * bin_stride * sizeof(struct rs_bvh__bin));
+	counts = take(block, &at, MAX_PREBINS * count_stride * sizeof(uint32_t));
+	for (uint32_t i = 0; block && i < MAX_PREBINS; i++) {
+		b->s.prebin[i].b.bins = bins + i * bin_stride;
+		b->s.prebin[i].b.counts = counts + i * count_stride;
+		b->s.prebin[i].used = 0;
+	}
 	/* Sized for the worst case; pages are only touched as far as they are used. */
 	b->top.nodes = take(block, &at, cap * sizeof *b->top.nodes);
 	b->top.parent = take(block, &at, cap * sizeof *b->top.parent);
@@ -412,6 +432,7 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	 * the threads, callgrind per thread put n / 16 at 158 M instructions on the caller
 	 * against 124 M on the helper, n / 8 at 141 M on each.) */
 	uint32_t defer = b.workers > 1 ? b.n / (8 * b.workers) : 0;
+	b.s.prebin_min = defer + 1;
 	b.fill_chunks = (b.n + FILL_CHUNK - 1) / FILL_CHUNK;
 	char *block = ok ? aligned_alloc(RS_BVH_LINE, layout(&b, NULL)) : NULL;
 	ok = block != NULL;
@@ -457,6 +478,7 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 		b.top.defer = defer;
 		b.sub = b.s;
 		b.sub.pool = NULL;
+		b.sub.prebins = 0; /* no subtree root is binned ahead (prebin_min) */
 		pthread_mutex_init(&b.lock, NULL);
 		pthread_cond_init(&b.done, NULL);
 		count = build_parallel(&b, &root);
