@@ -475,26 +475,6 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 		out->kind = SPLIT_LEAF;
 }
 
-/* The plane of a SPLIT_PLANE on axis a as four lanes (part_range()). */
-static inline rs_v4 split_plane(const struct split *sp)
-{
-	float fb = (float)sp->bin;
-	return rs_v4_set(fb, fb, fb, fb);
-}
-
-/* Whether record it (centroid c) goes to the left child: the large ones for a size split,
- * else those below the plane. bin < B exactly when the clamped (c - clo) k < B (B >= 1 an
- * integer, truncation and clamping to [0, top] keep the order; NaN goes to bin 0 and
- * compares false), so the plane test needs neither the clamp nor the conversion. */
-static inline int goes_left(const struct rs_bvh__item *it, rs_v4 c, const struct node_scale *sc,
-                            int size, int a, rs_v4 plane)
-{
-	if (size)
-		return is_large(it, sc);
-	rs_v4 f = rs_v4_mul(rs_v4_sub(c, sc->clo), sc->kv);
-	return !((rs_v4_ge_mask(f, plane) >> a) & 1);
-}
-
 /* Records [begin, end) of src by the split: left ones to dst ascending from *l, right ones
  * descending from *r (the next goes to dst[*r - 1]), so the children's records are the
  * left ones in list order and then the right ones in reverse list order. Counts and
@@ -513,11 +493,21 @@ static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__ite
 	rs_v4 lclo = rs_v4_load(lo), lchi = rs_v4_load(hi), rclo = lclo, rchi = lchi;
 	uint32_t li = *l, ri = *r, left = 0;
 	int a = sp->axis, size = sp->kind == SPLIT_SIZE;
-	rs_v4 plane = split_plane(sp);
+	/* bin < B exactly when the clamped (c - clo) k < B (B >= 1 an integer, truncation
+	 * and clamping to [0, top] keep the order; NaN goes to bin 0 and compares false), so
+	 * the plane test needs neither the clamp nor the conversion. */
+	float fb = (float)sp->bin;
+	rs_v4 plane = rs_v4_set(fb, fb, fb, fb);
 	for (uint32_t i = begin; i < end; i++) {
 		const struct rs_bvh__item *it = &src[i];
 		rs_v4 c = rs_v4_centroid(rs_v4_load(it->lo), rs_v4_load(it->hi));
-		int go_left = goes_left(it, c, sc, size, a, plane);
+		int go_left;
+		if (size) {
+			go_left = is_large(it, sc);
+		} else {
+			rs_v4 f = rs_v4_mul(rs_v4_sub(c, sc->clo), sc->kv);
+			go_left = !((rs_v4_ge_mask(f, plane) >> a) & 1);
+		}
 		left += (uint32_t)go_left;
 		/* Without a branch: c + 0 = c (a zero's sign aside), and c + inf = inf,
 		 * c - inf = -inf leave the other side's bounds as they are. */
@@ -551,76 +541,44 @@ struct part_job {
 	struct node_scale child_sc[2];
 };
 
-/* Pass 1 of a chunked partition, chunk c: how many of its records go left and right and
- * the two sides' centroid bounds (part_range()'s counts and bounds, nothing moved). */
-static void count_chunk(void *ctx, uint32_t c, uint32_t worker)
+/* Chunk c partitioned within its own range of the other buffer: its left records at the
+ * bottom, its right ones at the top, in the order the whole node's pass would give them. */
+static void part_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	const struct part_job *j = ctx;
-	const struct rs_bvh__item *src = task_items(j->s, j->t);
+	const struct rs_bvh__sah *s = j->s;
 	uint32_t begin = chunk_edge(j->t, c, j->chunks), end = chunk_edge(j->t, c + 1, j->chunks);
-	const rs_v4 pad[2] = {rs_v4_set(0.0f, 0.0f, 0.0f, 0.0f),
-	                      rs_v4_set(INFINITY, INFINITY, INFINITY, INFINITY)};
-	float lo[4], hi[4];
-	box_empty4(lo, hi);
-	rs_v4 lclo = rs_v4_load(lo), lchi = rs_v4_load(hi), rclo = lclo, rchi = lchi;
-	int a = j->sp->axis, size = j->sp->kind == SPLIT_SIZE;
-	rs_v4 plane = split_plane(j->sp);
-	uint32_t left = 0;
-	for (uint32_t i = begin; i < end; i++) {
-		rs_v4 cc = rs_v4_centroid(rs_v4_load(src[i].lo), rs_v4_load(src[i].hi));
-		int go_left = goes_left(&src[i], cc, j->sc, size, a, plane);
-		left += (uint32_t)go_left;
-		lclo = rs_v4_min(lclo, rs_v4_add(cc, pad[!go_left]));
-		lchi = rs_v4_max(lchi, rs_v4_sub(cc, pad[!go_left]));
-		rclo = rs_v4_min(rclo, rs_v4_add(cc, pad[go_left]));
-		rchi = rs_v4_max(rchi, rs_v4_sub(cc, pad[go_left]));
-	}
-	struct rs_bvh__part *p = &j->s->chunk_part[c];
-	p->left = left;
-	p->right = (end - begin) - left;
-	rs_v4_store(p->lclo, lclo);
-	rs_v4_store(p->lchi, lchi);
-	rs_v4_store(p->rclo, rclo);
-	rs_v4_store(p->rchi, rchi);
+	uint32_t l = begin, r = end;
+	part_range(task_items(j->s, j->t), j->t->buf ? s->items : s->tmp, begin, end, &l, &r, j->sc,
+	           j->sp, &s->chunk_part[c]);
 }
 
-/* Pass 2, chunk c: its records written once, straight to their final places in the other
- * buffer, where the whole node's part_range() would put them: its left ones after the left
- * ones of the chunks before it, its right ones (in reverse order) below their right ones.
- * One store per record to an address chosen without a branch (never both ends, as
- * part_range() does: a spare slot here is another chunk's). Then the children that are
- * binned ahead are binned from the blocks just written (still in cache). */
-static void scatter_chunk(void *ctx, uint32_t c, uint32_t worker)
+/* Chunk c's two blocks copied back into the node's own buffer, where the whole node's pass
+ * would have put them: its left ones after the left ones of the chunks before it, its right
+ * ones below their right ones. */
+static void move_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	const struct part_job *j = ctx;
 	const struct rs_bvh__sah *s = j->s;
 	const struct rs_bvh__task *t = j->t;
-	uint32_t l0 = t->begin, r0 = t->end;
+	uint32_t l = t->begin, r = t->end;
 	for (uint32_t k = 0; k < c; k++) {
-		l0 += s->chunk_part[k].left;
-		r0 -= s->chunk_part[k].right;
+		l += s->chunk_part[k].left;
+		r -= s->chunk_part[k].right;
 	}
-	const struct rs_bvh__item *src = task_items(s, t);
-	struct rs_bvh__item *dst = t->buf ? s->items : s->tmp;
-	uint32_t begin = chunk_edge(t, c, j->chunks), end = chunk_edge(t, c + 1, j->chunks);
-	int a = j->sp->axis, size = j->sp->kind == SPLIT_SIZE;
-	rs_v4 plane = split_plane(j->sp);
-	uint32_t li = l0, ri = r0;
-	for (uint32_t i = begin; i < end; i++) {
-		const struct rs_bvh__item *it = &src[i];
-		rs_v4 cc = rs_v4_centroid(rs_v4_load(it->lo), rs_v4_load(it->hi));
-		uint32_t go_left = (uint32_t)goes_left(it, cc, j->sc, size, a, plane);
-		uint32_t m = 0u - go_left;
-		dst[(li & m) | ((ri - 1) & ~m)] = *it;
-		li += go_left;
-		ri -= 1u - go_left;
-	}
+	const struct rs_bvh__part *p = &s->chunk_part[c];
+	const struct rs_bvh__item *from = t->buf ? s->items : s->tmp;
+	struct rs_bvh__item *to = task_items(s, t);
+	uint32_t end = chunk_edge(t, c + 1, j->chunks);
+	memcpy(to + l, from + chunk_edge(t, c, j->chunks), p->left * sizeof *to);
+	memcpy(to + r - p->right, from + end - p->right, p->right * sizeof *to);
 	if (j->bin_child[0])
-		bin_range(dst, l0, li, &j->child_sc[0], s->nbins, &s->child_bins[2 * c]);
+		bin_range(to, l, l + p->left, &j->child_sc[0], s->nbins, &s->child_bins[2 * c]);
 	if (j->bin_child[1])
-		bin_range(dst, ri, r0, &j->child_sc[1], s->nbins, &s->child_bins[2 * c + 1]);
+		bin_range(to, r - p->right, r, &j->child_sc[1], s->nbins,
+		          &s->child_bins[2 * c + 1]);
 }
 
 /* Child k's chunk bins merged in chunk order into a free prebin slot. */
@@ -669,12 +627,11 @@ static void child_tasks(const struct rs_bvh__task *t, const struct split *sp,
 	memcpy(right->hi, sp->rhi, sizeof right->hi);
 }
 
-/* Partition t's records by the split into the other buffer (the children's records are
- * there, at the same places however the node was split into chunks); big nodes in chunks on
- * the pool, in two passes: each chunk counts its sides (and their centroid bounds), then,
- * with the counts of the chunks before it, writes each record once to its final place
- * (scatter_chunk()). Fills the two child tasks, whose centroid bounds are gathered on the
- * way. */
+/* Partition t's records by the split into the other buffer; big nodes in chunks on the pool,
+ * each partitioned within its own range of the other buffer, then the chunks' blocks copied
+ * back to their places in t's own buffer (the records land in the same places either way,
+ * only the buffer differs). Fills the two child tasks, whose centroid bounds are gathered on
+ * the way. */
 static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
                       const struct node_scale *sc, const struct split *sp,
                       struct rs_bvh__task *left, struct rs_bvh__task *right)
@@ -722,7 +679,7 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 		struct part_job job;
 		memset(&job, 0, sizeof job);
 		job = (struct part_job){.s = s, .t = t, .sc = sc, .sp = sp, .chunks = chunks};
-		rs_bvh__pool_run(s->pool, chunks, count_chunk, &job);
+		rs_bvh__pool_run(s->pool, chunks, part_chunk, &job);
 		/* min, max and counts merge exactly, in any grouping. */
 		p = s->chunk_part[0];
 		for (uint32_t c = 1; c < chunks; c++) {
@@ -742,8 +699,7 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 			slot[k] = job.child_sc[k].axes ? free_slot(s, slot[0]) : NULL;
 			job.bin_child[k] = slot[k] != NULL;
 		}
-		rs_bvh__pool_run(s->pool, chunks, scatter_chunk, &job);
-		left->buf = right->buf = !t->buf;
+		rs_bvh__pool_run(s->pool, chunks, move_chunk, &job);
 		for (int k = 0; k < 2; k++)
 			if (slot[k])
 				keep_child_bins(s, child[k], (uint32_t)k, chunks, slot[k]);
