@@ -55,9 +55,10 @@ static uint64_t plain_vertices_hash(const struct rs_scene *scene)
 	return h;
 }
 
-/* Remember the instances of `scene` (update_instances compares against them). */
+/* Remember the instances of `scene` (update_instances compares against them);
+ * `plain_hash`: plain_vertices_hash(scene) where the caller has it, else 0. */
 static enum rs_status keep_instances(struct rs_renderer *r, const struct rs_scene *scene,
-                                     struct rs_error *err)
+                                     uint64_t plain_hash, struct rs_error *err)
 {
 	size_t n = rs_scene_instance_count(scene);
 	if (n > r->instance_count || !r->instance_keys) {
@@ -75,7 +76,7 @@ static enum rs_status keep_instances(struct rs_renderer *r, const struct rs_scen
 	}
 	r->instance_count = n;
 	r->prototype_count = rs_scene_prototype_count(scene);
-	r->plain_hash = n ? plain_vertices_hash(scene) : 0;
+	r->plain_hash = !n ? 0 : plain_hash ? plain_hash : plain_vertices_hash(scene);
 	return RS_OK;
 }
 
@@ -267,7 +268,7 @@ enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct 
 	enum rs_status status = r->ops->set_scene(r->impl, scene, &d, &stats, &r->error);
 	r->stats = stats;
 	if (status == RS_OK)
-		status = keep_instances(r, scene, &r->error);
+		status = keep_instances(r, scene, 0, &r->error);
 	if (status != RS_OK)
 		return fail(r, status, err);
 	r->desc = d;
@@ -276,11 +277,12 @@ enum rs_status rs_renderer_set_scene(struct rs_renderer *renderer, const struct 
 }
 
 /* update_vertices and update_instances: `op` moves the backend to `scene`, whose topology
- * (and instances, for update_instances) the caller checked. */
+ * (and instances, for update_instances) the caller checked; `plain_hash` as keep_instances
+ * takes it. */
 static enum rs_status update(struct rs_renderer *r, const struct rs_scene *scene,
                              enum rs_status (*op)(void *, const struct rs_scene *,
                                                   struct rs_render_stats *, struct rs_error *),
-                             struct rs_error *err)
+                             uint64_t plain_hash, struct rs_error *err)
 {
 	struct rs_render_stats *s = &r->stats;
 	s->update_rebuilt = false;
@@ -291,7 +293,7 @@ static enum rs_status update(struct rs_renderer *r, const struct rs_scene *scene
 	/* as set_scene: a failed update leaves no scene to render, unless the backend refused
 	 * before touching anything (RS_ERR_UNSUPPORTED) */
 	if (status == RS_OK)
-		status = keep_instances(r, scene, &r->error);
+		status = keep_instances(r, scene, plain_hash, &r->error);
 	if (status != RS_ERR_UNSUPPORTED)
 		r->scene = status == RS_OK ? scene : NULL;
 	if (status != RS_OK)
@@ -324,7 +326,7 @@ enum rs_status rs_renderer_update_vertices(struct rs_renderer *renderer,
 {
 	RS_ASSERT(renderer && scene);
 	enum rs_status status = can_update(renderer, scene, false, err);
-	return status == RS_OK ? update(renderer, scene, renderer->ops->update_vertices, err)
+	return status == RS_OK ? update(renderer, scene, renderer->ops->update_vertices, 0, err)
 	                       : status;
 }
 
@@ -350,7 +352,9 @@ enum rs_status rs_renderer_update_instances(struct rs_renderer *renderer,
 		    inst[i].material != r->instance_keys[i * 3 + 1] ||
 		    inst[i].first_triangle != r->instance_keys[i * 3 + 2])
 			what = "an instance's prototype, material or triangles changed";
-	if (!what && plain_vertices_hash(scene) != r->plain_hash)
+	/* the plain vertices are hashed once a frame: checked here, kept by update() */
+	uint64_t plain_hash = what ? 0 : plain_vertices_hash(scene);
+	if (!what && plain_hash != r->plain_hash)
 		what = "plain (non-instance) vertices moved";
 	if (what)
 		return fail(r,
@@ -362,7 +366,8 @@ enum rs_status rs_renderer_update_instances(struct rs_renderer *renderer,
 	bool baked = !r->ops->update_instances;
 	/* an op may say it took the baked path too (a renderer drawing the scene flattened) */
 	r->stats.instance_update_baked = false;
-	status = update(r, scene, baked ? r->ops->update_vertices : r->ops->update_instances, err);
+	status = update(r, scene, baked ? r->ops->update_vertices : r->ops->update_instances,
+	                plain_hash, err);
 	if (status == RS_OK) {
 		r->stats.instance_updates++;
 		r->stats.instance_update_baked |= baked;
