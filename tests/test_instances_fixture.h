@@ -9,9 +9,8 @@
 #include <string.h>
 
 #include "raystream/rs_scene.h"
+#include "test_instances_shapes.h"
 
-#define FIX_RINGS 8
-#define FIX_SEGMENTS 12
 #define FIX_INSTANCES 6u
 
 /* Instance i's transform at frame k: a turn about a tilted axis, a scale, a slide. */
@@ -45,26 +44,10 @@ static inline struct rs_scene *fix_scene_with(uint32_t k, double y, uint32_t n)
 	const struct rs_material red = {.diffuse = {0.8f, 0.2f, 0.1f}, .reflectance = 0.3f};
 	rs_scene_add_material(scene, &grey, NULL, NULL);
 	rs_scene_add_material(scene, &red, NULL, NULL);
-	double pos[(FIX_RINGS + 1) * FIX_SEGMENTS * 3];
-	uint32_t idx[FIX_RINGS * FIX_SEGMENTS * 6];
-	size_t nv = 0, nt = 0;
-	for (int r = 0; r <= FIX_RINGS; r++)
-		for (int sg = 0; sg < FIX_SEGMENTS; sg++) {
-			double th = RS_PI * r / FIX_RINGS, ph = 2.0 * RS_PI * sg / FIX_SEGMENTS;
-			pos[nv * 3] = sin(th) * cos(ph);
-			pos[nv * 3 + 1] = 0.7 * cos(th);
-			pos[nv * 3 + 2] = sin(th) * sin(ph) + 0.2 * sin(th);
-			nv++;
-		}
-	for (uint32_t r = 0; r < FIX_RINGS; r++)
-		for (uint32_t sg = 0; sg < FIX_SEGMENTS; sg++) {
-			uint32_t a = r * FIX_SEGMENTS + sg,
-			         b = r * FIX_SEGMENTS + (sg + 1) % FIX_SEGMENTS,
-			         c = a + FIX_SEGMENTS, d = b + FIX_SEGMENTS;
-			const uint32_t t[6] = {a, b, c, b, d, c};
-			memcpy(idx + nt * 3, t, sizeof t);
-			nt += 2;
-		}
+	double pos[SPHERE_VERTICES * 3];
+	uint32_t idx[SPHERE_TRIANGLES * 3];
+	sphere_arrays(pos, idx);
+	size_t nv = SPHERE_VERTICES, nt = SPHERE_TRIANGLES;
 	struct rs_mesh_desc sphere = {.positions_f64 = pos,
 	                              .vertex_count = nv,
 	                              .indices = idx,

@@ -12,11 +12,13 @@
 #define SPHERE_RINGS 8
 #define SPHERE_SEGMENTS 12
 
-/* A UV sphere (curved silhouettes), wound outward, slightly squashed so rotations show. */
-static inline uint32_t add_sphere(struct rs_scene *scene)
+/* The UV sphere's vertex and index arrays (curved silhouettes), wound outward, slightly
+ * squashed so rotations show; sizes SPHERE_VERTICES and SPHERE_TRIANGLES. */
+#define SPHERE_VERTICES ((SPHERE_RINGS + 1) * SPHERE_SEGMENTS)
+#define SPHERE_TRIANGLES (SPHERE_RINGS * SPHERE_SEGMENTS * 2)
+static inline void sphere_arrays(double pos[SPHERE_VERTICES * 3],
+                                 uint32_t idx[SPHERE_TRIANGLES * 3])
 {
-	double pos[(SPHERE_RINGS + 1) * SPHERE_SEGMENTS * 3];
-	uint32_t idx[SPHERE_RINGS * SPHERE_SEGMENTS * 6];
 	size_t nv = 0, nt = 0;
 	for (int r = 0; r <= SPHERE_RINGS; r++)
 		for (int s = 0; s < SPHERE_SEGMENTS; s++) {
@@ -36,6 +38,15 @@ static inline uint32_t add_sphere(struct rs_scene *scene)
 			memcpy(idx + nt * 3, t, sizeof t);
 			nt += 2;
 		}
+}
+
+/* The sphere as a prototype of `scene`. */
+static inline uint32_t add_sphere(struct rs_scene *scene)
+{
+	double pos[SPHERE_VERTICES * 3];
+	uint32_t idx[SPHERE_TRIANGLES * 3];
+	sphere_arrays(pos, idx);
+	size_t nv = SPHERE_VERTICES, nt = SPHERE_TRIANGLES;
 	struct rs_mesh_desc mesh = {
 	    .positions_f64 = pos, .vertex_count = nv, .indices = idx, .triangle_count = nt};
 	uint32_t id;
