@@ -87,6 +87,8 @@ struct rs_bvh__sah {
 	struct rs_bvh__item *items, *tmp;
 	uint32_t nbins, leaf_size;
 	double ct;
+	/* Plane costs four at a time with AVX (rs_bvh__wide()); the same bits either way. */
+	int wide;
 	/* Parallel binning of the nodes above the subtrees (NULL: serial): chunk c of a big
 	 * node bins into chunk_bins[c]. */
 	struct rs_bvh__pool *pool;
@@ -133,6 +135,11 @@ struct rs_bvh__emit {
 	void (*on_defer)(void *ctx, uint32_t j, size_t k);
 	void *defer_ctx;
 };
+
+/* Whether this CPU runs the AVX plane costs (and rs_bvh__wide_allowed is set: a test clears
+ * it to build the same trees without them and compare). */
+extern int rs_bvh__wide_allowed;
+int rs_bvh__wide(void);
 
 int rs_bvh__scratch_init(struct rs_bvh__scratch *s, uint32_t nbins, size_t max_items);
 void rs_bvh__scratch_free(struct rs_bvh__scratch *s);

@@ -417,6 +417,7 @@ enum rs_status rs_bvh__build_sah(const struct rs_bvh_desc *desc, const float *po
 	b.s.nbins = desc->sah_bins;
 	b.s.leaf_size = desc->leaf_size;
 	b.s.ct = desc->traversal_cost;
+	b.s.wide = rs_bvh__wide();
 	uint32_t threads = triangle_count >= PAR_MIN ? desc->threads : 1;
 	int ok = 1;
 	if (threads > 1) {

@@ -13,6 +13,11 @@
     !defined(RS_BVH_PLAIN_C)
 #include <emmintrin.h>
 #define RS_BVH_SSE 1
+/* AVX where the CPU has it, chosen at run time (bvh_sah.c's plane costs): the compiler must
+ * take target attributes. */
+#if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__))
+#define RS_BVH_WIDE 1
+#endif
 
 typedef __m128 rs_v4;
 
