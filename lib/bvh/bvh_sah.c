@@ -23,6 +23,15 @@
 #include "bvh_sah.h"
 #include "bvh_v4.h"
 
+#ifdef RS_BVH_WIDE
+#include <immintrin.h>
+/* AVX code, chosen at run time (s->wide). Each such function ends with vzeroupper: the SSE
+ * code that follows ran at a third of its speed with the upper halves of the registers
+ * dirty (measured: the whole build took 2.9x as long), and GCC left it out before a tail
+ * call. */
+#define WIDE_FN __attribute__((target("avx")))
+#endif
+
 /* Nodes of at most this many records bin sparsely: only the bins their records fall in are
  * cleared, filled and swept (split_small()). */
 #define SMALL_NODE 12u
@@ -299,13 +308,11 @@ static void plane_costs_narrow(const struct plane_boxes *pb, const uint32_t *ln,
 }
 
 #ifdef RS_BVH_WIDE
-#include <immintrin.h>
-
 /* Areas of four boxes (lo at offset 0, hi at offset 4 floats of each, stride floats apart),
  * four lanes of double at a time: the conversions, differences, products and sums of
  * box_area(), in its order (x y + y z + z x, then times 2), transposed so that lane k is
  * box k. */
-__attribute__((target("avx"))) static inline __m256d areas4(const float *box, size_t stride)
+WIDE_FN static inline __m256d areas4(const float *box, size_t stride)
 {
 	__m256d d[4];
 	for (int k = 0; k < 4; k++) {
@@ -341,9 +348,6 @@ __attribute__((target("avx"))) static void plane_costs_wide(const struct plane_b
 		__m256d left = _mm256_mul_pd(areas4(pb[i].llo, stride), lc);
 		_mm256_storeu_pd(cost + i, _mm256_add_pd(_mm256_add_pd(sp, left), right));
 	}
-	/* The SSE code that follows runs at a third of its speed with the upper halves of the
-	 * registers dirty (measured: the build took 2.9x as long), and GCC left this out
-	 * before the tail call. */
 	_mm256_zeroupper();
 	plane_costs_narrow(pb, ln, rn, i, to, split, cost);
 }
@@ -559,7 +563,7 @@ static void find_split(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
  * centroid bounds go to *p. Every record is written to both ends and one end advances (no
  * branch to mispredict), so both ends must stay inside [begin, end): *l = begin and
  * *r = end. */
-static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__item *dst,
+static void part_range_narrow(const struct rs_bvh__item *src, struct rs_bvh__item *dst,
                               uint32_t begin, uint32_t end, uint32_t *l, uint32_t *r,
                               const struct node_scale *sc, const struct split *sp,
                               struct rs_bvh__part *p)
@@ -608,6 +612,67 @@ static inline void part_range(const struct rs_bvh__item *src, struct rs_bvh__ite
 	rs_v4_store(p->rchi, rchi);
 }
 
+#ifdef RS_BVH_WIDE
+/* part_range_narrow() of a plane split with AVX: the record moved in one register, and the
+ * side's lanes picked by a blend instead of the padding's add (c + 0 towards the lower
+ * bounds, c itself towards the upper ones, +-inf on the other side: the values the padding
+ * gives, so the same bits). */
+WIDE_FN static void part_plane_wide(const struct rs_bvh__item *src, struct rs_bvh__item *dst,
+                                    uint32_t begin, uint32_t end, uint32_t *l, uint32_t *r,
+                                    const struct node_scale *sc, const struct split *sp,
+                                    struct rs_bvh__part *p)
+{
+	const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
+	const __m128 inf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
+	const __m128 clo = sc->clo, k = sc->kv, plane = _mm_set1_ps((float)sp->bin);
+	const __m128i axis = _mm_set1_epi32(sp->axis);
+	__m128 lclo = _mm_setr_ps(FLT_MAX, FLT_MAX, FLT_MAX, 0.0f);
+	__m128 lchi = _mm_setr_ps(-FLT_MAX, -FLT_MAX, -FLT_MAX, 0.0f), rclo = lclo, rchi = lchi;
+	uint32_t li = *l, ri = *r;
+	for (uint32_t i = begin; i < end; i++) {
+		const struct rs_bvh__item *it = &src[i];
+		__m256 rec = _mm256_loadu_ps(it->lo);
+		__m128 c = _mm_add_ps(_mm_mul_ps(half, _mm_loadu_ps(it->lo)),
+		                      _mm_mul_ps(half, _mm_loadu_ps(it->hi)));
+		__m128 f = _mm_mul_ps(_mm_sub_ps(c, clo), k);
+		__m128 right = _mm_permutevar_ps(_mm_cmpge_ps(f, plane), axis);
+		uint32_t go_right = (uint32_t)_mm_movemask_ps(right) & 1u;
+		__m128 c0 = _mm_add_ps(c, zero);
+		lclo = _mm_min_ps(lclo, _mm_blendv_ps(c0, inf, right));
+		lchi = _mm_max_ps(lchi, _mm_blendv_ps(c, ninf, right));
+		rclo = _mm_min_ps(rclo, _mm_blendv_ps(inf, c0, right));
+		rchi = _mm_max_ps(rchi, _mm_blendv_ps(ninf, c, right));
+		_mm256_storeu_ps(dst[li].lo, rec);
+		_mm256_storeu_ps(dst[ri - 1].lo, rec);
+		li += go_right ^ 1u;
+		ri -= go_right;
+	}
+	p->left = li - *l;
+	p->right = (end - begin) - p->left;
+	*l = li;
+	*r = ri;
+	_mm_storeu_ps(p->lclo, lclo);
+	_mm_storeu_ps(p->lchi, lchi);
+	_mm_storeu_ps(p->rclo, rclo);
+	_mm_storeu_ps(p->rchi, rchi);
+	_mm256_zeroupper();
+}
+#endif
+
+static void part_range(const struct rs_bvh__sah *s, const struct rs_bvh__item *src,
+                       struct rs_bvh__item *dst, uint32_t begin, uint32_t end, uint32_t *l,
+                       uint32_t *r, const struct node_scale *sc, const struct split *sp,
+                       struct rs_bvh__part *p)
+{
+#ifdef RS_BVH_WIDE
+	if (s->wide && sp->kind == SPLIT_PLANE) {
+		part_plane_wide(src, dst, begin, end, l, r, sc, sp, p);
+		return;
+	}
+#endif
+	part_range_narrow(src, dst, begin, end, l, r, sc, sp, p);
+}
+
 struct part_job {
 	const struct rs_bvh__sah *s;
 	const struct rs_bvh__task *t;
@@ -628,8 +693,8 @@ static void part_chunk(void *ctx, uint32_t c, uint32_t worker)
 	const struct rs_bvh__sah *s = j->s;
 	uint32_t begin = chunk_edge(j->t, c, j->chunks), end = chunk_edge(j->t, c + 1, j->chunks);
 	uint32_t l = begin, r = end;
-	part_range(task_items(j->s, j->t), j->t->buf ? s->items : s->tmp, begin, end, &l, &r, j->sc,
-	           j->sp, &s->chunk_part[c]);
+	part_range(s, task_items(j->s, j->t), j->t->buf ? s->items : s->tmp, begin, end, &l, &r,
+	           j->sc, j->sp, &s->chunk_part[c]);
 }
 
 /* Chunk c's two blocks copied back into the node's own buffer, where the whole node's pass
@@ -750,8 +815,8 @@ static void partition(const struct rs_bvh__sah *s, const struct rs_bvh__task *t,
 	struct rs_bvh__part p;
 	if (chunks < 2) {
 		uint32_t l = t->begin, r = t->end;
-		part_range(task_items(s, t), t->buf ? s->items : s->tmp, t->begin, t->end, &l, &r,
-		           sc, sp, &p);
+		part_range(s, task_items(s, t), t->buf ? s->items : s->tmp, t->begin, t->end, &l,
+		           &r, sc, sp, &p);
 		left->buf = right->buf = !t->buf;
 	} else {
 		struct part_job job;
