@@ -97,13 +97,14 @@ static void wide_and_narrow_build_the_same_tree(void **state)
 				struct built narrow = build(&m, bins[j], threads, 0);
 				struct built wide = build(&m, bins[j], threads, 1);
 				if (wide.count != narrow.count)
-					fail_msg("%zu triangles, %u bins: %zu nodes wide, %zu narrow",
-					         m.tris, bins[j], wide.count, narrow.count);
+					fail_msg(
+					    "%zu triangles, %u bins: %zu nodes wide, %zu narrow",
+					    m.tris, bins[j], wide.count, narrow.count);
 				for (size_t i = 0; i < narrow.count; i++)
 					if (memcmp(&wide.nodes[i], &narrow.nodes[i],
 					           sizeof narrow.nodes[i]) != 0)
-						fail_msg("%zu triangles, %u bins: node %zu differs", m.tris,
-						         bins[j], i);
+						fail_msg("%zu triangles, %u bins: node %zu differs",
+						         m.tris, bins[j], i);
 				assert_memory_equal(wide.order, narrow.order,
 				                    m.tris * sizeof *narrow.order);
 				built_free(&narrow);

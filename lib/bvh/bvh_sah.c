@@ -191,8 +191,10 @@ static inline void bin_one(struct rs_bvh__bin *bins, uint32_t *counts, rs_v4 lo,
  * with two sets of bins, alternate records update independent bins. Min, max and counts
  * merge exactly, so the bins are the same bits either way. */
 static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t end,
-                      const struct node_scale *sc, uint32_t nb, struct rs_bvh__binning *b)
+                      const struct node_scale *scale, uint32_t nb, struct rs_bvh__binning *b)
 {
+	/* A copy the bins' stores cannot alias, so its vectors stay in registers. */
+	const struct node_scale copy = *scale, *sc = &copy;
 	binning_clear(b, nb);
 	struct rs_bvh__bin *bins = b->bins;
 	uint32_t *counts = b->counts, large = 0;
@@ -427,7 +429,7 @@ enum { BIN_WORDS = RS_BVH_MAX_BINS / 64 };
  * (sparse binning; the same bins, so the same planes and costs as sweep_axis()), and the
  * size split's two sides are gathered on the way. */
 static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
-                        const struct rs_bvh__task *t, const struct node_scale *sc, double area,
+                        const struct rs_bvh__task *t, const struct node_scale *scale, double area,
                         struct split *out)
 {
 	const struct rs_bvh__item *items = task_items(s, t) + t->begin;
@@ -435,20 +437,31 @@ static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 	int32_t bins[SMALL_NODE][4];
 	uint64_t used[3][BIN_WORDS] = {{0}};
 	struct rs_bvh__binning *b = &w->binning;
-	box_empty4(b->blo, b->bhi);
-	box_empty4(b->slo, b->shi);
-	b->large = 0;
+	/* The scale and the size split's sides in registers (stores could alias them). */
+	const struct node_scale copy = *scale, *sc = &copy;
+	float elo[4], ehi[4];
+	box_empty4(elo, ehi);
+	rs_v4 blo = rs_v4_load(elo), bhi = rs_v4_load(ehi), slo = blo, shi = bhi;
+	uint32_t large = 0;
 	for (uint32_t i = 0; i < n; i++) {
 		item_bins(&items[i], sc, bins[i]);
 		for (int a = 0; a < 3; a++)
 			used[a][bins[i][a] >> 6] |= 1ull << (bins[i][a] & 63);
-		if (is_large(&items[i], sc)) {
-			grow(b->blo, b->bhi, items[i].lo, items[i].hi);
-			b->large++;
+		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
+		if (spans_half(lo, hi, sc)) {
+			blo = rs_v4_min(blo, lo);
+			bhi = rs_v4_max(bhi, hi);
+			large++;
 		} else {
-			grow(b->slo, b->shi, items[i].lo, items[i].hi);
+			slo = rs_v4_min(slo, lo);
+			shi = rs_v4_max(shi, hi);
 		}
 	}
+	rs_v4_store(b->blo, blo);
+	rs_v4_store(b->bhi, bhi);
+	rs_v4_store(b->slo, slo);
+	rs_v4_store(b->shi, shi);
+	b->large = large;
 	uint32_t ne[3][SMALL_NODE], m[3] = {0, 0, 0};
 	for (int a = 0; a < 3; a++) {
 		for (uint32_t wd = 0; wd < words; wd++) {
