@@ -136,6 +136,27 @@ static void take(struct split *out, enum split_kind kind, int axis, uint32_t bin
 
 static void node_scale(uint32_t nb, const struct rs_bvh__task *t, struct node_scale *sc)
 {
+#ifdef RS_BVH_SSE
+	/* The loop below, lane by lane (the same divisions and conversions; a lane that fails a
+	 * test, and lane 3, masked to +0). */
+	const __m128 xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)), zero = _mm_setzero_ps();
+	__m128 extent = _mm_sub_ps(_mm_loadu_ps(t->chi), _mm_loadu_ps(t->clo));
+	const __m128d num = _mm_set1_pd((double)nb * (1.0 - 1e-6)), lim = _mm_set1_pd(1e30);
+	__m128d k01 = _mm_div_pd(num, _mm_cvtps_pd(extent));
+	__m128d k23 = _mm_div_pd(num, _mm_cvtps_pd(_mm_movehl_ps(extent, extent)));
+	k01 = _mm_and_pd(k01,
+	                 _mm_and_pd(_mm_cmpgt_pd(k01, _mm_setzero_pd()), _mm_cmplt_pd(k01, lim)));
+	k23 = _mm_and_pd(k23,
+	                 _mm_and_pd(_mm_cmpgt_pd(k23, _mm_setzero_pd()), _mm_cmplt_pd(k23, lim)));
+	__m128 k = _mm_movelh_ps(_mm_cvtpd_ps(k01), _mm_cvtpd_ps(k23));
+	k = _mm_and_ps(k, _mm_and_ps(xyz, _mm_cmpgt_ps(extent, zero)));
+	__m128 e = _mm_sub_ps(_mm_loadu_ps(t->hi), _mm_loadu_ps(t->lo));
+	__m128 inv =
+	    _mm_and_ps(_mm_div_ps(_mm_set1_ps(1.0f), e), _mm_and_ps(xyz, _mm_cmpgt_ps(e, zero)));
+	_mm_storeu_ps(sc->k, k);
+	_mm_storeu_ps(sc->inv_ext, inv);
+	sc->axes = __builtin_popcount((unsigned)_mm_movemask_ps(_mm_cmpneq_ps(k, zero)) & 7u);
+#else
 	sc->axes = 0;
 	sc->k[3] = sc->inv_ext[3] = 0.0f;
 	for (int a = 0; a < 3; a++) {
@@ -147,6 +168,7 @@ static void node_scale(uint32_t nb, const struct rs_bvh__task *t, struct node_sc
 		float e = t->hi[a] - t->lo[a];
 		sc->inv_ext[a] = e > 0.0f ? 1.0f / e : 0.0f;
 	}
+#endif
 	float top = (float)(nb - 1);
 	sc->clo = rs_v4_set(t->clo[0], t->clo[1], t->clo[2], 0.0f);
 	sc->kv = rs_v4_load(sc->k);
