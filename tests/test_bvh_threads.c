@@ -1,5 +1,6 @@
-/* rs_bvh's SAH builder on several threads: the tree (nodes and triangle order, to the byte)
- * is the one-thread tree for every thread count, on meshes big enough for the threaded
+/* rs_bvh's SAH builder on several threads, and with or without its run-time chosen AVX code:
+ * the tree (nodes and triangle order, to the byte) is the one-thread tree for every thread
+ * count and for either path, on meshes big enough for the threaded
  * paths (subtrees on the threads, big nodes binned and partitioned in chunks), including signed
  * zeros and coincident centroids, whose min/max and list-order splits would show any dependence on
  * how the work was divided. */
@@ -7,12 +8,16 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
 
 #include "raystream/rs_bvh.h"
+
+#include "../lib/bvh/bvh_sah.h" /* rs_bvh__wide_allowed, rs_bvh__wide() */
+#include "../lib/bvh/bvh_v4.h"  /* RS_BVH_WIDE */
 
 struct mesh {
 	float *pos;
@@ -82,9 +87,9 @@ struct built {
 	size_t count;
 };
 
-static struct built build_leaves(const struct mesh *m, uint32_t threads, uint32_t leaf_size)
+static struct built build_desc(const struct mesh *m, struct rs_bvh_desc d)
 {
-	struct rs_bvh_desc d = {.builder = RS_BVH_SAH, .threads = threads, .leaf_size = leaf_size};
+	uint32_t threads = d.threads;
 	size_t cap = rs_bvh_node_bound(&d, m->tris);
 	struct built b = {malloc(cap * sizeof *b.nodes), malloc(m->tris * sizeof *b.order), 0};
 	assert_non_null(b.nodes);
@@ -98,6 +103,12 @@ static struct built build_leaves(const struct mesh *m, uint32_t threads, uint32_
 	if (rs_bvh_check(b.nodes, b.count, m->pos, m->idx, b.order, m->tris, &err) != RS_OK)
 		fail_msg("tree built on %u threads: %s", threads, err.message);
 	return b;
+}
+
+static struct built build_leaves(const struct mesh *m, uint32_t threads, uint32_t leaf_size)
+{
+	struct rs_bvh_desc d = {.builder = RS_BVH_SAH, .threads = threads, .leaf_size = leaf_size};
+	return build_desc(m, d);
 }
 
 static struct built build(const struct mesh *m, uint32_t threads)
@@ -310,6 +321,56 @@ static void bad_input_is_named_the_same_on_threads(void **state)
 	free(m.idx);
 }
 
+/* The AVX code (the sweeps' plane costs four planes at a time, the plane partition) builds
+ * the tree the SSE code builds, or which path the CPU picks would change images and hit
+ * numbers from machine to machine. Bin counts that leave 0 to 3 planes after the last group
+ * of four, and the most; coordinates rounded to integers for equal costs between planes
+ * (the first must win on both paths). */
+static void wide_and_narrow_build_the_same_tree(void **state)
+{
+	(void)state;
+	const uint32_t bins[] = {2, 5, 7, 16, 33, 256};
+	for (int coarse = 0; coarse < 2; coarse++) {
+		struct mesh m = random_mesh(coarse ? 3000 : 20000);
+		for (size_t i = 0; coarse && i < 9 * m.tris; i++)
+			m.pos[i] = (float)(int)m.pos[i];
+		for (size_t j = 0; j < sizeof bins / sizeof bins[0]; j++) {
+			struct rs_bvh_desc d = {
+			    .builder = RS_BVH_SAH, .sah_bins = bins[j], .threads = j % 2 ? 2 : 1};
+			rs_bvh__wide_allowed = 0;
+			struct built narrow = build_desc(&m, d);
+			rs_bvh__wide_allowed = 1;
+			struct built wide = build_desc(&m, d);
+			if (wide.count != narrow.count)
+				fail_msg("%zu triangles, %u bins: %zu nodes wide, %zu narrow",
+				         m.tris, bins[j], wide.count, narrow.count);
+			assert_same_tree(&wide, &narrow, m.tris);
+			built_free(&narrow);
+			built_free(&wide);
+		}
+		free(m.pos);
+		free(m.idx);
+	}
+}
+
+/* The switch reaches the build: cleared, no build runs the AVX code; set, every build on a
+ * CPU with AVX does (else the test above compares a path with itself, and says so). */
+static void the_switch_picks_the_path(void **state)
+{
+	(void)state;
+	rs_bvh__wide_allowed = 0;
+	assert_int_equal(rs_bvh__wide(), 0);
+	rs_bvh__wide_allowed = 1;
+#ifdef RS_BVH_WIDE
+	assert_int_equal(rs_bvh__wide(), __builtin_cpu_supports("avx") ? 1 : 0);
+	if (!rs_bvh__wide())
+		printf("no AVX on this CPU: both paths above were the SSE one\n");
+#else
+	assert_int_equal(rs_bvh__wide(), 0);
+	printf("no AVX code in this build: both paths above were the same\n");
+#endif
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -321,6 +382,8 @@ int main(void)
 	    cmocka_unit_test(threads_keep_the_sah_cost),
 	    cmocka_unit_test(thread_count_is_validated),
 	    cmocka_unit_test(bad_input_is_named_the_same_on_threads),
+	    cmocka_unit_test(wide_and_narrow_build_the_same_tree),
+	    cmocka_unit_test(the_switch_picks_the_path),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -188,6 +188,34 @@ static void binning_clear(struct rs_bvh__binning *b, uint32_t nb)
 	b->large = 0;
 }
 
+/* The size split's two sides as one pass gathers them: large (spanning half the node) and
+ * the rest, kept in registers (stores to the bins could alias memory). */
+struct sides {
+	rs_v4 blo, bhi, slo, shi;
+	uint32_t large;
+};
+
+static inline void sides_add(struct sides *d, rs_v4 lo, rs_v4 hi, const struct node_scale *sc)
+{
+	if (spans_half(lo, hi, sc)) {
+		d->blo = rs_v4_min(d->blo, lo);
+		d->bhi = rs_v4_max(d->bhi, hi);
+		d->large++;
+	} else {
+		d->slo = rs_v4_min(d->slo, lo);
+		d->shi = rs_v4_max(d->shi, hi);
+	}
+}
+
+static inline void sides_store(const struct sides *d, struct rs_bvh__binning *b)
+{
+	rs_v4_store(b->blo, d->blo);
+	rs_v4_store(b->bhi, d->bhi);
+	rs_v4_store(b->slo, d->slo);
+	rs_v4_store(b->shi, d->shi);
+	b->large = d->large;
+}
+
 /* Nodes of at least this many records bin into two sets of bins, even records into one and
  * odd ones into the other, merged at the end (bin_range()). */
 #define TWO_SETS_MIN 64u
@@ -219,7 +247,7 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 	const struct node_scale copy = *scale, *sc = &copy;
 	binning_clear(b, nb);
 	struct rs_bvh__bin *bins = b->bins;
-	uint32_t *counts = b->counts, large = 0;
+	uint32_t *counts = b->counts;
 	struct rs_bvh__bin bins2[3 * RS_BVH_MAX_BINS];
 	uint32_t counts2[3 * RS_BVH_MAX_BINS];
 	int two = end - begin >= TWO_SETS_MIN;
@@ -229,23 +257,15 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 			counts2[j] = 0;
 		}
 	}
-	/* The size split's sides stay in registers (the bins' stores could alias them). */
-	rs_v4 blo = rs_v4_load(b->blo), bhi = rs_v4_load(b->bhi);
-	rs_v4 slo = rs_v4_load(b->slo), shi = rs_v4_load(b->shi);
+	struct sides d = {rs_v4_load(b->blo), rs_v4_load(b->bhi), rs_v4_load(b->slo),
+	                  rs_v4_load(b->shi), 0};
 	for (uint32_t i = begin; i < end; i++) {
 		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
 		if (two && ((i - begin) & 1u))
 			bin_one(bins2, counts2, lo, hi, sc, nb);
 		else
 			bin_one(bins, counts, lo, hi, sc, nb);
-		if (spans_half(lo, hi, sc)) {
-			blo = rs_v4_min(blo, lo);
-			bhi = rs_v4_max(bhi, hi);
-			large++;
-		} else {
-			slo = rs_v4_min(slo, lo);
-			shi = rs_v4_max(shi, hi);
-		}
+		sides_add(&d, lo, hi, sc);
 	}
 	if (two) {
 		for (uint32_t j = 0; j < 3 * nb; j++) {
@@ -253,11 +273,7 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 			counts[j] += counts2[j];
 		}
 	}
-	rs_v4_store(b->blo, blo);
-	rs_v4_store(b->bhi, bhi);
-	rs_v4_store(b->slo, slo);
-	rs_v4_store(b->shi, shi);
-	b->large = large;
+	sides_store(&d, b);
 }
 
 struct chunk_job {
@@ -459,31 +475,18 @@ static void split_small(const struct rs_bvh__sah *s, struct rs_bvh__scratch *w,
 	int32_t bins[SMALL_NODE][4];
 	uint64_t used[3][BIN_WORDS] = {{0}};
 	struct rs_bvh__binning *b = &w->binning;
-	/* The scale and the size split's sides in registers (stores could alias them). */
+	/* The scale in registers too (stores could alias it). */
 	const struct node_scale copy = *scale, *sc = &copy;
 	float elo[4], ehi[4];
 	box_empty4(elo, ehi);
-	rs_v4 blo = rs_v4_load(elo), bhi = rs_v4_load(ehi), slo = blo, shi = bhi;
-	uint32_t large = 0;
+	struct sides d = {rs_v4_load(elo), rs_v4_load(ehi), rs_v4_load(elo), rs_v4_load(ehi), 0};
 	for (uint32_t i = 0; i < n; i++) {
 		item_bins(&items[i], sc, bins[i]);
 		for (int a = 0; a < 3; a++)
 			used[a][bins[i][a] >> 6] |= 1ull << (bins[i][a] & 63);
-		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
-		if (spans_half(lo, hi, sc)) {
-			blo = rs_v4_min(blo, lo);
-			bhi = rs_v4_max(bhi, hi);
-			large++;
-		} else {
-			slo = rs_v4_min(slo, lo);
-			shi = rs_v4_max(shi, hi);
-		}
+		sides_add(&d, rs_v4_load(items[i].lo), rs_v4_load(items[i].hi), sc);
 	}
-	rs_v4_store(b->blo, blo);
-	rs_v4_store(b->bhi, bhi);
-	rs_v4_store(b->slo, slo);
-	rs_v4_store(b->shi, shi);
-	b->large = large;
+	sides_store(&d, b);
 	uint32_t ne[3][SMALL_NODE], m[3] = {0, 0, 0};
 	for (int a = 0; a < 3; a++) {
 		for (uint32_t wd = 0; wd < words; wd++) {
