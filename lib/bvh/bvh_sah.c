@@ -155,7 +155,8 @@ static void node_scale(uint32_t nb, const struct rs_bvh__task *t, struct node_sc
 	    _mm_and_ps(_mm_div_ps(_mm_set1_ps(1.0f), e), _mm_and_ps(xyz, _mm_cmpgt_ps(e, zero)));
 	_mm_storeu_ps(sc->k, k);
 	_mm_storeu_ps(sc->inv_ext, inv);
-	sc->axes = __builtin_popcount((unsigned)_mm_movemask_ps(_mm_cmpneq_ps(k, zero)) & 7u);
+	int nonzero = _mm_movemask_ps(_mm_cmpneq_ps(k, zero));
+	sc->axes = (nonzero & 1) + (nonzero >> 1 & 1) + (nonzero >> 2 & 1);
 #else
 	sc->axes = 0;
 	sc->k[3] = sc->inv_ext[3] = 0.0f;
