@@ -260,12 +260,19 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 	}
 	struct sides d = {rs_v4_load(b->blo), rs_v4_load(b->bhi), rs_v4_load(b->slo),
 	                  rs_v4_load(b->shi), 0};
-	for (uint32_t i = begin; i < end; i++) {
+	uint32_t i = begin;
+	/* Pairs: the first record of each into one set, the second into the other. */
+	for (; two && i + 1 < end; i += 2) {
 		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
-		if (two && ((i - begin) & 1u))
-			bin_one(bins2, counts2, lo, hi, sc, nb);
-		else
-			bin_one(bins, counts, lo, hi, sc, nb);
+		rs_v4 lo2 = rs_v4_load(items[i + 1].lo), hi2 = rs_v4_load(items[i + 1].hi);
+		bin_one(bins, counts, lo, hi, sc, nb);
+		bin_one(bins2, counts2, lo2, hi2, sc, nb);
+		sides_add(&d, lo, hi, sc);
+		sides_add(&d, lo2, hi2, sc);
+	}
+	for (; i < end; i++) {
+		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
+		bin_one(bins, counts, lo, hi, sc, nb);
 		sides_add(&d, lo, hi, sc);
 	}
 	if (two) {
