@@ -218,8 +218,10 @@ static inline void sides_store(const struct sides *d, struct rs_bvh__binning *b)
 }
 
 /* Nodes of at least this many records bin into two sets of bins, even records into one and
- * odd ones into the other, merged at the end (bin_range()). */
-#define TWO_SETS_MIN 64u
+ * odd ones into the other, merged at the end (bin_range()). 128 since the records go in
+ * pairs (measured on Cow17, one thread: 2-5 % faster than 64, 32 slower, 256 not told
+ * apart). */
+#define TWO_SETS_MIN 128u
 
 /* One record into the bins of all three axes (a flat axis, k = 0, fills bin 0, which the
  * sweep skips). */
