@@ -225,8 +225,9 @@ static inline void sides_store(const struct sides *d, struct rs_bvh__binning *b)
 
 /* One record into the bins of all three axes (a flat axis, k = 0, fills bin 0, which the
  * sweep skips). */
-static inline void bin_one(struct rs_bvh__bin *bins, uint32_t *counts, rs_v4 lo, rs_v4 hi,
-                           const struct node_scale *sc, uint32_t nb)
+static inline __attribute__((always_inline)) void bin_one(struct rs_bvh__bin *bins,
+                                                          uint32_t *counts, rs_v4 lo, rs_v4 hi,
+                                                          const struct node_scale *sc, uint32_t nb)
 {
 	int32_t bin[4];
 	rs_v4_bins(rs_v4_centroid(lo, hi), sc->clo, sc->kv, sc->top, bin);
@@ -238,13 +239,35 @@ static inline void bin_one(struct rs_bvh__bin *bins, uint32_t *counts, rs_v4 lo,
 	}
 }
 
+#ifdef RS_BVH_WIDE
+WIDE_FN static inline __attribute__((always_inline)) void
+bin_one_wide(struct rs_bvh__bin *bins, uint32_t *counts, rs_v4 lo, rs_v4 hi,
+             const struct node_scale *sc, uint32_t nb)
+{
+	int32_t bin[4];
+	rs_v4_bins(rs_v4_centroid(lo, hi), sc->clo, sc->kv, sc->top, bin);
+	__m256 r = _mm256_set_m128(hi, lo);
+	for (uint32_t a = 0; a < 3; a++) {
+		uint32_t j = a * nb + (uint32_t)bin[a];
+		__m256 o = _mm256_loadu_ps(bins[j].lo);
+		_mm256_storeu_ps(bins[j].lo,
+		                 _mm256_blend_ps(_mm256_min_ps(o, r), _mm256_max_ps(o, r), 0xf0));
+		counts[j]++;
+	}
+}
+#endif
+typedef void (*bin_one_fn)(struct rs_bvh__bin *, uint32_t *, rs_v4, rs_v4,
+                           const struct node_scale *, uint32_t);
+
 /* One pass over records [begin, end): the bins of all three axes and both sides of the
  * size split. Neighbouring records (the partition keeps them near each other in space)
  * often fall in the same bin, and each update of a bin waits for the previous one's store:
  * with two sets of bins, alternate records update independent bins. Min, max and counts
  * merge exactly, so the bins are the same bits either way. */
-static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t end,
-                      const struct node_scale *scale, uint32_t nb, struct rs_bvh__binning *b)
+static inline __attribute__((always_inline)) void
+bin_range_body(const struct rs_bvh__item *items, uint32_t begin, uint32_t end,
+               const struct node_scale *scale, uint32_t nb, struct rs_bvh__binning *b,
+               bin_one_fn one)
 {
 	/* A copy the bins' stores cannot alias, so its vectors stay in registers. */
 	const struct node_scale copy = *scale, *sc = &copy;
@@ -267,14 +290,14 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 	for (; two && i + 1 < end; i += 2) {
 		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
 		rs_v4 lo2 = rs_v4_load(items[i + 1].lo), hi2 = rs_v4_load(items[i + 1].hi);
-		bin_one(bins, counts, lo, hi, sc, nb);
-		bin_one(bins2, counts2, lo2, hi2, sc, nb);
+		one(bins, counts, lo, hi, sc, nb);
+		one(bins2, counts2, lo2, hi2, sc, nb);
 		sides_add(&d, lo, hi, sc);
 		sides_add(&d, lo2, hi2, sc);
 	}
 	for (; i < end; i++) {
 		rs_v4 lo = rs_v4_load(items[i].lo), hi = rs_v4_load(items[i].hi);
-		bin_one(bins, counts, lo, hi, sc, nb);
+		one(bins, counts, lo, hi, sc, nb);
 		sides_add(&d, lo, hi, sc);
 	}
 	if (two) {
@@ -284,6 +307,34 @@ static void bin_range(const struct rs_bvh__item *items, uint32_t begin, uint32_t
 		}
 	}
 	sides_store(&d, b);
+}
+
+static void bin_range_narrow(const struct rs_bvh__item *items, uint32_t begin, uint32_t end,
+                             const struct node_scale *sc, uint32_t nb, struct rs_bvh__binning *b)
+{
+	bin_range_body(items, begin, end, sc, nb, b, bin_one);
+}
+
+#ifdef RS_BVH_WIDE
+WIDE_FN static void bin_range_wide(const struct rs_bvh__item *items, uint32_t begin, uint32_t end,
+                                   const struct node_scale *sc, uint32_t nb,
+                                   struct rs_bvh__binning *b)
+{
+	bin_range_body(items, begin, end, sc, nb, b, bin_one_wide);
+	_mm256_zeroupper();
+}
+#endif
+
+static void bin_range(const struct rs_bvh__sah *s, const struct rs_bvh__item *items, uint32_t begin,
+                      uint32_t end, const struct node_scale *sc, struct rs_bvh__binning *b)
+{
+#ifdef RS_BVH_WIDE
+	if (s->wide) {
+		bin_range_wide(items, begin, end, sc, s->nbins, b);
+		return;
+	}
+#endif
+	bin_range_narrow(items, begin, end, sc, s->nbins, b);
 }
 
 struct chunk_job {
@@ -302,8 +353,8 @@ static void bin_chunk(void *ctx, uint32_t c, uint32_t worker)
 {
 	(void)worker;
 	const struct chunk_job *j = ctx;
-	bin_range(task_items(j->s, j->t), chunk_edge(j->t, c, j->chunks),
-	          chunk_edge(j->t, c + 1, j->chunks), j->sc, j->s->nbins, &j->s->chunk_bins[c]);
+	bin_range(j->s, task_items(j->s, j->t), chunk_edge(j->t, c, j->chunks),
+	          chunk_edge(j->t, c + 1, j->chunks), j->sc, &j->s->chunk_bins[c]);
 }
 
 /* o's bins into b's (min, max and counts: exact in any grouping). */
@@ -329,7 +380,7 @@ static const struct rs_bvh__binning *bin_node(const struct rs_bvh__sah *s,
 	uint32_t chunks = s->pool && n >= PAR_BIN_MIN ? n / CHUNK : 1;
 	chunks = chunks < s->max_chunks ? chunks : s->max_chunks;
 	if (chunks < 2) {
-		bin_range(task_items(s, t), t->begin, t->end, sc, nb, &w->binning);
+		bin_range(s, task_items(s, t), t->begin, t->end, sc, &w->binning);
 		return &w->binning;
 	}
 	struct chunk_job job = {s, t, sc, chunks};
@@ -766,10 +817,9 @@ static void move_chunk(void *ctx, uint32_t c, uint32_t worker)
 	memcpy(to + l, from + chunk_edge(t, c, j->chunks), p->left * sizeof *to);
 	memcpy(to + r - p->right, from + end - p->right, p->right * sizeof *to);
 	if (j->bin_child[0])
-		bin_range(to, l, l + p->left, &j->child_sc[0], s->nbins, &s->child_bins[2 * c]);
+		bin_range(s, to, l, l + p->left, &j->child_sc[0], &s->child_bins[2 * c]);
 	if (j->bin_child[1])
-		bin_range(to, r - p->right, r, &j->child_sc[1], s->nbins,
-		          &s->child_bins[2 * c + 1]);
+		bin_range(s, to, r - p->right, r, &j->child_sc[1], &s->child_bins[2 * c + 1]);
 }
 
 /* Child k's chunk bins merged in chunk order into a free prebin slot. */
