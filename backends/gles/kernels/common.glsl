@@ -230,6 +230,24 @@ bool rs_better(float t, float id, Hit best, bool found, float tmax)
 	return found ? t < best.t || (t == best.t && id < best.id) : t < tmax;
 }
 
+// The node order of a direction (rs_pack_node_order_of): eight orders by the octant, six by
+// the major direction, else the one.
+int rs_order(vec3 d)
+{
+#if RS_NODE_ORDERS == 8
+	bvec3 neg = lessThan(d, vec3(0.0));
+	return (neg.x ? 1 : 0) + (neg.y ? 2 : 0) + (neg.z ? 4 : 0);
+#elif RS_NODE_ORDERS > 1
+	vec3 ad = abs(d);
+	int axis = ad.y > ad.x ? 1 : 0;
+	if (ad.z > ad[axis])
+		axis = 2;
+	return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+#else
+	return 0;
+#endif
+}
+
 #if !RS_WIDE_NODES
 // Node i as both formats decode it (rs_pack_read_node): bounds, and `next` = the escape
 // (the node after a miss, at least i + 1); `first` >= 0 for a leaf's first slot, else -1.
@@ -409,19 +427,6 @@ vec4 rs_instance(int i, int j)
 #endif
 }
 
-// The node order of a direction (rs_pack_node_order).
-int rs_order(vec3 d)
-{
-#if RS_NODE_ORDERS > 1
-	vec3 ad = abs(d);
-	int axis = ad.y > ad.x ? 1 : 0;
-	if (ad.z > ad[axis])
-		axis = 2;
-	return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
-#else
-	return 0;
-#endif
-}
 
 // A BLAS leaf's triangles (rs_leaf with scene ids: first_tri + the local id in t0.w, and
 // the loose BLAS's t0.w already the scene id with first_tri 0).
@@ -609,16 +614,8 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 	Pre p = rs_prepare(r);
 	h = Hit(r.tmax, 0.0, 0.0, -1, -1.0);
 	bool found = false;
-#if RS_NODE_ORDERS > 1
-	// The node order of the ray's major direction (rs_pack_node_order): near boxes first.
-	vec3 ad = abs(r.d);
-	int axis = ad.y > ad.x ? 1 : 0;
-	if (ad.z > ad[axis])
-		axis = 2;
-	int i = (2 * axis + (r.d[axis] < 0.0 ? 1 : 0)) * u_node_count;
-#else
-	int i = 0;
-#endif
+	// The node order of the ray's direction (rs_pack_node_order_of): near boxes first.
+	int i = rs_order(r.d) * u_node_count;
 	int end = i + u_node_count;
 	while (i < end) {
 		int first = -1;
