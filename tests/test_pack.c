@@ -159,6 +159,16 @@ static void default_layout_fits_gles3_minimum(void **state)
 	assert_int_equal(rs_pack_layout(NULL, 100000, 50000, 4, &p, &err), RS_OK);
 	assert_int_equal(p.node_orders, 6);
 	assert_int_equal(p.nodes.height, (6 * 100000 + 511) / 512);
+	/* eight octant orders of 100000 nodes fit 1563 rows; of 150000 (2344 rows) they do not,
+	 * where six (1758 rows) would: one order then, as for six */
+	struct rs_pack_desc octant = {.orders = RS_PACK_ORDERS_OCTANT};
+	assert_int_equal(rs_pack_layout(&octant, 100000, 50000, 4, &p, &err), RS_OK);
+	assert_int_equal(p.node_orders, 8);
+	assert_int_equal(p.nodes.height, (8 * 100000 + 511) / 512);
+	assert_int_equal(rs_pack_layout(&octant, 150000, 50000, 4, &p, &err), RS_OK);
+	assert_int_equal(p.node_orders, 1);
+	assert_int_equal(rs_pack_layout(NULL, 150000, 50000, 4, &p, &err), RS_OK);
+	assert_int_equal(p.node_orders, 6);
 	struct rs_pack_desc odd = {.max_texture_size = 3000}; /* 1000 fit: 512 */
 	assert_int_equal(rs_pack_layout(&odd, 10, 10, 1, &p, &err), RS_OK);
 	assert_int_equal(p.row_items, 512);
