@@ -617,9 +617,9 @@ void rs_locate(int id, out int inst, out int slot)
 // test's rounding of t with room (R3's K leaves 13 ulps for it; this leaves over 50). So
 // the box is conservative (never a lost hit: the hits are R4's, bit for bit) and at most
 // 2^-18 of the grid's distance looser; its tests are not R3's, so a walk with it is never
-// counted (the hits-only kernel has no counters). rs_grid_exact: m finite and below 1e37
-// on every axis (a scene far larger than its grid step or a zero direction component at
-// a huge scale could overflow), else the walk takes rs_box.
+// counted (the hits-only kernel has no counters). Where m is not below 1e37 (a zero
+// direction component, 1/d = 1e30, in a scene of ~1e7 units: q * a + b could overflow)
+// that axis constrains nothing (a = 0, b = -+3e38): every box entered, slower, never wrong.
 struct Grid {
 	vec3 a;
 	vec3 bn; // b - e: the near planes' offset
@@ -659,7 +659,7 @@ bool rs_box_grid(vec3 qlo, vec3 qhi, Pre p, Grid g, float tmax)
 // triangle loop together instead of once per lane that happens to sit at a leaf: 1.8x faster
 // on Cow17 than one loop with the leaf inside (docs/benchmarks.md), same tests counted.
 // `grid` (a constant at every call, so the compiler keeps one box test): rs_box_grid, the
-// hits-only kernel's (compact nodes, rs_grid_exact), else R3's rs_box.
+// hits-only kernel's (compact nodes), else R3's rs_box.
 bool rs_walk(Ray r, bool any, bool grid, out Hit h, inout vec2 counts)
 {
 	Pre p = rs_prepare(r);
