@@ -19,7 +19,8 @@
 //          power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY,
 //          RS_COMPACT_NODES, RS_WIDE_NODES, RS_WIDE_STACK, RS_NODE_ORDERS,
 //          RS_SCENE_BUFFERS; the rules' constants
-//          RS_BOX_K (R3), RS_PARALLEL_EPS (R2), RS_SPAWN_PULL_HEIGHT, RS_SPAWN_PULL (R5);
+//          RS_BOX_K (R3), RS_GRID_BOX_E and RS_GRID_STEPS (R3 in grid units, the hits-only
+//          kernel's), RS_PARALLEL_EPS (R2), RS_SPAWN_PULL_HEIGHT, RS_SPAWN_PULL (R5);
 //          the paper's ray states RS_STATE_ACTIVE, _MISSED, _ENVIRONMENT, _DIFFUSE.
 #if RS_SCENE_BUFFERS
 #define RS_SCENE_SAMPLER highp samplerBuffer
@@ -612,11 +613,11 @@ void rs_locate(int id, out int inst, out int slot)
 // at grid index q (a = step / d, b = (grid origin - o) / d, per ray), one multiply-add a
 // plane instead of rs_node's decode and rs_box's subtract and multiply. Its rounding
 // differs from R3's, so it is widened by its own bound instead of K: every plane of axis x
-// has |t| <= 65535 |a| + |b| = m, the rounding of a, b and the multiply-add is below
-// 6 * 2^-24 * m, and the slack e = 2^-18 * m (64 * 2^-24 * m) covers that and the triangle
-// test's rounding of t with room (R3's K leaves 13 ulps for it; this leaves over 50). So
-// the box is conservative (never a lost hit: the hits are R4's, bit for bit) and at most
-// 2^-18 of the grid's distance looser; its tests are not R3's, so a walk with it is never
+// has |t| <= RS_GRID_STEPS (65535) |a| + |b| = m, the rounding of a, b and the
+// multiply-add is below 6 * 2^-24 * m, and the slack e = RS_GRID_BOX_E (2^-18) * m covers
+// that and the triangle test's rounding of t with room (R3's K leaves 13 ulps for it,
+// this over 50). So the box is conservative (never a lost hit: the hits are R4's, bit for
+// bit) and at most 2^-18 of the grid's distance looser; its tests are not R3's, so a walk with it is never
 // counted (the hits-only kernel has no counters). Where m is not below 1e37 (a zero
 // direction component, 1/d = 1e30, in a scene of ~1e7 units: q * a + b could overflow)
 // that axis constrains nothing (a = 0, b = -+3e38): every box entered, slower, never wrong.
@@ -631,8 +632,8 @@ Grid rs_grid(Ray r, Pre p)
 	Grid g;
 	g.a = u_grid_step * p.inv;
 	vec3 b = (u_grid_origin - r.o) * p.inv;
-	vec3 m = 65535.0 * abs(g.a) + abs(b);
-	vec3 e = m * 3.814697265625e-6; // 2^-18
+	vec3 m = RS_GRID_STEPS * abs(g.a) + abs(b);
+	vec3 e = m * RS_GRID_BOX_E;
 	// m too large (or not a number): every box of that axis entered, slack ample
 	bvec3 ok = lessThan(m, vec3(1.0e37));
 	g.a = mix(vec3(0.0), g.a, ok);
