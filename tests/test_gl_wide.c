@@ -11,7 +11,7 @@
 #include <cmocka.h>
 
 #include "test_gl_common.h"
-#include "test_trace_render_fixture.h"
+#include "test_gl_field.h"
 
 #define SIZE 48u
 
@@ -79,38 +79,6 @@ static void same_as_compact(const char *what, struct rs_scene *scene)
 	rs_scene_destroy(&scene);
 }
 
-/* A field of 5 x 5 x 2 boxes of varied sizes over a floor, `scale` times, shifted by `off`;
- * flat: squares in the plane y = off[1] instead. */
-static struct rs_scene *field(double scale, const double off[3], bool flat)
-{
-	struct rs_scene *scene = fx_scene();
-	uint32_t m = fx_material(scene, (struct rs_material){.diffuse = {0.7f, 0.6f, 0.5f}});
-	uint32_t mirror = fx_material(
-	    scene, (struct rs_material){.diffuse = {0.2f, 0.3f, 0.8f}, .reflectance = 0.5f});
-	for (int i = 0; i < 5; i++)
-		for (int j = 0; j < 5; j++)
-			for (int k = 0; k < (flat ? 1 : 2); k++) {
-				double s = 0.4 + 0.1 * ((i * 7 + j * 3 + k) % 5);
-				double lo[3] = {off[0] + scale * (i * 1.5 - 3.5),
-				                off[1] + scale * (k * 1.3),
-				                off[2] + scale * (j * 1.5 - 3.5)};
-				double hi[3] = {lo[0] + scale * s, lo[1] + scale * s,
-				                lo[2] + scale * s};
-				if (flat)
-					fx_rect(scene, 1, off[1], lo[2], hi[2], lo[0], hi[0], 0,
-					        (i + j) % 3 ? m : mirror);
-				else
-					fx_box(scene, lo, hi, (i + j + k) % 3 ? m : mirror);
-			}
-	if (!flat)
-		fx_rect(scene, 1, off[1] - 0.01 * scale, off[2] - 5 * scale, off[2] + 5 * scale,
-		        off[0] - 5 * scale, off[0] + 5 * scale, 0, m);
-	double eye[3] = {off[0] + 4 * scale, off[1] + 6 * scale, off[2] + 7 * scale};
-	fx_camera(scene, eye, off, SIZE);
-	fx_light(scene, off[0] - 2 * scale, off[1] + 8 * scale, off[2] + 3 * scale, 1, 1, 1);
-	return scene;
-}
-
 static void wide_nodes_render_the_compact_frames_of_cow1(void **state)
 {
 	same_as_compact("cow1", gl_scene("cow1"));
@@ -119,11 +87,11 @@ static void wide_nodes_render_the_compact_frames_of_cow1(void **state)
 static void wide_nodes_render_the_compact_frames_far_tiny_huge_and_flat(void **state)
 {
 	const double zero[3] = {0, 0, 0}, far[3] = {1e6, -1e6, 1e6}, mid[3] = {123.5, 7, -40};
-	same_as_compact("field", field(1.0, zero, false));
-	same_as_compact("field 1e-3", field(1e-3, zero, false));
-	same_as_compact("field 1e4", field(1e4, zero, false));
-	same_as_compact("field at 1e6", field(1.0, far, false));
-	same_as_compact("flat field", field(1.0, mid, true));
+	same_as_compact("field", field(1.0, zero, false, SIZE));
+	same_as_compact("field 1e-3", field(1e-3, zero, false, SIZE));
+	same_as_compact("field 1e4", field(1e4, zero, false, SIZE));
+	same_as_compact("field at 1e6", field(1.0, far, false, SIZE));
+	same_as_compact("flat field", field(1.0, mid, true, SIZE));
 }
 
 int main(void)

@@ -159,6 +159,16 @@ static void default_layout_fits_gles3_minimum(void **state)
 	assert_int_equal(rs_pack_layout(NULL, 100000, 50000, 4, &p, &err), RS_OK);
 	assert_int_equal(p.node_orders, 6);
 	assert_int_equal(p.nodes.height, (6 * 100000 + 511) / 512);
+	/* eight octant orders of 100000 nodes fit 1563 rows; of 150000 (2344 rows) they do not,
+	 * where six (1758 rows) would: one order then, as for six */
+	struct rs_pack_desc octant = {.orders = RS_PACK_ORDERS_OCTANT};
+	assert_int_equal(rs_pack_layout(&octant, 100000, 50000, 4, &p, &err), RS_OK);
+	assert_int_equal(p.node_orders, 8);
+	assert_int_equal(p.nodes.height, (8 * 100000 + 511) / 512);
+	assert_int_equal(rs_pack_layout(&octant, 150000, 50000, 4, &p, &err), RS_OK);
+	assert_int_equal(p.node_orders, 1);
+	assert_int_equal(rs_pack_layout(NULL, 150000, 50000, 4, &p, &err), RS_OK);
+	assert_int_equal(p.node_orders, 6);
 	struct rs_pack_desc odd = {.max_texture_size = 3000}; /* 1000 fit: 512 */
 	assert_int_equal(rs_pack_layout(&odd, 10, 10, 1, &p, &err), RS_OK);
 	assert_int_equal(p.row_items, 512);
@@ -549,25 +559,26 @@ static void compact_refuses_a_leaf_that_escapes_far(void **state)
 	release(&f);
 }
 
-/* Each of the six orders is a pre-order of the same tree (subtrees nest, the same leaves),
- * visiting at every interior node first the child whose box centre comes first along its
- * direction; rs_pack_node_order() picks the order of a direction's major axis and sign. */
-static void directional_orders_visit_near_children_first(enum rs_bvh_builder builder)
+/* Visiting rule of one order: asserts that node order d visits child c0 before c1 (both
+ * boxes non-empty); returns the axis it decided by. */
+typedef int (*first_child_rule)(uint32_t d, const struct rs_pack_node *c0,
+                                const struct rs_pack_node *c1);
+
+/* Each of the node orders of `p` (built from `nodes`) is a pre-order of the same tree (subtrees
+ * nest, the same leaves) whose interior nodes obey `rule`; returns the axes the rule decided
+ * by (bit a for axis a) and whether any node's children came in descending order. */
+static uint32_t check_orders(const struct rs_packed *p, const struct rs_bvh_node *nodes,
+                             first_child_rule rule, bool *out_descending)
 {
-	struct fixture f =
-	    make_shaped(2000, builder, 0, (struct rs_pack_desc){.nodes = RS_PACK_NODES_PAPER},
-	                (struct shape){1.0, 0.0, false});
-	const struct rs_packed *p = &f.packed;
-	uint32_t n = p->node_count;
-	assert_int_equal(p->node_orders, 6);
+	uint32_t n = p->node_count, axes = 0;
 	uint64_t leaves = 0, slots = 0;
 	for (uint32_t i = 0; i < n; i++)
-		if (f.nodes[i].level == 0) {
-			leaves += f.nodes[i].first * 2654435761u + 1u;
-			slots += f.nodes[i].count;
+		if (nodes[i].level == 0) {
+			leaves += nodes[i].first * 2654435761u + 1u;
+			slots += nodes[i].count;
 		}
-	for (uint32_t d = 0; d < 6; d++) {
-		int axis = (int)d / 2;
+	*out_descending = false;
+	for (uint32_t d = 0; d < p->node_orders; d++) {
 		uint64_t seen = 0, seen_slots = 0;
 		for (uint32_t k = d * n; k < (d + 1) * n; k++) {
 			struct rs_pack_node a;
@@ -583,24 +594,83 @@ static void directional_orders_visit_near_children_first(enum rs_bvh_builder bui
 			assert_true(c0.escape < a.escape);
 			rs_pack_read_node(p, c0.escape, &c1);
 			assert_int_equal(c1.escape, a.escape); /* two children fill the subtree */
-			float m0 = c0.lo[axis] + c0.hi[axis], m1 = c1.lo[axis] + c1.hi[axis];
-			if (c0.lo[0] <= c0.hi[0] && c1.lo[0] <= c1.hi[0])
-				assert_true(d % 2 ? m0 >= m1 : m0 <= m1);
+			if (!(c0.lo[0] <= c0.hi[0] && c1.lo[0] <= c1.hi[0]))
+				continue;
+			int axis = rule(d, &c0, &c1);
+			axes |= 1u << axis;
+			*out_descending |= c0.lo[axis] + c0.hi[axis] > c1.lo[axis] + c1.hi[axis];
 		}
 		assert_true(seen == leaves && seen_slots == slots);
 	}
-	const double dirs[6][3] = {{1, 0.5, -0.5}, {-1, 0.9, 0},  {0.1, 2, 1},
-	                           {0, -1, 0.5},   {0.3, 0.3, 1}, {0.5, -0.5, -0.7}};
-	for (uint32_t d = 0; d < 6; d++)
-		assert_int_equal(rs_pack_node_order(dirs[d]), d);
+	return axes;
+}
+
+/* Six orders: the child whose box centre comes first along d's axis, descending for odd d. */
+static int directional_rule(uint32_t d, const struct rs_pack_node *c0,
+                            const struct rs_pack_node *c1)
+{
+	int axis = (int)d / 2;
+	float m0 = c0->lo[axis] + c0->hi[axis], m1 = c1->lo[axis] + c1->hi[axis];
+	assert_true(d % 2 ? m0 >= m1 : m0 <= m1);
+	return axis;
+}
+
+/* Eight orders: on the axis the two centres are farthest apart (ties to the lower axis), the
+ * child whose centre comes first, descending where octant d's bit for that axis is set. */
+static int octant_rule(uint32_t d, const struct rs_pack_node *c0, const struct rs_pack_node *c1)
+{
+	int axis = 0;
+	float best = -1.0f;
+	for (int x = 0; x < 3; x++) {
+		float gap = fabsf(c1->lo[x] + c1->hi[x] - c0->lo[x] - c0->hi[x]);
+		if (gap > best) {
+			best = gap;
+			axis = x;
+		}
+	}
+	float m0 = c0->lo[axis] + c0->hi[axis], m1 = c1->lo[axis] + c1->hi[axis];
+	assert_true(d >> axis & 1u ? m0 >= m1 : m0 <= m1);
+	return axis;
+}
+
+/* The six directional orders (rs_pack_node_order() picks the one of a direction's major axis
+ * and sign) and the eight octant orders (rs_pack_node_order_of() picks the octant of its
+ * signs), each a pre-order of the same tree visiting the near child first by its rule. */
+static void orders_visit_near_children_first(enum rs_bvh_builder builder)
+{
+	bool descending;
+	struct fixture f =
+	    make_shaped(2000, builder, 0, (struct rs_pack_desc){.nodes = RS_PACK_NODES_PAPER},
+	                (struct shape){1.0, 0.0, false});
+	assert_int_equal(f.packed.node_orders, 6);
+	uint32_t axes = check_orders(&f.packed, f.nodes, directional_rule, &descending);
+	assert_true(builder == RS_BVH_LINEAR || (axes == 7u && descending));
+	const double dirs[8][3] = {{1, 0.5, 0.5},  {-1, 0.9, 0},      {0.1, -2, 1},   {-0.1, -2, 1},
+	                           {0.3, 0.3, -1}, {-0.5, 0.5, -0.7}, {2, -1e-9, -1}, {-1, -1, -1}};
+	const uint32_t major[8] = {0, 1, 3, 3, 5, 5, 0, 1};
+	for (uint32_t d = 0; d < 8; d++) {
+		assert_int_equal(rs_pack_node_order(dirs[d]), major[d]);
+		assert_int_equal(rs_pack_node_order_of(6, dirs[d]), major[d]);
+		assert_int_equal(rs_pack_node_order_of(8, dirs[d]), d);
+		assert_int_equal(rs_pack_node_order_of(1, dirs[d]), 0);
+	}
+	release(&f);
+	f = make_shaped(
+	    2000, builder, 0,
+	    (struct rs_pack_desc){.nodes = RS_PACK_NODES_PAPER, .orders = RS_PACK_ORDERS_OCTANT},
+	    (struct shape){1.0, 0.0, false});
+	assert_int_equal(f.packed.node_orders, 8);
+	axes = check_orders(&f.packed, f.nodes, octant_rule, &descending);
+	/* a flat list of leaves (LINEAR) has no interior node to check */
+	assert_true(builder == RS_BVH_LINEAR || (axes == 7u && descending));
 	release(&f);
 }
 
-static void directional_orders_are_preorders_near_child_first(void **state)
+static void node_orders_are_preorders_near_child_first(void **state)
 {
-	directional_orders_visit_near_children_first(RS_BVH_SAH);
-	directional_orders_visit_near_children_first(RS_BVH_PAPER);
-	directional_orders_visit_near_children_first(RS_BVH_LINEAR);
+	orders_visit_near_children_first(RS_BVH_SAH);
+	orders_visit_near_children_first(RS_BVH_PAPER);
+	orders_visit_near_children_first(RS_BVH_LINEAR);
 }
 
 static void materials_resolve_defaults(void **state)
@@ -686,7 +756,7 @@ int main(void)
 	    cmocka_unit_test(wide_nodes_hold_every_triangle),
 	    cmocka_unit_test(wide_refuses_a_tree_deeper_than_the_stack),
 	    cmocka_unit_test(compact_refuses_a_leaf_that_escapes_far),
-	    cmocka_unit_test(directional_orders_are_preorders_near_child_first),
+	    cmocka_unit_test(node_orders_are_preorders_near_child_first),
 	    cmocka_unit_test(materials_resolve_defaults),
 	    cmocka_unit_test(unused_texels_are_zero),
 	    cmocka_unit_test(pack_rejects_mismatch),

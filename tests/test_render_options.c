@@ -87,7 +87,7 @@ static void bad_values_name_the_option_and_its_range(void **state)
 	    {"shadows", "map:512:0", "map[:RES[:FILTER]]"},
 	    {"reflections", "interreflect:9", "interreflect[:1..8]"},
 	    {"backend", "vulkan", "auto|cpu|egl|osmesa"},
-	    {"nodes", "compact:sideways", "compact|paper[:directional|single]"},
+	    {"nodes", "compact:sideways", "compact|paper[:directional|octant|single]"},
 	    {"nodes", "wide4:single", "wide4"},
 	    {"threads", "257", "1..256"},
 	    {"frobnicate", "1", "unknown render option 'frobnicate'"},

@@ -519,45 +519,46 @@ static void counters_match_a_recursive_walk(void **state)
 	mesh_free(&m);
 }
 
-/* Walking a ray's directional order finds exactly the hit of the builder's order (the
- * closest-hit rule does not depend on visiting order, R4) for every builder and format, and
- * on this scene tests fewer boxes in all. */
-static void directional_orders_find_the_same_hits(void **state)
+/* Walking a ray's directional order (six) or octant order (eight) finds exactly the hit of
+ * the builder's order (the closest-hit rule does not depend on visiting order, R4) for every
+ * builder and format, and on this scene tests fewer boxes in all. */
+static void node_orders_find_the_same_hits(void **state)
 {
 	struct mesh m = random_mesh(700, 1.0, 0.0);
+	const enum rs_pack_orders orders[2] = {RS_PACK_ORDERS_DIRECTIONAL, RS_PACK_ORDERS_OCTANT};
 	for (int b = 0; b < 4; b++)
-		for (int paper = 0; paper < 2; paper++) {
-			enum rs_pack_nodes f = paper ? RS_PACK_NODES_PAPER : RS_PACK_NODES_COMPACT;
+		for (int k = 0; k < 4; k++) {
+			enum rs_pack_nodes f = k % 2 ? RS_PACK_NODES_PAPER : RS_PACK_NODES_COMPACT;
 			struct world one = make_world_packed(
 			    m.pos, m.verts, m.idx, m.tris, builders[b],
 			    (struct rs_pack_desc){.nodes = f, .orders = RS_PACK_ORDERS_SINGLE});
-			struct world six =
-			    make_world_packed(m.pos, m.verts, m.idx, m.tris, builders[b],
-			                      (struct rs_pack_desc){.nodes = f});
-			assert_int_equal(six.packed.node_orders, 6);
-			struct rs_trace_counters c1 = {0}, c6 = {0};
+			struct world many = make_world_packed(
+			    m.pos, m.verts, m.idx, m.tris, builders[b],
+			    (struct rs_pack_desc){.nodes = f, .orders = orders[k / 2]});
+			assert_int_equal(many.packed.node_orders, k / 2 ? 8 : 6);
+			struct rs_trace_counters c1 = {0}, cn = {0};
 			for (int i = 0; i < 2000; i++) {
 				struct rs_ray r = random_ray_at(&m);
-				struct rs_hit h1, h6;
+				struct rs_hit h1, hn;
 				bool f1 = rs_trace_closest(&one.packed, RS_TRIANGLE_WATERTIGHT, &r,
 				                           &h1, &c1);
-				bool f6 = rs_trace_closest(&six.packed, RS_TRIANGLE_WATERTIGHT, &r,
-				                           &h6, &c6);
-				assert_int_equal(f1, f6);
+				bool fn = rs_trace_closest(&many.packed, RS_TRIANGLE_WATERTIGHT, &r,
+				                           &hn, &cn);
+				assert_int_equal(f1, fn);
 				if (f1) {
-					assert_true(h1.t == h6.t);
-					assert_int_equal(h1.triangle, h6.triangle);
+					assert_true(h1.t == hn.t);
+					assert_int_equal(h1.triangle, hn.triangle);
 				}
 				assert_int_equal(
 				    rs_trace_occluded(&one.packed, RS_TRIANGLE_WATERTIGHT, &r,
 				                      NULL),
-				    rs_trace_occluded(&six.packed, RS_TRIANGLE_WATERTIGHT, &r,
+				    rs_trace_occluded(&many.packed, RS_TRIANGLE_WATERTIGHT, &r,
 				                      NULL));
 			}
 			if (builders[b] == RS_BVH_SAH)
-				assert_true(c6.box_tests < c1.box_tests);
+				assert_true(cn.box_tests < c1.box_tests);
 			free_world(&one);
-			free_world(&six);
+			free_world(&many);
 		}
 	mesh_free(&m);
 }
@@ -818,7 +819,7 @@ int main(void)
 	    cmocka_unit_test(linear_counts_every_box),
 	    cmocka_unit_test(tree_miss_costs_one_box),
 	    cmocka_unit_test(counters_match_a_recursive_walk),
-	    cmocka_unit_test(directional_orders_find_the_same_hits),
+	    cmocka_unit_test(node_orders_find_the_same_hits),
 	    cmocka_unit_test(wide_nodes_find_the_compact_hits),
 	    cmocka_unit_test(skip_slot_ignores_the_origin_triangle),
 	    cmocka_unit_test(interval_bounds_the_hit),

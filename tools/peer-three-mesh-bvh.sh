@@ -19,6 +19,8 @@ usage: tools/peer-three-mesh-bvh.sh [options] [SCENE...]
   --repeats N        timed frames of each, alternately (default 7; the median is shown)
   --size N           image side in pixels (default 512)
   --strategy S       three-mesh-bvh's split strategy: center (its default), average or sah
+  --nodes N          our node layout and orders (default compact:octant; raystream-render's
+                     --nodes values)
   --version V        three-mesh-bvh's version (default 0.9.17; three: --three-version, 0.187.0)
   --three-version V
 EOF2
@@ -26,16 +28,17 @@ EOF2
 die() { echo "peer-three-mesh-bvh: $*" >&2; exit "${code:-1}"; }
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${RS_BUILD_DIR:-$root/build}
-repeats=7 size=512 strategy=center tmb_version=0.9.17 three_version=0.187.0
+repeats=7 size=512 strategy=center nodes=compact:octant tmb_version=0.9.17 three_version=0.187.0
 scenes=()
 while [ $# -gt 0 ]; do
   case $1 in
     -h|--help) usage; exit 0 ;;
-    --build|--repeats|--size|--strategy|--version|--three-version)
+    --build|--repeats|--size|--strategy|--nodes|--version|--three-version)
       [ $# -ge 2 ] && [ -n "$2" ] || code=2 die "$1 needs a value (try --help)"
       case $1 in
         --build) build=$2 ;; --repeats) repeats=$2 ;; --size) size=$2 ;;
-        --strategy) strategy=$2 ;; --version) tmb_version=$2 ;; --three-version) three_version=$2 ;;
+        --strategy) strategy=$2 ;; --nodes) nodes=$2 ;;
+        --version) tmb_version=$2 ;; --three-version) three_version=$2 ;;
       esac
       shift 2 ;;
     -*) code=2 die "unknown option '$1' (try --help)" ;;
@@ -69,7 +72,7 @@ for scene in "${scenes[@]}"; do
   (cd "$tmp" && node build_bvh.mjs "$scene.mesh" "$scene" "$strategy") 2>"$tmp/err.txt" ||
     die "$scene: three-mesh-bvh's build failed: $(head -n1 "$tmp/err.txt")"
   "$harness" --scene "$scene" --bvh "$tmp/$scene" --size "${size}x${size}" --repeats "$repeats" \
-    >"$tmp/out.txt" 2>"$tmp/err.txt" || die "$scene: $(head -n1 "$tmp/err.txt")"
+    --nodes "$nodes" >"$tmp/out.txt" 2>"$tmp/err.txt" || die "$scene: $(head -n1 "$tmp/err.txt")"
   # "scene S size WxH rays N frames F ours_ms A theirs_ms B ... theirs_agree Q": key value pairs
   declare -A v=()
   read -r -a f <"$tmp/out.txt"
@@ -86,7 +89,7 @@ for scene in "${scenes[@]}"; do
   renderer=$(sed -n 's/^renderer //p' "$tmp/out.txt")
 done
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
-echo "three-mesh-bvh $tmb_version (three $three_version, strategy $strategy) against raystream on $renderer, ${size}x${size}, primary closest-hit rays, median of $repeats alternating frames; load $load_before before, $load_after after"
+echo "three-mesh-bvh $tmb_version (three $three_version, strategy $strategy) against raystream ($nodes nodes) on $renderer, ${size}x${size}, primary closest-hit rays, median of $repeats alternating frames; load $load_before before, $load_after after"
 printf '%-6s %9s %9s %11s %13s %6s %11s %10s %10s %6s %9s %7s %9s\n' scene ours_ms their_ms "ours Mray/s" \
   "theirs Mray/s" ratio "per frame" "ours agree" "their agr." nodes "build ms" sep_ms "sep ratio"
 printf '%s\n' "${rows[@]}"

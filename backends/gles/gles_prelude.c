@@ -53,6 +53,8 @@ enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_
 	    {"RS_RASTER_FIRST", false, spec->raster_first},
 	    /* the rules (docs/tracer.md), in fp32 */
 	    {"RS_BOX_K", true, rules->box_k_fp32},
+	    {"RS_GRID_BOX_E", true, rules->grid_box_e_fp32},
+	    {"RS_GRID_STEPS", true, RS_PACK_GRID_STEPS},
 	    {"RS_PARALLEL_EPS", true, rules->parallel_eps},
 	    {"RS_SPAWN_PULL_HEIGHT", true, rules->spawn_pull_height},
 	    {"RS_SPAWN_PULL", true, rules->spawn_pull},

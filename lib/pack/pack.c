@@ -63,7 +63,8 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 		return rs_error_set(err, RS_ERR_INVALID, "pack: unknown node format %d",
 		                    (int)nodes);
 	enum rs_pack_orders orders = desc ? desc->orders : RS_PACK_ORDERS_DIRECTIONAL;
-	if (orders != RS_PACK_ORDERS_DIRECTIONAL && orders != RS_PACK_ORDERS_SINGLE)
+	if (orders != RS_PACK_ORDERS_DIRECTIONAL && orders != RS_PACK_ORDERS_SINGLE &&
+	    orders != RS_PACK_ORDERS_OCTANT)
 		return rs_error_set(err, RS_ERR_INVALID, "pack: unknown node orders %d",
 		                    (int)orders);
 	if ((uint64_t)row_items * RS_PACK_MAX_ITEM_TEXELS > max_side)
@@ -78,14 +79,15 @@ enum rs_status rs_pack_layout(const struct rs_pack_desc *desc, size_t node_count
 		                    "pack: %zu nodes, %zu triangles, %zu materials: each must stay "
 		                    "below 2^24 to index exactly through floats",
 		                    node_count, triangle_count, material_count);
-	/* Six orders where they fit the limits, else the one (directional orders are a speed-up,
-	 * never a reason to refuse a scene). */
+	/* Six (or eight) orders where they fit the limits, else the one (ordered copies are a
+	 * speed-up, never a reason to refuse a scene). */
 	/* Wide nodes are ordered per ray at each node (octant order), never copied. */
+	uint32_t copies = orders == RS_PACK_ORDERS_OCTANT ? 8u : 6u;
 	uint32_t node_orders =
-	             orders == RS_PACK_ORDERS_SINGLE || nodes == RS_PACK_NODES_WIDE4 ? 1u : 6u,
+	             orders == RS_PACK_ORDERS_SINGLE || nodes == RS_PACK_NODES_WIDE4 ? 1u : copies,
 	         w, h;
-	rs_pack_texture_size(node_count * 6u, texture_texels(0, nodes), row_items, &w, &h);
-	if (node_count * 6u >= RS_PACK_MAX_ITEMS || h > max_side)
+	rs_pack_texture_size(node_count * copies, texture_texels(0, nodes), row_items, &w, &h);
+	if (node_count * copies >= RS_PACK_MAX_ITEMS || h > max_side)
 		node_orders = 1u;
 	struct rs_texture *tex[4] = {&out->nodes, &out->triangles, &out->normals, &out->materials};
 	size_t items[4] = {node_count * node_orders, triangle_count, triangle_count,

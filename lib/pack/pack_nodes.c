@@ -128,12 +128,37 @@ static bool well_formed(const struct rs_bvh_node *nodes, size_t node_count)
 	return k == node_count;
 }
 
-/* Pre-order of the tree with, at every interior node, the child whose box centre comes first
- * along axis (ascending, or descending when `down`) visited first; ties keep the builder's
- * order. pos_of[k] = position of node k. The stack holds at most node_count entries. */
-static void directional_order(const struct rs_bvh_node *nodes, size_t node_count,
-                              const float (*box)[6], int axis, bool down, uint32_t *stack,
-                              uint32_t *pos_of)
+/* Whether child c1 is visited before c0 in node order d of `orders` (rs_pack.h). Six
+ * (directional): the child whose box centre comes first along d's axis, ascending or
+ * descending. Eight (octant): on the axis the two centres are farthest apart (the node's
+ * split, ties to the lower axis), the one first in the direction of d's sign there (d's
+ * bit for that axis set: descending). Ties keep the builder's order. */
+static bool visits_second_first(const float (*box)[6], uint32_t c0, uint32_t c1, uint32_t orders,
+                                uint32_t d)
+{
+	int axis = (int)(d / 2);
+	bool down = d % 2 == 1;
+	if (orders == 8) {
+		float best = -1.0f;
+		for (int a = 0; a < 3; a++) {
+			float gap =
+			    fabsf(box[c1][a] + box[c1][3 + a] - box[c0][a] - box[c0][3 + a]);
+			if (gap > best) {
+				best = gap;
+				axis = a;
+			}
+		}
+		down = (d >> axis & 1u) != 0;
+	}
+	float m0 = box[c0][axis] + box[c0][3 + axis];
+	float m1 = box[c1][axis] + box[c1][3 + axis];
+	return down ? m1 > m0 : m1 < m0;
+}
+
+/* Pre-order d of the tree (visits_second_first() at every interior node); pos_of[k] =
+ * position of node k. The stack holds at most node_count entries. */
+static void node_order(const struct rs_bvh_node *nodes, size_t node_count, const float (*box)[6],
+                       uint32_t orders, uint32_t d, uint32_t *stack, uint32_t *pos_of)
 {
 	uint32_t pos = 0;
 	for (uint32_t top = 0; top < node_count; top = nodes[top].escape) {
@@ -145,9 +170,7 @@ static void directional_order(const struct rs_bvh_node *nodes, size_t node_count
 			if (nodes[k].level == 0)
 				continue;
 			uint32_t c[2] = {k + 1, nodes[k + 1].escape};
-			float m0 = box[c[0]][axis] + box[c[0]][3 + axis];
-			float m1 = box[c[1]][axis] + box[c[1]][3 + axis];
-			bool swap = down ? m1 > m0 : m1 < m0;
+			bool swap = visits_second_first(box, c[0], c[1], orders, d);
 			stack[sp++] =
 			    c[swap ? 0 : 1]; /* the second child, popped after the first */
 			stack[sp++] = c[swap ? 1 : 0];
@@ -362,7 +385,7 @@ static enum rs_status write_nodes(const struct rs_bvh_node *nodes, size_t node_c
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for node orders");
 	uint32_t *stack = scratch, *pos_of = scratch + node_count;
 	for (uint32_t d = 0; d < packed->node_orders; d++) {
-		directional_order(nodes, node_count, box, (int)(d / 2), d % 2 == 1, stack, pos_of);
+		node_order(nodes, node_count, box, packed->node_orders, d, stack, pos_of);
 		uint32_t base = d * n;
 		for (uint32_t k = 0; k < n; k++)
 			write(packed, base + pos_of[k], &nodes[k], box[k],

@@ -22,7 +22,7 @@ static const struct rs_render_option options[] = {
      "traced, or environment maps (GL)"},
     {"envmap-size", "8..16384", "128", "environment map cube face side in texels (GL)"},
     {"bvh", "sah|none|linear|paper", "sah", "BVH builder (docs/bvh.md)"},
-    {"nodes", "compact|paper[:directional|single]|wide4", "compact:directional",
+    {"nodes", "compact|paper[:directional|octant|single]|wide4", "compact:directional",
      "node texels:orders; paper:single is the paper's; wide4: 4-wide quantised"},
     {"scene-storage", "auto|2d|buffer", "auto", "GL: buffer textures where the context has them"},
     {"threads", "1..256", "cores", "CPU backend and BVH build threads; cores: the machine's"},
@@ -128,6 +128,8 @@ static bool set_nodes(struct rs_render_desc *d, const char *v)
 		return false;
 	if (colon && strcmp(colon + 1, "single") == 0)
 		orders = RS_PACK_ORDERS_SINGLE;
+	else if (colon && strcmp(colon + 1, "octant") == 0)
+		orders = RS_PACK_ORDERS_OCTANT;
 	else if (colon && strcmp(colon + 1, "directional") != 0)
 		return false;
 	d->pack.nodes = nodes;
@@ -269,7 +271,9 @@ enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char 
 	else if (!strcmp(key, "nodes"))
 		n = snprintf(out, cap, "%s:%s",
 		             d->pack.nodes == RS_PACK_NODES_PAPER ? "paper" : "compact",
-		             d->pack.orders == RS_PACK_ORDERS_SINGLE ? "single" : "directional");
+		             d->pack.orders == RS_PACK_ORDERS_SINGLE   ? "single"
+		             : d->pack.orders == RS_PACK_ORDERS_OCTANT ? "octant"
+		                                                       : "directional");
 	else if (!strcmp(key, "scene-storage"))
 		n = snprintf(out, cap, "%s",
 		             (unsigned)d->scene_storage < 3 ? storages[d->scene_storage] : "?");

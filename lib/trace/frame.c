@@ -61,6 +61,7 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	out->two_level = two;
 	out->rules = (struct rs_trace_rules){.box_k = RS_TRACE_BOX_K,
 	                                     .box_k_fp32 = RS_TRACE_BOX_K_FP32,
+	                                     .grid_box_e_fp32 = RS_TRACE_GRID_BOX_E_FP32,
 	                                     .parallel_eps = RS_TRACE_PARALLEL_EPS,
 	                                     .spawn_pull_height = RS_TRACE_SPAWN_PULL_HEIGHT,
 	                                     .spawn_pull = RS_TRACE_SPAWN_PULL};

@@ -164,9 +164,8 @@ static bool traverse(const struct rs_packed *packed, enum rs_triangle_test test,
 		found = traverse_wide(packed, test, &r, &pre, inv, any, out_hit, &boxes, &tris);
 		goto done;
 	}
-	/* the node order of the ray's major direction (rs_pack.h), whose escapes are absolute */
-	uint32_t i =
-	    packed->node_orders > 1 ? rs_pack_node_order(ray->dir) * packed->node_count : 0;
+	/* the node order of the ray's direction (rs_pack.h), whose escapes are absolute */
+	uint32_t i = rs_pack_node_order_of(packed->node_orders, ray->dir) * packed->node_count;
 	uint32_t n = i + packed->node_count;
 	while (i < n) {
 		struct rs_pack_node node;

@@ -82,7 +82,7 @@ static bool walk_blas(const struct blas *b, uint32_t i, const struct rs_ray *wor
 	struct rs__ray_pre pre;
 	rs__ray_prepare(&r, &pre);
 	pre.edge_slack = RS__INSTANCE_EDGE_SLACK;
-	uint32_t k = b->base + (b->orders > 1 ? rs_pack_node_order(r.dir) : 0u) * b->count;
+	uint32_t k = b->base + rs_pack_node_order_of(b->orders, r.dir) * b->count;
 	uint32_t end = k + b->count;
 	while (k < end) {
 		struct rs_pack_node node;
@@ -201,8 +201,7 @@ static bool walk(const struct levels *lv, enum rs_triangle_test test, const stru
 			o[a] = ray->origin[a] - lv->offset[a]; /* TLAS frame (R1) */
 			inv[a] = 1.0 / ray->dir[a];
 		}
-		uint32_t k =
-		    lv->base + (lv->orders > 1 ? rs_pack_node_order(ray->dir) : 0u) * lv->count;
+		uint32_t k = lv->base + rs_pack_node_order_of(lv->orders, ray->dir) * lv->count;
 		uint32_t end = k + lv->count;
 		while (k < end) {
 			struct rs_pack_node node;

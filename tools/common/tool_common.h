@@ -33,7 +33,7 @@ int rs_tool_parse_size(const char *text, uint32_t *out_w, uint32_t *out_h);
 /* --reflections: "trace", "envmap" or "interreflect[:BOUNCES]" (1..RS_RENDER_MAX_BOUNCES;
  * without it 0, the default). Returns 1, or 0 when `text` is none of these. */
 int rs_tool_parse_reflections(const char *text, enum rs_reflection_mode *mode, uint32_t *bounces);
-/* "--nodes FORMAT[:ORDERS]": compact|paper, directional|single (rs_pack.h) into pack's
+/* "--nodes FORMAT[:ORDERS]": compact|paper, directional|octant|single (rs_pack.h) into pack's
  * nodes and orders; 1 on success, 0 when the text names neither. */
 int rs_tool_parse_nodes(const char *text, struct rs_pack_desc *pack);
 /* The same spelling for a pack descriptor ("compact:directional"), into out (size bytes). */

@@ -19,7 +19,8 @@
 //          power of two), RS_WATERTIGHT, RS_LIGHTS, RS_COUNTERS, RS_OPTICS, RS_GEOMETRY,
 //          RS_COMPACT_NODES, RS_WIDE_NODES, RS_WIDE_STACK, RS_NODE_ORDERS,
 //          RS_SCENE_BUFFERS; the rules' constants
-//          RS_BOX_K (R3), RS_PARALLEL_EPS (R2), RS_SPAWN_PULL_HEIGHT, RS_SPAWN_PULL (R5);
+//          RS_BOX_K (R3), RS_GRID_BOX_E and RS_GRID_STEPS (R3 in grid units, the hits-only
+//          kernel's), RS_PARALLEL_EPS (R2), RS_SPAWN_PULL_HEIGHT, RS_SPAWN_PULL (R5);
 //          the paper's ray states RS_STATE_ACTIVE, _MISSED, _ENVIRONMENT, _DIFFUSE.
 #if RS_SCENE_BUFFERS
 #define RS_SCENE_SAMPLER highp samplerBuffer
@@ -230,12 +231,32 @@ bool rs_better(float t, float id, Hit best, bool found, float tmax)
 	return found ? t < best.t || (t == best.t && id < best.id) : t < tmax;
 }
 
+// The node order of a direction (rs_pack_node_order_of): eight orders by the octant, six by
+// the major direction, else the one.
+int rs_order(vec3 d)
+{
+#if RS_NODE_ORDERS == 8
+	bvec3 neg = lessThan(d, vec3(0.0));
+	return (neg.x ? 1 : 0) + (neg.y ? 2 : 0) + (neg.z ? 4 : 0);
+#elif RS_NODE_ORDERS > 1
+	vec3 ad = abs(d);
+	int axis = ad.y > ad.x ? 1 : 0;
+	if (ad.z > ad[axis])
+		axis = 2;
+	return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+#else
+	return 0;
+#endif
+}
+
 #if !RS_WIDE_NODES
 // Node i as both formats decode it (rs_pack_read_node): bounds, and `next` = the escape
 // (the node after a miss, at least i + 1); `first` >= 0 for a leaf's first slot, else -1.
 struct Node {
 	vec3 lo;
 	vec3 hi;
+	vec3 qlo; // compact: the bounds' grid indices (rs_box_grid); paper: unused
+	vec3 qhi;
 	int next;
 	int first;
 };
@@ -247,8 +268,10 @@ Node rs_node_in(int i, vec3 go, vec3 gs)
 #if RS_COMPACT_NODES
 	// One fetch. Bounds = origin + q * step are exact in fp32 (power-of-two step).
 	uvec4 q = rs_fetch(u_nodes, rs_item(i, 1, 0));
-	n.lo = go + vec3(uvec3(q.x & 0xffffu, q.x >> 16, q.y & 0xffffu)) * gs;
-	n.hi = go + vec3(uvec3(q.y >> 16, q.z & 0xffffu, q.z >> 16)) * gs;
+	n.qlo = vec3(uvec3(q.x & 0xffffu, q.x >> 16, q.y & 0xffffu));
+	n.qhi = vec3(uvec3(q.y >> 16, q.z & 0xffffu, q.z >> 16));
+	n.lo = go + n.qlo * gs;
+	n.hi = go + n.qhi * gs;
 	bool leaf = q.w >= 0x80000000u;
 	n.next = leaf ? i + 1 : max(int(q.w), i + 1);
 	n.first = leaf ? int(q.w & 0x7fffffffu) : -1;
@@ -257,6 +280,7 @@ Node rs_node_in(int i, vec3 go, vec3 gs)
 	vec4 n1 = rs_fetch(u_nodes, rs_item(i, 3, 1));
 	n.lo = n0.xyz;
 	n.hi = n1.xyz;
+	n.qlo = n.qhi = vec3(0.0);
 	n.next = max(int(n0.w), i + 1);
 	vec2 slots = n1.w != 0.0 ? vec2(-1.0, 0.0) : rs_fetch(u_nodes, rs_item(i, 3, 2)).xy;
 	n.first = slots.y > 0.0 ? int(slots.x) : -1; // an empty leaf tests nothing
@@ -409,19 +433,6 @@ vec4 rs_instance(int i, int j)
 #endif
 }
 
-// The node order of a direction (rs_pack_node_order).
-int rs_order(vec3 d)
-{
-#if RS_NODE_ORDERS > 1
-	vec3 ad = abs(d);
-	int axis = ad.y > ad.x ? 1 : 0;
-	if (ad.z > ad[axis])
-		axis = 2;
-	return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
-#else
-	return 0;
-#endif
-}
 
 // A BLAS leaf's triangles (rs_leaf with scene ids: first_tri + the local id in t0.w, and
 // the loose BLAS's t0.w already the scene id with first_tri 0).
@@ -597,6 +608,50 @@ void rs_locate(int id, out int inst, out int slot)
 	}
 }
 #else
+#if RS_COMPACT_NODES
+// The hits-only kernel's box test (primary.glsl): in grid units, t = q * a + b for a plane
+// at grid index q (a = step / d, b = (grid origin - o) / d, per ray), one multiply-add a
+// plane instead of rs_node's decode and rs_box's subtract and multiply. Its rounding
+// differs from R3's, so it is widened by its own bound instead of K: every plane of axis x
+// has |t| <= RS_GRID_STEPS (65535) |a| + |b| = m, the rounding of a, b and the
+// multiply-add is below 6 * 2^-24 * m, and the slack e = RS_GRID_BOX_E (2^-18) * m covers
+// that and the triangle test's rounding of t with room (R3's K leaves 13 ulps for it,
+// this over 50). So the box is conservative (never a lost hit: the hits are R4's, bit for
+// bit) and at most 2^-18 of the grid's distance looser; its tests are not R3's, so a walk with it is never
+// counted (the hits-only kernel has no counters). Where m is not below 1e37 (a zero
+// direction component, 1/d = 1e30, in a scene of ~1e7 units: q * a + b could overflow)
+// that axis constrains nothing (a = 0, b = -+3e38): every box entered, slower, never wrong.
+struct Grid {
+	vec3 a;
+	vec3 bn; // b - e: the near planes' offset
+	vec3 bf; // b + e
+};
+
+Grid rs_grid(Ray r, Pre p)
+{
+	Grid g;
+	g.a = u_grid_step * p.inv;
+	vec3 b = (u_grid_origin - r.o) * p.inv;
+	vec3 m = RS_GRID_STEPS * abs(g.a) + abs(b);
+	vec3 e = m * RS_GRID_BOX_E;
+	// m too large (or not a number): every box of that axis entered, slack ample
+	bvec3 ok = lessThan(m, vec3(1.0e37));
+	g.a = mix(vec3(0.0), g.a, ok);
+	g.bn = mix(vec3(-3.0e38), b - e, ok);
+	g.bf = mix(vec3(3.0e38), b + e, ok);
+	return g;
+}
+
+bool rs_box_grid(vec3 qlo, vec3 qhi, Pre p, Grid g, float tmax)
+{
+	vec3 near = mix(qhi, qlo, p.pos) * g.a + g.bn;
+	vec3 far = mix(qlo, qhi, p.pos) * g.a + g.bf;
+	float tn = max(max(near.x, near.y), max(near.z, 0.0));
+	float tf = min(min(far.x, far.y), min(far.z, tmax));
+	return tn <= tf;
+}
+#endif
+
 // Stackless walk of the threaded BVH (pre-order, escape indices). `any`: stop at the first
 // hit (shadow feelers). counts += (box tests, triangle tests), as the CPU counts them.
 // Two loops, "while-while" (Aila & Laine 2009): the inner one walks boxes until this ray
@@ -604,28 +659,31 @@ void rs_locate(int id, out int inst, out int slot)
 // hardware that runs a group of pixels in lock step (llvmpipe: 8 lanes) the group meets the
 // triangle loop together instead of once per lane that happens to sit at a leaf: 1.8x faster
 // on Cow17 than one loop with the leaf inside (docs/benchmarks.md), same tests counted.
-bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
+// `grid` (a constant at every call, so the compiler keeps one box test): rs_box_grid, the
+// hits-only kernel's (compact nodes), else R3's rs_box.
+bool rs_walk(Ray r, bool any, bool grid, out Hit h, inout vec2 counts)
 {
 	Pre p = rs_prepare(r);
+#if RS_COMPACT_NODES
+	Grid g = rs_grid(r, p);
+#endif
 	h = Hit(r.tmax, 0.0, 0.0, -1, -1.0);
 	bool found = false;
-#if RS_NODE_ORDERS > 1
-	// The node order of the ray's major direction (rs_pack_node_order): near boxes first.
-	vec3 ad = abs(r.d);
-	int axis = ad.y > ad.x ? 1 : 0;
-	if (ad.z > ad[axis])
-		axis = 2;
-	int i = (2 * axis + (r.d[axis] < 0.0 ? 1 : 0)) * u_node_count;
-#else
-	int i = 0;
-#endif
+	// The node order of the ray's direction (rs_pack_node_order_of): near boxes first.
+	int i = rs_order(r.d) * u_node_count;
 	int end = i + u_node_count;
 	while (i < end) {
 		int first = -1;
 		while (i < end) {
 			Node n = rs_node(i);
 			counts.x += 1.0;
-			if (!rs_box(n.lo, n.hi, r, p, h.t)) {
+#if RS_COMPACT_NODES
+			bool in_box = grid ? rs_box_grid(n.qlo, n.qhi, p, g, h.t)
+			                   : rs_box(n.lo, n.hi, r, p, h.t);
+#else
+			bool in_box = rs_box(n.lo, n.hi, r, p, h.t);
+#endif
+			if (!in_box) {
 				i = n.next;
 				continue;
 			}
@@ -643,5 +701,10 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 			return true;
 	}
 	return found;
+}
+
+bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
+{
+	return rs_walk(r, any, false, h, counts);
 }
 #endif

@@ -116,6 +116,13 @@ enum rs_pack_orders {
 	RS_PACK_ORDERS_DIRECTIONAL = 0,
 	/** One: the builder's order, as the paper. */
 	RS_PACK_ORDERS_SINGLE = 1,
+	/** Eight: one per octant of the ray's direction (the signs of x, y, z), each visiting at
+	 * every node first the child whose box centre comes first, along the axis the two
+	 * centres are farthest apart (the node's split), in the direction of the octant's sign
+	 * there: three-mesh-bvh's per-node child order, made stackless by keeping eight copies
+	 * (rs_pack_node_order_of). Eight times the node texture; one order where eight do not
+	 * fit, as directional. */
+	RS_PACK_ORDERS_OCTANT = 2,
 };
 
 /** A texture image: width * height * 4 values, row-major, caller-owned. */
@@ -157,7 +164,7 @@ struct rs_packed {
 	uint32_t max_texture_size; /**< the limit the layout was made for (resolved) */
 	double origin[3]; /**< world position of the packed frame's origin (set by packing) */
 	enum rs_pack_nodes node_format; /**< the nodes texture's format (resolved) */
-	/** Pre-orders in the node texture (1 or 6): order d holds items [d * node_count,
+	/** Pre-orders in the node texture (1, 6 or 8): order d holds items [d * node_count,
 	 * (d + 1) * node_count), escapes are absolute items, a ray starts at its order's first. */
 	uint32_t node_orders;
 	/** Compact nodes: bound = grid_origin + q * grid_step (packed frame). The step is a power
@@ -393,6 +400,16 @@ static inline uint32_t rs_pack_node_order(const double d[3])
 	if (az > (axis ? ay : ax))
 		axis = 2;
 	return 2u * (uint32_t)axis + (d[axis] < 0.0 ? 1u : 0u);
+}
+
+/** The node order a ray with direction d walks in a texture of `orders` pre-orders: 0 for
+ * one, rs_pack_node_order() for six, and for eight (RS_PACK_ORDERS_OCTANT) the octant
+ * (d[0] < 0) + 2 (d[1] < 0) + 4 (d[2] < 0). The kernels choose the same way in fp32. */
+static inline uint32_t rs_pack_node_order_of(uint32_t orders, const double d[3])
+{
+	if (orders == 8)
+		return (d[0] < 0.0 ? 1u : 0u) | (d[1] < 0.0 ? 2u : 0u) | (d[2] < 0.0 ? 4u : 0u);
+	return orders > 1 ? rs_pack_node_order(d) : 0u;
 }
 
 /** An index stored in a float texel (exact below 2^24); NaN, negative or huge values (corrupt

@@ -312,6 +312,11 @@ enum rs_status rs_trace_render(const struct rs_scene *scene, const struct rs_pac
 /** R3: slab distances are widened outwards by K = 16 ulps of the arithmetic's precision. */
 #define RS_TRACE_BOX_K 0x1p-49      /**< double (the reference) */
 #define RS_TRACE_BOX_K_FP32 0x1p-19 /**< fp32 (the kernels) */
+/** The hits-only kernel's grid-unit box test (docs/gles.md "Hits only"): each axis widened
+ * by this share of the largest |t| a grid plane can have, 65535 |step / d| + |(grid origin -
+ * o) / d|, an absolute bound that covers its fp32 rounding and the triangle test's (R3's K
+ * is relative to t; this test's rounding is not). */
+#define RS_TRACE_GRID_BOX_E_FP32 0x1p-18
 /** R2: a ray within this relative |d.n| / (|d| |n|) of a triangle's plane is parallel. */
 #define RS_TRACE_PARALLEL_EPS 1e-13
 /** R5's pull: a triangle less than PULL_HEIGHT delta high goes to its centroid, else each
@@ -325,6 +330,7 @@ enum rs_status rs_trace_render(const struct rs_scene *scene, const struct rs_pac
 /** The fixed constants of docs/tracer.md R2-R5, as values (what a backend hands on). */
 struct rs_trace_rules {
 	double box_k, box_k_fp32;             /**< R3 */
+	double grid_box_e_fp32;               /**< R3 in grid units (hits-only kernel) */
 	double parallel_eps;                  /**< R2 */
 	double spawn_pull_height, spawn_pull; /**< R5 */
 };

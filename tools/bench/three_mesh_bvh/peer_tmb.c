@@ -183,20 +183,28 @@ static enum rs_status compare(const struct peer_options *o, struct peer_run *p,
 	double ours_ms = rs_tool_median(p->ours_ms, o->repeats);
 	double theirs_ms = rs_tool_median(p->theirs_ms, o->repeats);
 	double sep_ms = rs_tool_median(p->sep_ms, o->repeats);
-	printf("scene %s size %ux%u rays %zu frames %u ours_ms %.2f theirs_ms %.2f ours_mrays %.2f "
-	       "theirs_mrays %.2f ratio %.2f ratio_min %.2f ratio_max %.2f ours_agree %.3f "
-	       "theirs_agree %.3f separate_ms %.2f separate_ratio %.2f separate_agree %.3f\n"
-	       "renderer %s\n",
-	       o->scene, w, h, n, o->repeats, ours_ms, theirs_ms, (double)n / (ours_ms * 1000.0),
-	       (double)n / (theirs_ms * 1000.0), theirs_ms / ours_ms, lo, hi,
-	       agreement(p->our_ids, p->cpu_ids, n), agreement(p->their_ids, p->cpu_ids, n), sep_ms,
-	       theirs_ms / sep_ms, agreement(p->sep_ids, p->cpu_ids, n), theirs);
+	char nodes[64];
+	rs_tool_nodes_name(&o->render.pack, nodes, sizeof nodes);
+	printf(
+	    "scene %s size %ux%u rays %zu frames %u ours_ms %.2f theirs_ms %.2f ours_mrays %.2f "
+	    "theirs_mrays %.2f ratio %.2f ratio_min %.2f ratio_max %.2f ours_agree %.3f "
+	    "theirs_agree %.3f separate_ms %.2f separate_ratio %.2f separate_agree %.3f nodes %s\n"
+	    "renderer %s\n",
+	    o->scene, w, h, n, o->repeats, ours_ms, theirs_ms, (double)n / (ours_ms * 1000.0),
+	    (double)n / (theirs_ms * 1000.0), theirs_ms / ours_ms, lo, hi,
+	    agreement(p->our_ids, p->cpu_ids, n), agreement(p->their_ids, p->cpu_ids, n), sep_ms,
+	    theirs_ms / sep_ms, agreement(p->sep_ids, p->cpu_ids, n), nodes, theirs);
 	return RS_OK;
 }
 
 int main(int argc, char **argv)
 {
-	struct peer_options o = {.repeats = 7, .render = {.width = 512, .height = 512}};
+	/* ours walks octant node orders unless --nodes says otherwise: three-mesh-bvh's near
+	 * child first at every node (docs/bvh.md "Node orders"), 10 % fewer tests than the
+	 * shaded frames' default directional orders on Cow1's primary rays */
+	struct peer_options o = {
+	    .repeats = 7,
+	    .render = {.width = 512, .height = 512, .pack.orders = RS_PACK_ORDERS_OCTANT}};
 	const struct rs_cli_option opts[] = {
 	    RS_CLI_STRING_OPT("--scene", &o.scene, "SCENE", "the scene (required; not instanced)"),
 	    RS_CLI_STRING_OPT("--mesh-out", &o.mesh_out, "FILE",
@@ -210,11 +218,12 @@ int main(int argc, char **argv)
 	                     .about =
 	                         "Primary rays, ours against three-mesh-bvh's GLSL traversal on "
 	                         "the same EGL driver;\nrun by tools/peer-three-mesh-bvh.sh "
-	                         "(docs/benchmarks.md).\n",
+	                         "(docs/benchmarks.md). Ours: the hits-only kernel, --nodes "
+	                         "compact:octant\nunless given.\n",
 	                     .options = opts,
 	                     .option_count = sizeof opts / sizeof opts[0],
 	                     .render = &o.render,
-	                     .render_keys = "size"};
+	                     .render_keys = "size,nodes"};
 	int code;
 	if (!rs_cli_parse(&cli, argc, argv, &code))
 		return code;
