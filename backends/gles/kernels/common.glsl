@@ -62,6 +62,12 @@ const float RS_BOX_GROW = 1.0 + RS_BOX_K;
 const float RS_BOX_SHRINK = 1.0 - RS_BOX_K;
 // 1/d for a zero direction component (rs_box): finite, so (lo - o) * inv is never NaN.
 const float RS_ZERO_INV = 1.0e30;
+// The hi plane of a zero direction component's slab is moved out by eps = |o| * RS_ZERO_REL
+// + RS_ZERO_ABS (rs_slab_hi_origin): 2^-20 |o| is 8 ulps of o, so o - eps != o; eps * 1e30
+// (at least 2^-64 * 1e30 ~ 5e10) bounds the t of any box a ray lying in its hi face plane
+// must enter.
+const float RS_ZERO_REL = 9.5367431640625e-7; // 2^-20
+const float RS_ZERO_ABS = 5.421010862427522e-20; // 2^-64
 
 struct Ray {
 	vec3 o;
@@ -105,9 +111,25 @@ vec4 rs_material(int m, int j) { return rs_fetch(u_materials, rs_item(m, 3, j));
 
 float rs_maxabs(vec3 a) { return max(max(abs(a.x), abs(a.y)), abs(a.z)); }
 
+// 1 / d, RS_ZERO_INV for a zero component (-0.0 included: equal() is true for it).
+vec3 rs_inv(vec3 d) { return mix(1.0 / d, vec3(RS_ZERO_INV), equal(d, vec3(0.0))); }
+
+// The origin the slab test subtracts from hi (rs_box; lo - o uses o): o, except on a zero
+// direction component, where it is o - eps. There inv = RS_ZERO_INV: a ray lying in the
+// slab gets near = (lo - o) * 1e30 <= 0 and far >= eps * 1e30, beyond any box's t, so the
+// slab constrains nothing, as the reference's "inside iff lo <= o <= hi" (1/0 = inf) — in
+// its hi face plane too, where (hi - o) * 1e30 = 0 would be a far of 0 and skip the box.
+// A box whose hi is within eps below o is entered too: a box test more, never a lost hit.
+// No arithmetic per box: the same subtractions.
+vec3 rs_slab_hi_origin(vec3 o, vec3 d)
+{
+	return o - mix(vec3(0.0), abs(o) * RS_ZERO_REL + RS_ZERO_ABS, equal(d, vec3(0.0)));
+}
+
 // Per-ray values every box and triangle test reuses.
 struct Pre {
 	vec3 inv;
+	vec3 ohi; // rs_slab_hi_origin
 	bvec3 pos; // inv >= 0: near is the lo plane
 	float dmax;
 	ivec3 k;   // watertight: (kx, ky, kz)
@@ -117,7 +139,8 @@ struct Pre {
 Pre rs_prepare(Ray r)
 {
 	Pre p;
-	p.inv = mix(1.0 / r.d, vec3(RS_ZERO_INV), equal(r.d, vec3(0.0)));
+	p.inv = rs_inv(r.d);
+	p.ohi = rs_slab_hi_origin(r.o, r.d);
 	p.pos = greaterThanEqual(p.inv, vec3(0.0));
 	p.dmax = rs_maxabs(r.d);
 	int kz = 0;
@@ -138,13 +161,14 @@ Pre rs_prepare(Ray r)
 
 // Slab test (R3), near/far picked by the direction's sign (an empty box stays empty), the
 // nearest far and farthest near widened outwards once (widening is monotone, so this is
-// widening every slab's). A zero direction component has inv = RS_ZERO_INV (rs_prepare):
-// inside its slab, near <= 0 <= far and the slab constrains nothing; outside by more than
-// tf / 1e30 the box is missed; closer than that it is entered (conservative: only a box
-// test more, never a lost hit). No NaN: inv is finite, so no 0 * inf.
+// widening every slab's). A zero direction component has inv = RS_ZERO_INV and its hi
+// plane moved out by eps (rs_slab_hi_origin): lying in the slab, faces included, the slab
+// constrains nothing; outside it the box is missed, unless closer than tf / 1e30 below lo
+// or eps above hi, where it is entered (conservative: only a box test more, never a lost
+// hit). No NaN: inv is finite, so no 0 * inf.
 bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
 {
-	vec3 t0 = (lo - r.o) * p.inv, t1 = (hi - r.o) * p.inv;
+	vec3 t0 = (lo - r.o) * p.inv, t1 = (hi - p.ohi) * p.inv;
 	vec3 near = mix(t1, t0, p.pos);
 	vec3 far = mix(t0, t1, p.pos);
 	float tn = max(max(near.x, near.y), max(near.z, 0.0)) * RS_BOX_SHRINK;
@@ -153,10 +177,10 @@ bool rs_box(vec3 lo, vec3 hi, Ray r, Pre p, float tmax)
 	return tn <= tf;
 }
 
-// rs_box from the ray's origin and 1 / d alone (the two-level walk's current ray).
-bool rs_box_at(vec3 lo, vec3 hi, vec3 o, vec3 inv, float tmax)
+// rs_box from the ray's origin, hi origin and 1 / d alone (the two-level walk's current ray).
+bool rs_box_at(vec3 lo, vec3 hi, vec3 o, vec3 ohi, vec3 inv, float tmax)
 {
-	vec3 t0 = (lo - o) * inv, t1 = (hi - o) * inv;
+	vec3 t0 = (lo - o) * inv, t1 = (hi - ohi) * inv;
 	bvec3 pos = greaterThanEqual(inv, vec3(0.0));
 	vec3 near = mix(t1, t0, pos);
 	vec3 far = mix(t0, t1, pos);
@@ -484,7 +508,7 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 	float first_tri = 0.0;
 	// The ray of the tree being walked (world, or a BLAS's object ray) as plain vectors:
 	// a struct assigned inside the loop costs llvmpipe 4x per node (measured on cow1i).
-	vec3 co = r.o, cd = r.d, cinv = pw.inv;
+	vec3 co = r.o, cd = r.d, cinv = pw.inv, cohi = pw.ohi;
 	vec3 go = u_grid_origin, gs = u_grid_step;
 	while (true) {
 		// The inner loop is the node step alone, as the one-level walk's: llvmpipe runs
@@ -500,7 +524,7 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 				n.lo -= abs(n.lo) * 1.1920929e-7 + 1.17549435e-38;
 				n.hi += abs(n.hi) * 1.1920929e-7 + 1.17549435e-38;
 			}
-			if (!rs_box_at(n.lo, n.hi, co, cinv, h.t)) {
+			if (!rs_box_at(n.lo, n.hi, co, cohi, cinv, h.t)) {
 				i = n.next;
 				continue;
 			}
@@ -539,6 +563,7 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 				co = r.o;
 				cd = r.d;
 				cinv = pw.inv;
+				cohi = pw.ohi;
 			}
 		}
 		if (enter >= 0) {
@@ -547,7 +572,8 @@ bool rs_traverse(Ray r, bool any, out Hit h, inout vec2 counts)
 			vec4 m0 = rs_instance(inst, 0), m1 = rs_instance(inst, 1), m2 = rs_instance(inst, 2);
 			co = vec3(dot(m0.xyz, r.o) + m0.w, dot(m1.xyz, r.o) + m1.w, dot(m2.xyz, r.o) + m2.w);
 			cd = vec3(dot(m0.xyz, r.d), dot(m1.xyz, r.d), dot(m2.xyz, r.d));
-			cinv = mix(1.0 / cd, vec3(RS_ZERO_INV), equal(cd, vec3(0.0)));
+			cinv = rs_inv(cd);
+			cohi = rs_slab_hi_origin(co, cd);
 			vec4 g0 = rs_instance(inst, 9), g1 = rs_instance(inst, 10);
 			go = g0.xyz;
 			gs = g1.xyz;
