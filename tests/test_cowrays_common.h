@@ -148,14 +148,19 @@ static bool cow_brute_closest(const struct cow_brute *b, enum rs_triangle_test t
 	for (int a = 0; a < 3; a++)
 		r.origin[a] -= b->origin[a];
 	double inv[3];
-	/* A zero component gets 1e300 instead of inf: no 0 * inf NaN, and a slab the
-	 * origin lies in still spans every t, one it lies outside starts at ~1e300 t. The
-	 * filter only needs to be conservative. */
+	/* A zero component: the ray stays in its plane, so the slab is a yes or no (lo <= o <=
+	 * hi, faces included), never a product: (hi - o) * 1e300 on the hi face is 0, a far
+	 * of 0 that would drop the box for any tmin > 0. The filter must be conservative. */
 	for (int a = 0; a < 3; a++)
-		inv[a] = r.dir[a] == 0.0 ? 1e300 : 1.0 / r.dir[a];
+		inv[a] = r.dir[a] == 0.0 ? 0.0 : 1.0 / r.dir[a];
 	for (size_t t = 0; t < b->tris; t++) {
 		double tn = r.tmin, tf = r.tmax;
 		for (int a = 0; a < 3; a++) {
+			if (r.dir[a] == 0.0) {
+				if (r.origin[a] < b->lo[a][t] || r.origin[a] > b->hi[a][t])
+					tf = -1.0; /* outside the slab: never entered */
+				continue;
+			}
 			double t0 = (b->lo[a][t] - r.origin[a]) * inv[a];
 			double t1 = (b->hi[a][t] - r.origin[a]) * inv[a];
 			double near = t0 < t1 ? t0 : t1, far = t0 < t1 ? t1 : t0;
