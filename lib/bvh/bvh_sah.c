@@ -432,10 +432,9 @@ WIDE_FN static inline __m256d areas4(const float *box, size_t stride)
 }
 
 /* plane_costs_narrow(), four planes at a time (counts below 2^31: a record is 32 bytes). */
-__attribute__((target("avx"))) static void plane_costs_wide(const struct plane_boxes *pb,
-                                                            const uint32_t *ln, const uint32_t *rn,
-                                                            uint32_t from, uint32_t to,
-                                                            double split, double *cost)
+WIDE_FN static void plane_costs_wide(const struct plane_boxes *pb, const uint32_t *ln,
+                                     const uint32_t *rn, uint32_t from, uint32_t to, double split,
+                                     double *cost)
 {
 	const size_t stride = sizeof *pb / sizeof(float);
 	__m256d sp = _mm256_set1_pd(split);

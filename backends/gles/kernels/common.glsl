@@ -457,7 +457,6 @@ vec4 rs_instance(int i, int j)
 #endif
 }
 
-
 // A BLAS leaf's triangles (rs_leaf with scene ids: first_tri + the local id in t0.w, and
 // the loose BLAS's t0.w already the scene id with first_tri 0).
 bool rs_leaf_blas(int first, Ray r, Pre p, bool stop, float first_tri, int inst, inout Hit h,
