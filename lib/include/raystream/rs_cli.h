@@ -74,10 +74,14 @@ struct rs_cli_option {
 	{                                                                                          \
 		.name = (NAME), .kind = RS_CLI_STRING, .out = (OUT), .arg = (ARG), .help = (HELP)  \
 	}
+/* A bound spelled as its value, a macro expanded first ("1..64", not "1..PEER_MAX_REPEATS"). */
+#define RS_CLI__STR(x) RS_CLI__STR_(x)
+#define RS_CLI__STR_(x) #x
 #define RS_CLI_U32_OPT(NAME, OUT, MIN, MAX, HELP)                                                  \
 	{                                                                                          \
-		.name = (NAME), .kind = RS_CLI_U32, .out = (OUT), .arg = #MIN ".." #MAX,           \
-		.help = (HELP), .min = (MIN), .max = (MAX)                                         \
+		.name = (NAME), .kind = RS_CLI_U32, .out = (OUT),                                  \
+		.arg = RS_CLI__STR(MIN) ".." RS_CLI__STR(MAX), .help = (HELP), .min = (MIN),       \
+		.max = (MAX)                                                                       \
 	}
 #define RS_CLI_DOUBLE_OPT(NAME, OUT, ARG, MIN, MAX, HELP)                                          \
 	{                                                                                          \
