@@ -12,6 +12,8 @@ fail() {
   done
   exit 1
 }
+# A failed check must not leave a device process (they run up to 120 s) holding ctest's pipe.
+trap 'jobs -p | xargs -r kill 2> /dev/null || true' EXIT
 
 # 1. A simulated run prints one pose line per sample and the final counters.
 out=$("$tool" -n 200 --stats 0 'sim:seed=1&noise=0.5mm')
@@ -57,8 +59,11 @@ n=$(sed -n 's/^# stats samples=\([0-9]*\) .*/\1/p' "$work/dur.txt")
 [ -n "$n" ] && [ "$n" -ge 1 ] && [ "$n" -le 40 ] || fail "--duration 0.3 at 100 Hz: ${n:-no} samples"
 
 # 4. --pty plays a simulated device into a pseudo-terminal; a second process reads it
-#    through the serial path (tty raw mode, poll, parser) and solves poses.
-"$tool" --pty -d 5 'sim:realtime=1&rate=200&seed=3' > "$work/pty.txt" &
+#    through the serial path (tty raw mode, poll, parser) and solves poses. The device
+#    runs until the reader is done (killed then): a fixed duration raced a sanitized
+#    reader's start-up on a loaded machine ("cannot open /dev/pts/0").
+rm -f "$work/pty.txt"
+"$tool" --pty -d 120 'sim:realtime=1&rate=200&seed=3' > "$work/pty.txt" &
 server=$!
 for _ in $(seq 300); do [ -s "$work/pty.txt" ] && break; sleep 0.1; done
 pty=$(head -n 1 "$work/pty.txt")
@@ -73,6 +78,7 @@ grep -q '^# stats samples=100 frames=100' "$work/serial.txt" || fail "serial sta
 #     timeout of 60 s: how soon is not asserted). The signal goes only once the tool has
 #     printed its path, so its handler is in place: a background job of this script starts
 #     with SIGINT ignored, and a loaded machine can take seconds to get that far.
+rm -f "$work/pty_idle.txt"
 "$tool" --pty 'sim:realtime=1&rate=5000' > "$work/pty_idle.txt" &
 server=$!
 for _ in $(seq 300); do [ -s "$work/pty_idle.txt" ] && break; sleep 0.1; done
@@ -90,16 +96,21 @@ wait "$server" || fail "--pty interrupted exited non-zero"
 #     and --duration still ends the run cleanly.
 #     The waits are generous: under a loaded CI machine a sanitized binary can take
 #     seconds to start, and a device that ends before its reader opened it proves nothing.
-"$tool" --pty -d 6 'sim:realtime=1&rate=200&seed=4' > "$work/pty_rc.txt" &
+rm -f "$work/pty_rc.txt"
+"$tool" --pty -d 120 'sim:realtime=1&rate=200&seed=4' > "$work/pty_rc.txt" &
 server=$!
 for _ in $(seq 300); do [ -s "$work/pty_rc.txt" ] && break; sleep 0.1; done
 [ -s "$work/pty_rc.txt" ] || fail "--pty (reconnect case) printed no path within 30 s"
 ln -sf "$(head -n 1 "$work/pty_rc.txt")" "$work/tty"
+rm -f "$work/rc.txt"
 "$tool" -q --stats 0.2 --reconnect -d 9 "serial:$work/tty" > "$work/rc.txt" 2> "$work/rc.err" &
 client=$!
-# Remove the link once the client reads through it (it holds the open line).
-for _ in $(seq 300); do grep -q 'samples=[1-9]' "$work/rc.txt" && break; sleep 0.1; done
+# Remove the link once the client reads through it (it holds the open line), then take
+# the device away (SIGINT), however long a loaded machine took to start the client.
+for _ in $(seq 300); do grep -qs 'samples=[1-9]' "$work/rc.txt" && break; sleep 0.1; done
+grep -q 'samples=[1-9]' "$work/rc.txt" || fail "--reconnect client read no sample within 30 s"
 rm -f "$work/tty"
+kill -INT "$server"
 wait "$server" || fail "--pty server failed"
 for _ in $(seq 600); do kill -0 "$client" 2> /dev/null || break; sleep 0.1; done
 if kill -0 "$client" 2> /dev/null; then
@@ -113,12 +124,15 @@ tail -n 1 "$work/rc.txt" | grep -q 'disconnects=1 ' || fail "disconnect not coun
 # 4d. A disconnect without --reconnect ends the run with one error line, exit 1, and
 #     still the final counters. The device goes away (SIGINT) only once the reader has
 #     samples, however long a loaded machine took to start it.
+rm -f "$work/pty_dc.txt"
 "$tool" --pty -d 60 'sim:realtime=1&rate=200&seed=5' > "$work/pty_dc.txt" &
 server=$!
 for _ in $(seq 300); do [ -s "$work/pty_dc.txt" ] && break; sleep 0.1; done
+rm -f "$work/dc.txt"
 "$tool" -q --stats 0.2 "serial:$(head -n 1 "$work/pty_dc.txt")" > "$work/dc.txt" 2> "$work/dc.err" &
 client=$!
-for _ in $(seq 300); do grep -q 'samples=[1-9]' "$work/dc.txt" && break; sleep 0.1; done
+for _ in $(seq 300); do grep -qs 'samples=[1-9]' "$work/dc.txt" && break; sleep 0.1; done
+grep -q 'samples=[1-9]' "$work/dc.txt" || fail "disconnect: the client read no sample within 30 s"
 kill -INT "$server"
 wait "$server" || fail "--pty server failed"
 rc=0
