@@ -43,6 +43,11 @@ enum rs_primary_mode {
 enum rs_shadow_mode {
 	RS_SHADOW_RAYS = 0, /**< exact shadow feelers through the BVH (default) */
 	RS_SHADOW_MAP = 1,  /**< cube shadow maps, box-filtered (GL backends only) */
+	/** Unshadowed: every light in front of a surface counts as visible; no feelers, no
+	 * maps (every backend). For scenes whose look needs no shadows: the paper's classic
+	 * environment mapping (its Table 3) had none. rs_render_trace_desc() hands it to the
+	 * frame (rs_trace_desc.unshadowed), which every backend shades from. */
+	RS_SHADOW_NONE = 2,
 };
 
 /** How the GL backends chain their kernels. */
@@ -191,7 +196,7 @@ struct rs_render_stats {
 	uint64_t pixels;
 	uint64_t primary_rays;   /**< one per pixel (rasterized ones included) */
 	uint64_t secondary_rays; /**< reflected and refracted segments */
-	uint64_t shadow_rays;    /**< shadow feelers (0 with shadow maps) */
+	uint64_t shadow_rays;    /**< shadow feelers (0 with shadow maps or none) */
 	bool counters_valid;     /**< box/triangle counts below were measured */
 	uint64_t box_tests;
 	uint64_t triangle_tests;
