@@ -79,7 +79,7 @@ times_row() {
          (if .error then " \(if .error.psnr_db == null then "inf"
                              else .error.psnr_db * 10 | round / 10 end)" +
              " \(.error.max_abs_error * 1000 | round / 1000)" +
-             " \(.error.bad_share * 10000 | round / 100)%" else "" end)' \
+             " \(.error.bad_share * 100000 | round / 1000)%" else "" end)' \
     "$tmp/times.json" || die "cannot read $tmp/times.json"
 }
 # error PSNR MAX BAD: one error cell ("31.2 dB, max 0.512, 2.3% off").
