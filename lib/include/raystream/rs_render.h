@@ -492,9 +492,10 @@ enum rs_status rs_render_accel_update(const struct rs_render_accel *accel,
 /** Free what rs_render_accel_build() allocated and zero the struct; NULL is allowed. */
 void rs_render_accel_free(struct rs_render_accel *accel);
 
-/** The reference tracer's descriptor of `desc`: size, passes, lights, triangle test and
- * spawn scale (camera, rows and intersector 0). Every backend resolves its frame from it
- * (rs_trace_frame_init()), so the kernels and the reference read the same numbers. */
+/** The reference tracer's descriptor of `desc`: size, passes, lights, triangle test,
+ * spawn scale and unshadowed (shadows RS_SHADOW_NONE) (camera, rows and intersector 0).
+ * Every backend resolves its frame from it (rs_trace_frame_init()), so the kernels and the
+ * reference read the same numbers. */
 struct rs_trace_desc rs_render_trace_desc(const struct rs_render_desc *desc);
 
 /** The BVH builder's descriptor of `desc`: desc->bvh, with bvh.threads 0 taken from
