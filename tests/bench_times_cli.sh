@@ -33,6 +33,18 @@ if run --chain paper --json t.json && grep -q '^wrote t.json$' out.txt; then
             (.rows[0].kernel_ms | has("intersect"))' t.json >/dev/null; then ok "--json"
   else bad "--json: $(head -c 400 t.json)"; fi
 else bad "--json: $(head -c 300 err.txt)"; fi
+# --error: the GL tracer agrees with the CPU reference tracer; the classic environment map
+# without shadows does not (its error is what the column reports); shadows none is named.
+if run --error --json t.json && jq -e '.rows[0].error.psnr_db >= 57 and
+                                       .rows[0].error.bad_share <= 0.001' t.json >/dev/null &&
+   grep -q "error against the CPU reference tracer" out.txt; then ok "--error, tracer"
+else bad "--error, tracer: $(head -c 300 err.txt) $(head -c 400 t.json)"; fi
+if run --error --primary raster --reflections envmap --shadows none --json t.json &&
+   grep -q " raster none envmap" out.txt &&
+   jq -e '.rows[0].shadows == "none" and .rows[0].error.psnr_db < 40 and
+          .rows[0].error.bad_share > 0.01' t.json >/dev/null; then ok "--error, classic unshadowed"
+else bad "--error, classic unshadowed: $(head -c 300 err.txt) $(cat out.txt) $(head -c 400 t.json)"; fi
+if fails_cleanly "--error alone" 2 "--error goes with --times" --error; then ok "--error alone"; fi
 # Bad input: one line naming the option and its valid values, exit 2, no usage dump.
 if fails_cleanly "unknown chain" 2 "--chain: .*fused\|separate\|paper" \
   --times --chain wavefront box; then ok "unknown chain"; fi

@@ -21,7 +21,7 @@ named() { grep -qx -- "$1" stdout.txt; }
 if "$bin" --help >help.txt 2>stderr.txt && [ ! -s stderr.txt ]; then
   missing=""
   for want in "--backend auto|cpu|egl|osmesa" "--passes 1..64" "--lights 1..64|all" \
-      "--size WxH" "--shadows rays|map" "--primary trace|raster" "--bvh sah|none|linear|paper" \
+      "--size WxH" "--shadows rays|map[:RES[:FILTER]]|none" "--primary trace|raster" "--bvh sah|none|linear|paper" \
       "--nodes compact|paper" "--scene-storage auto|2d|buffer" "--threads 1..256" \
       "--reflections trace|envmap|interreflect" "[auto]" "[2]" "[all]" "[out.png]"; do
     grep -qF -- "$want" help.txt || missing="$missing '$want'"
@@ -36,6 +36,14 @@ expect_fail "--passes 0 names the range" 2 "^raystream-render: --passes: '0' is 
 expect_fail "--lights 0 names the values" 2 "--lights: '0' is not 1..64\|all" --scene box --lights 0
 expect_fail "--shadows names the values" 2 "--shadows: 'map:4' is not rays\|map\[:RES\[:FILTER\]\]" \
   --scene box --shadows map:4
+# shadows none: no feeler cast (the stats count them; rays on the same frame casts some)
+if "$bin" --scene box --size=8x8 --backend=cpu --shadows none --stats s.json \
+    >stdout.txt 2>stderr.txt && grep -q '"shadow_rays":[[:space:]]*0,' s.json &&
+    grep -q '"shadows":[[:space:]]*"none"' s.json &&
+    "$bin" --scene box --size=8x8 --backend=cpu --shadows rays --stats s.json \
+    >stdout.txt 2>stderr.txt && grep -q '"shadow_rays":[[:space:]]*[1-9]' s.json
+then ok "--shadows none casts no feeler"
+else bad "--shadows none: $(cat stderr.txt) $(cat s.json)"; fi
 expect_fail "--size 0x8 names the form" 2 "--size: '0x8' is not WxH" --scene box --size 0x8
 expect_fail "a value missing" 2 "option --passes needs a value" --scene box --passes
 if "$bin" --scene box --size=8x8 --passes=1 --lights=2 --backend=cpu --stats s.json \

@@ -1,7 +1,8 @@
 /* Cube shadow maps with a box filter against exact shadow feelers (the CPU reference):
  * the error of a few map settings on Box and Cow1, bars just under what llvmpipe reaches
  * (docs/gles.md has the full table); no feelers are cast in map mode; the box filter is
- * seamless across cube faces (a shadow edge on a seam, built here). */
+ * seamless across cube faces (a shadow edge on a seam, built here). shadows=none against
+ * the reference without feelers, on every chain, and its counted frames cast none. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -62,6 +63,94 @@ static void cow1_map_1024_unfiltered(void **state)
 static void cow1_map_256_box5(void **state)
 {
 	map_error("cow1", 256, 5, 27.5, 0.06);
+}
+
+/* shadows=none on `chain`: every light in front of a surface lit, no feeler cast, as the
+ * CPU reference renders it without feelers (>= 57 dB, fp32 against double), and not the
+ * shadowed image (Cow1's lights cast shadows, so a kernel that kept its feelers fails). */
+static void unshadowed(enum rs_kernel_chain chain)
+{
+	struct rs_render_desc desc = {.width = SIZE,
+	                              .height = SIZE,
+	                              .passes = 2,
+	                              .lights = 4,
+	                              .chain = chain,
+	                              .shadows = RS_SHADOW_NONE};
+	struct rs_scene *scene = gl_scene("cow1");
+	static float got[SIZE * SIZE * 3], want[SIZE * SIZE * 3], shadowed[SIZE * SIZE * 3];
+	if (!gl_frame("egl", &desc, scene, got, NULL, NULL))
+		gl_skip();
+	gl_reference(&desc, scene, want, NULL);
+	desc.shadows = RS_SHADOW_RAYS;
+	gl_reference(&desc, scene, shadowed, NULL);
+	struct rs_image_diff diff, lost;
+	rs_image_compare(got, want, SIZE, SIZE, 3, 1.0, 8.0 / 255.0, &diff);
+	rs_image_compare(shadowed, want, SIZE, SIZE, 3, 1.0, 8.0 / 255.0, &lost);
+	print_message("none, chain %d: PSNR %.2f dB, %.4f%% pixels off by > 8/255, max %.4f; "
+	              "against the shadowed reference %.2f dB\n",
+	              (int)chain, diff.psnr_db, 100.0 * diff.bad_share, diff.max_abs_error,
+	              lost.psnr_db);
+	assert_true(diff.psnr_db >= 57.0);
+	assert_true(diff.bad_share <= 0.0005);
+	assert_true(lost.psnr_db < 40.0 && lost.bad_share > 0.01);
+	rs_scene_destroy(&scene);
+}
+
+static void unshadowed_fused(void **state)
+{
+	unshadowed(RS_CHAIN_FUSED);
+}
+static void unshadowed_separate(void **state)
+{
+	unshadowed(RS_CHAIN_SEPARATE);
+}
+static void unshadowed_paper(void **state)
+{
+	unshadowed(RS_CHAIN_PAPER);
+}
+
+/* Counted frames cast no feeler with shadows=none, on the CPU reference and on GL for
+ * traced primaries and Table 3's classic column (raster primaries, environment map); the
+ * same frames with feelers count some, so the count is live. */
+static void unshadowed_counts_no_feelers(void **state)
+{
+	struct rs_scene *scene = gl_scene("cow1");
+	static float rgb[SIZE * SIZE * 3];
+	struct rs_render_desc desc = {.width = SIZE,
+	                              .height = SIZE,
+	                              .passes = 2,
+	                              .lights = 4,
+	                              .counters = true,
+	                              .shadows = RS_SHADOW_NONE};
+	struct rs_renderer *cpu = NULL;
+	struct rs_error err;
+	for (int shadows = 0; shadows < 2; ++shadows) {
+		desc.shadows = shadows ? RS_SHADOW_RAYS : RS_SHADOW_NONE;
+		if (rs_renderer_create_cpu(&desc, &cpu, &err) != RS_OK)
+			fail_msg("cpu: %s", err.message);
+		gl_render(cpu, scene, rgb, NULL);
+		const struct rs_render_stats *cs = rs_renderer_stats(cpu);
+		assert_true(cs->secondary_rays > 0);
+		assert_true(shadows ? cs->shadow_rays > 0 : cs->shadow_rays == 0);
+		rs_renderer_destroy(&cpu);
+	}
+	static const enum rs_primary_mode primaries[] = {RS_PRIMARY_TRACE, RS_PRIMARY_RASTER};
+	static const enum rs_reflection_mode reflections[] = {RS_REFLECT_TRACE, RS_REFLECT_ENVMAP};
+	for (int k = 0; k < 2; ++k)
+		for (int shadows = 0; shadows < 2; ++shadows) {
+			desc.primary = primaries[k];
+			desc.reflections = reflections[k];
+			desc.shadows = shadows ? RS_SHADOW_RAYS : RS_SHADOW_NONE;
+			struct rs_render_stats st;
+			if (!gl_frame("egl", &desc, scene, rgb, NULL, &st))
+				gl_skip();
+			assert_true(st.counters_valid && st.secondary_rays > 0);
+			print_message("%s, shadows %s: %llu shadow rays\n",
+			              k ? "raster envmap" : "trace", shadows ? "rays" : "none",
+			              (unsigned long long)st.shadow_rays);
+			assert_true(shadows ? st.shadow_rays > 0 : st.shadow_rays == 0);
+		}
+	rs_scene_destroy(&scene);
 }
 
 /* A shadow edge on a cube-face seam. A point light at the origin over a floor at y = -1
@@ -194,6 +283,10 @@ int main(void)
 	    cmocka_unit_test(cow1_map_256_box5),
 	    cmocka_unit_test(shadow_map_filter_3_is_seamless),
 	    cmocka_unit_test(shadow_map_filter_5_is_seamless),
+	    cmocka_unit_test(unshadowed_fused),
+	    cmocka_unit_test(unshadowed_separate),
+	    cmocka_unit_test(unshadowed_paper),
+	    cmocka_unit_test(unshadowed_counts_no_feelers),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -22,6 +22,7 @@ static void every_option_round_trips(void **state)
 	    {"scene-storage", "2d"},   {"threads", "7"},
 	    {"triangle-test", "mt"},   {"chain", "separate"},
 	    {"nodes", "wide4"},        {"nodes", "wide4"},
+	    {"shadows", "none"},
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
 		struct rs_render_desc d = {0};
@@ -50,6 +51,12 @@ static void fields_take_the_values_named(void **state)
 	assert_int_equal(rs_render_desc_set(&d, "shadows", "map", NULL), RS_OK);
 	assert_int_equal(d.shadows, RS_SHADOW_MAP);
 	assert_int_equal(d.shadow_map_size, 0); /* resolved to 512 */
+	/* none forgets a map's size as rays does, and rays undoes none */
+	assert_int_equal(rs_render_desc_parse(&d, "shadows=map:1024,shadows=none", NULL), RS_OK);
+	assert_int_equal(d.shadows, RS_SHADOW_NONE);
+	assert_int_equal(d.shadow_map_size, 0);
+	assert_int_equal(rs_render_desc_set(&d, "shadows", "rays", NULL), RS_OK);
+	assert_int_equal(d.shadows, RS_SHADOW_RAYS);
 	assert_int_equal(rs_render_desc_set(&d, "backend", "cpu", NULL), RS_OK);
 	assert_string_equal(d.backend, "cpu");
 }
@@ -85,6 +92,7 @@ static void bad_values_name_the_option_and_its_range(void **state)
 	    {"size", "16384x16385", "WxH"},
 	    {"shadows", "map:4", "map[:RES[:FILTER]]"},
 	    {"shadows", "map:512:0", "map[:RES[:FILTER]]"},
+	    {"shadows", "none:3", "rays|map[:RES[:FILTER]]|none"},
 	    {"reflections", "interreflect:9", "interreflect[:1..8]"},
 	    {"backend", "vulkan", "auto|cpu|egl|osmesa"},
 	    {"nodes", "compact:sideways", "compact|paper[:directional|octant|single]"},

@@ -306,6 +306,7 @@ struct rs_gles_spec {
 	uint32_t lights;      /* lights the kernels loop over */
 	uint32_t node_orders; /* direction-ordered node copies */
 	bool watertight, counters, optics, geometry, shadow_map, envmap, interreflect;
+	bool unshadowed; /* lights counted visible: no feelers (rs_trace_frame.unshadowed) */
 	bool compact_nodes, wide_nodes, scene_buffers;
 	bool two_level;                /* an instanced scene walked in two levels */
 	uint32_t instance_row_items;   /* two levels: instances per row of the instance texture */

@@ -38,6 +38,7 @@ enum rs_status rs_gles_prelude(const struct rs_gles_spec *spec, const struct rs_
 	    {"RS_OPTICS", false, spec->optics},
 	    {"RS_GEOMETRY", false, spec->geometry},
 	    {"RS_SHADOW_MAP", false, spec->shadow_map},
+	    {"RS_SHADOW_NONE", false, spec->unshadowed},
 	    {"RS_ENVMAP", false, spec->envmap},
 	    {"RS_INTERREFLECT", false, spec->interreflect},
 	    {"RS_COMPACT_NODES", false, spec->compact_nodes},

@@ -97,6 +97,7 @@ static enum rs_status build_programs(struct gles *g, struct rs_error *err)
 	    .optics = scene_has_optics(g->scene),
 	    .geometry = g->frame.has_geometry,
 	    .shadow_map = g->desc.shadows == RS_SHADOW_MAP,
+	    .unshadowed = g->frame.unshadowed, /* the reference's decision, not a second one */
 	    .envmap = g->desc.reflections != RS_REFLECT_TRACE,
 	    .interreflect = g->desc.reflections == RS_REFLECT_INTERREFLECT,
 	    .compact_nodes = p->node_format == RS_PACK_NODES_COMPACT,

@@ -144,7 +144,8 @@ struct rs_trace_desc rs_render_trace_desc(const struct rs_render_desc *desc)
 	                              .passes = desc->passes,
 	                              .lights = desc->lights,
 	                              .triangle_test = desc->triangle_test,
-	                              .ray_epsilon = desc->ray_epsilon};
+	                              .ray_epsilon = desc->ray_epsilon,
+	                              .unshadowed = desc->shadows == RS_SHADOW_NONE};
 }
 
 struct rs_bvh_desc rs_render_bvh_desc(const struct rs_render_desc *desc)

@@ -127,7 +127,8 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 	if (d.primary != RS_PRIMARY_TRACE && d.primary != RS_PRIMARY_RASTER)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown primary mode %d",
 		                    (int)d.primary);
-	if (d.shadows != RS_SHADOW_RAYS && d.shadows != RS_SHADOW_MAP)
+	if (d.shadows != RS_SHADOW_RAYS && d.shadows != RS_SHADOW_MAP &&
+	    d.shadows != RS_SHADOW_NONE)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown shadow mode %d",
 		                    (int)d.shadows);
 	if (d.reflections != RS_REFLECT_TRACE && d.reflections != RS_REFLECT_ENVMAP &&

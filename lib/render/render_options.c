@@ -15,8 +15,8 @@ static const struct rs_render_option options[] = {
     {"size", "WxH", "camera", "image size, sides 1..16384; camera: the scene camera's"},
     {"passes", "1..64", "2", "ray segments per path"},
     {"lights", "1..64|all", "all", "use the scene's first N lights"},
-    {"shadows", "rays|map[:RES[:FILTER]]", "rays",
-     "feelers, or cube maps (GL): RES 8..16384 [512], FILTER 1..64 [3]"},
+    {"shadows", "rays|map[:RES[:FILTER]]|none", "rays",
+     "feelers, cube maps (GL): RES 8..16384 [512], FILTER 1..64 [3]; none: all lit"},
     {"primary", "trace|raster", "trace", "primary hits traced or rasterized (GL)"},
     {"reflections", "trace|envmap|interreflect[:1..8]", "trace",
      "traced, or environment maps (GL)"},
@@ -66,11 +66,12 @@ static const char *const storages[] = {"auto", "2d", "buffer"};
 static const char *const tests[] = {"watertight", "mt"};
 static const char *const chains[] = {"fused", "separate", "paper"};
 
-/* "rays", "map", "map:RES" or "map:RES:FILTER". */
+/* "rays", "none", "map", "map:RES" or "map:RES:FILTER". */
 static bool set_shadows(struct rs_render_desc *d, const char *v)
 {
-	if (strcmp(v, "rays") == 0) {
-		d->shadows = RS_SHADOW_RAYS;
+	bool none = strcmp(v, "none") == 0;
+	if (none || strcmp(v, "rays") == 0) {
+		d->shadows = none ? RS_SHADOW_NONE : RS_SHADOW_RAYS;
 		d->shadow_map_size = d->shadow_filter = 0;
 		return true;
 	}
@@ -249,7 +250,7 @@ enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char 
 		n = d->lights ? snprintf(out, cap, "%u", d->lights) : snprintf(out, cap, "all");
 	else if (!strcmp(key, "shadows"))
 		n = d->shadows != RS_SHADOW_MAP
-		        ? snprintf(out, cap, "rays")
+		        ? snprintf(out, cap, "%s", d->shadows == RS_SHADOW_NONE ? "none" : "rays")
 		        : snprintf(out, cap, "map:%u:%u",
 		                   d->shadow_map_size ? d->shadow_map_size : 512u,
 		                   d->shadow_filter ? d->shadow_filter : 3u);

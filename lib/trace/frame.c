@@ -59,6 +59,7 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 	out->has_geometry = tris > 0;
 	out->intersector = desc->intersector;
 	out->two_level = two;
+	out->unshadowed = desc->unshadowed;
 	out->rules = (struct rs_trace_rules){.box_k = RS_TRACE_BOX_K,
 	                                     .box_k_fp32 = RS_TRACE_BOX_K_FP32,
 	                                     .grid_box_e_fp32 = RS_TRACE_GRID_BOX_E_FP32,

@@ -186,6 +186,22 @@ void rs_trace_surface(const struct rs_trace_frame *frame, const struct rs_ray *r
 	}
 }
 
+/* Whether the light at lp (unit direction l from the surface) reaches s: one exact shadow
+ * feeler from the spawned point to the light, counted in path. */
+static bool lit_by(const struct rs_trace_frame *frame, const struct rs_surface *s,
+                   const double l[3], const double lp[3], struct rs_trace_path *path)
+{
+	struct rs_ray feeler;
+	rs_trace_spawn(s, l, s->skip, &feeler);
+	for (int a = 0; a < 3; ++a)
+		feeler.dir[a] = lp[a] - feeler.origin[a];
+	feeler.tmax = rs_v3_normalize(feeler.dir);
+	if (feeler.tmax == 0.0)
+		return false;
+	path->shadow_rays++;
+	return !(frame->has_geometry && rs_trace_frame_occluded(frame, &feeler, &path->counters));
+}
+
 void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray,
                     const struct rs_hit *hit, const struct rs_surface *s, double throughput,
                     double rgb[3], struct rs_trace_path *path)
@@ -207,15 +223,7 @@ void rs_trace_shade(const struct rs_trace_frame *frame, const struct rs_ray *ray
 		double n_dot_l = rs_v3_dot(s->n, l);
 		if (rs_v3_dot(s->ng, l) <= 0.0 || n_dot_l <= 0.0)
 			continue;
-		struct rs_ray feeler;
-		rs_trace_spawn(s, l, s->skip, &feeler);
-		for (int a = 0; a < 3; ++a)
-			feeler.dir[a] = lp[a] - feeler.origin[a];
-		feeler.tmax = rs_v3_normalize(feeler.dir);
-		if (feeler.tmax == 0.0)
-			continue;
-		path->shadow_rays++;
-		if (frame->has_geometry && rs_trace_frame_occluded(frame, &feeler, &path->counters))
+		if (!frame->unshadowed && !lit_by(frame, s, l, lp, path))
 			continue;
 		double spec = 0.0;
 		if (s->specular > 0.0f) {

@@ -22,6 +22,7 @@ struct bench_options {
 	bool builds;    /* --builds: BVH build time against Embree's (builds.c) */
 	uint32_t animate; /* --animate N: per-frame update against set_scene (animate.c); 0: off */
 	bool instance_updates; /* --instance-updates: moving N instances (instances.c) */
+	bool error; /* --times --error: the first frame against the CPU reference tracer */
 	uint32_t size, flat_size, none_max_tris, passes, lights, repeats, threads;
 	const char *only;                     /* --scene: one of bench_scenes, or NULL for all */
 	const char *scenes[BENCH_MAX_SCENES]; /* --times: the scenes named */

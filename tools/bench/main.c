@@ -79,6 +79,9 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	     .max = 2},
 	    RS_CLI_FLAG_OPT("--times", &o->times,
 	                    "frame times of the render options per SCENE (was raystream-glbench)"),
+	    RS_CLI_FLAG_OPT("--error", &o->error,
+	                    "--times: the first frame's error against the CPU reference tracer "
+	                    "(traced primaries and reflections, exact feelers; as table 2)"),
 	    RS_CLI_FLAG_OPT("--builds", &o->builds,
 	                    "BVH build time against Embree's medium build, same threads"),
 	    RS_CLI_U32_OPT(
@@ -127,6 +130,8 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 		o->pack_set |= !strncmp(argv[i], "--nodes", 7);
 	if (o->times && !cli.positional_count)
 		return rs_cli_usage_error(&cli, "--times needs at least one SCENE");
+	if (o->error && !o->times)
+		return rs_cli_usage_error(&cli, "--error goes with --times");
 	if (o->animate && !cli.positional_count)
 		return rs_cli_usage_error(&cli, "--animate needs at least one SCENE");
 	if ((o->times != 0) + (o->animate != 0) + (o->instance_updates != 0) > 1)

@@ -3,12 +3,17 @@
  * scene, for tuning a backend (the GLES kernels above all): median and min-max of the
  * timed frames after one warm-up frame, fps, Mrays/s (rays counted in one extra counting
  * frame, not timed), the median time of each kernel, and the process CPU time per frame.
+ * With --error the warm-up frame, in floats, is compared with the CPU reference tracer's
+ * image at the same size, passes and lights (traced primaries and reflections, exact
+ * feelers: what correct is), as table 2 compares: an approximation's speed beside its error.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bench.h"
+#include "raystream/rs_image.h"
 #include "raystream/rs_renderers.h"
 #include "tool_common.h"
 
@@ -33,7 +38,7 @@ static void print_row(const char *name, const struct rs_render_desc *d,
 	       "numbers %.1f;",
 	       name, s->backend, d->width, d->height, d->passes, d->lights, chain_name(d->chain),
 	       d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
-	       d->shadows == RS_SHADOW_MAP ? "map" : "rays", refl,
+	       rs_tool_shadows_name(d->shadows), refl,
 	       rs_tool_nodes_name(&d->pack, nodes, sizeof nodes),
 	       rs_tool_storage_name(s->scene_storage), cpu.median, cpu.min, cpu.max, wall.median,
 	       wall.min, wall.max, 1000.0 / wall.median, (double)rays / (wall.median * 1000.0),
@@ -76,15 +81,72 @@ static cJSON *json_row(const char *name, const struct rs_render_desc *d,
 	return row;
 }
 
+/* The error of `rgb` (desc's size) against the CPU reference tracer at desc's size, passes,
+ * lights, BVH, nodes and triangle test with everything exact: traced primaries and
+ * reflections, shadow feelers. Compared as table 2 compares (linear, peak 1, 8/255). */
+static enum rs_status reference_error(const struct rs_render_desc *desc,
+                                      const struct rs_scene *scene, const float *rgb,
+                                      struct rs_image_diff *out, struct rs_error *err)
+{
+	struct rs_render_desc ref = {.width = desc->width,
+	                             .height = desc->height,
+	                             .passes = desc->passes,
+	                             .lights = desc->lights,
+	                             .triangle_test = desc->triangle_test,
+	                             .bvh = desc->bvh,
+	                             .pack = desc->pack,
+	                             .threads = desc->threads,
+	                             .instances = desc->instances};
+	size_t n = (size_t)desc->width * desc->height * 3;
+	float *want = malloc(n * sizeof *want);
+	struct rs_renderer *cpu = NULL;
+	struct rs_frame frame = {.rgb = want};
+	enum rs_status st = want ? rs_renderer_create_cpu(&ref, &cpu, err)
+	                         : rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory");
+	if (st == RS_OK)
+		st = rs_renderer_set_scene(cpu, scene, err);
+	if (st == RS_OK)
+		st = rs_renderer_render(cpu, NULL, &frame, err);
+	if (st == RS_OK)
+		rs_image_compare(rgb, want, desc->width, desc->height, 3, 1.0, 8.0 / 255.0, out);
+	rs_renderer_destroy(&cpu);
+	free(want);
+	return st;
+}
+
+static void print_error(const struct rs_image_diff *e)
+{
+	printf("  error against the CPU reference tracer (trace, trace, rays): %.2f dB PSNR, max "
+	       "%.4f, %.3f%% pixels off by > 8/255\n",
+	       e->psnr_db, e->max_abs_error, 100.0 * e->bad_share);
+	fflush(stdout);
+}
+
+static cJSON *json_error(const struct rs_image_diff *e)
+{
+	cJSON *o = cJSON_CreateObject();
+	/* identical images: +INFINITY dB, which JSON cannot spell; null then */
+	if (isfinite(e->psnr_db))
+		cJSON_AddNumberToObject(o, "psnr_db", e->psnr_db);
+	else
+		cJSON_AddNullToObject(o, "psnr_db");
+	cJSON_AddNumberToObject(o, "max_abs_error", e->max_abs_error);
+	cJSON_AddNumberToObject(o, "mean_abs_error", e->mean_abs_error);
+	cJSON_AddNumberToObject(o, "bad_share", e->bad_share);
+	return o;
+}
+
 static int one_scene(const struct bench_options *o, const char *name, struct rs_render_desc desc)
 {
 	struct rs_error err = {0};
 	struct rs_scene *scene = NULL;
 	struct rs_renderer *r = NULL;
 	uint8_t *px = malloc((size_t)desc.width * desc.height * 4);
+	float *rgb = o->error ? malloc((size_t)desc.width * desc.height * 3 * sizeof *rgb) : NULL;
 	static struct bench_frames t;
+	struct rs_image_diff e = {0};
 	int code = 1;
-	if (!px) {
+	if (!px || (o->error && !rgb)) {
 		rs_error_set(&err, RS_ERR_NO_MEMORY, "out of memory");
 		goto done;
 	}
@@ -107,22 +169,32 @@ static int one_scene(const struct bench_options *o, const char *name, struct rs_
 	uint64_t rays = s->primary_rays + s->secondary_rays + s->shadow_rays;
 	double hits = s->total_per_pixel;
 	rs_renderer_destroy(&r);
+	/* the warm-up frame in floats where its error is asked for */
+	struct rs_frame warm = {.rgb = rgb, .rgba8 = rgb ? NULL : px};
 	if (rs_renderer_open(o->backend, &desc, &r, &err) != RS_OK ||
 	    rs_renderer_set_scene(r, scene, &err) != RS_OK ||
-	    rs_renderer_render(r, NULL, &frame, &err) != RS_OK || /* warm-up */
+	    rs_renderer_render(r, NULL, &warm, &err) != RS_OK ||
 	    bench_time_frames(r, &frame, o->repeats, &t, &err) != RS_OK)
 		goto done;
 	s = rs_renderer_stats(r);
 	print_row(name, &desc, s, &t, rays, hits);
-	if (o->json)
-		cJSON_AddItemToArray(cJSON_GetObjectItem(o->json, "rows"),
-		                     json_row(name, &desc, s, &t, rays, hits));
+	if (rgb && reference_error(&desc, scene, rgb, &e, &err) != RS_OK)
+		goto done;
+	if (rgb)
+		print_error(&e);
+	if (o->json) {
+		cJSON *row = json_row(name, &desc, s, &t, rays, hits);
+		if (rgb)
+			cJSON_AddItemToObject(row, "error", json_error(&e));
+		cJSON_AddItemToArray(cJSON_GetObjectItem(o->json, "rows"), row);
+	}
 	code = 0;
 done:
 	if (code)
 		fprintf(stderr, "raystream-bench: %s: %s\n", name, err.message);
 	rs_renderer_destroy(&r);
 	rs_scene_destroy(&scene);
+	free(rgb);
 	free(px);
 	return code;
 }

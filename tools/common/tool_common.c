@@ -123,6 +123,11 @@ const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *ou
 	return out;
 }
 
+const char *rs_tool_shadows_name(enum rs_shadow_mode shadows)
+{
+	return shadows == RS_SHADOW_MAP ? "map" : shadows == RS_SHADOW_NONE ? "none" : "rays";
+}
+
 void rs_tool_long_options(int argc, char **argv, const char *const (*map)[2], size_t count)
 {
 	for (int i = 1; i < argc; ++i)

@@ -44,6 +44,8 @@ int rs_tool_parse_storage(const char *text, enum rs_scene_storage *out);
 const char *rs_tool_storage_name(enum rs_scene_storage storage);
 /* The same spelling for a descriptor ("interreflect:2"), into out (size bytes). */
 const char *rs_tool_reflections_name(const struct rs_render_desc *desc, char *out, size_t size);
+/* The shadow mode's word ("rays", "map", "none"; a map's size and filter left out). */
+const char *rs_tool_shadows_name(enum rs_shadow_mode shadows);
 
 /* The backend `desc` asks for (desc->backend; NULL: auto) as this machine opens it: one
  * 8x8 renderer is opened and closed so "auto" is resolved once, its fallback note (if any)

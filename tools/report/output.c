@@ -84,7 +84,7 @@ static void csv(const struct report *rep, struct text *t)
 			    "refused,refused,refused,refused,0\n",
 			    r->label, r->backend,
 			    d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
-			    map ? "map" : "rays", map ? d->shadow_map_size : 0,
+			    rs_tool_shadows_name(d->shadows), map ? d->shadow_map_size : 0,
 			    map ? d->shadow_filter : 0, d->passes, bvh_name(d->bvh.builder),
 			    d->triangle_test == RS_TRIANGLE_MOLLER_TRUMBORE ? "moller"
 			                                                    : "watertight",
@@ -93,8 +93,8 @@ static void csv(const struct report *rep, struct text *t)
 		}
 		put(t, "%s,%s,%s,%s,%u,%u,%u,%s,%s,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.6g,%.6g,%.6g,%d\n",
 		    r->label, r->backend, d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
-		    map ? "map" : "rays", map ? d->shadow_map_size : 0, map ? d->shadow_filter : 0,
-		    d->passes, bvh_name(d->bvh.builder),
+		    rs_tool_shadows_name(d->shadows), map ? d->shadow_map_size : 0,
+		    map ? d->shadow_filter : 0, d->passes, bvh_name(d->bvh.builder),
 		    d->triangle_test == RS_TRIANGLE_MOLLER_TRUMBORE ? "moller" : "watertight",
 		    rs_tool_reflections_name(d, refl, sizeof refl), r->ms_med, r->ms_min, r->ms_max,
 		    r->cpu_med, r->diff.psnr_db, r->diff.mean_abs_error, r->diff.max_abs_error,

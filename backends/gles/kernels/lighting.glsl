@@ -1,5 +1,6 @@
 // lighting.glsl: local shading at a surface point (lib/trace/shade.c in fp32): ambient, then
-// Phong per light seen through an exact shadow feeler (any-hit walk) or a cube shadow map.
+// Phong per light seen through an exact shadow feeler (any-hit walk), a cube shadow map, or
+// (RS_SHADOW_NONE, shadows=none) every light in front of the surface, unshadowed.
 // Inputs: u_ambient, u_light_pos[], u_light_color[] (RS_LIGHT_SLOTS >= RS_LIGHTS, packed
 //         frame); with RS_SHADOW_MAP u_shadow, u_shadow_size, u_shadow_filter.
 
@@ -66,8 +67,8 @@ float rs_shadow_lit(int light, vec3 p, float cos_l)
 }
 #endif
 
-// Phong with exact shadow feelers (any-hit) or shadow maps; counts += (shadow rays, box,
-// triangle tests).
+// Phong with exact shadow feelers (any-hit), shadow maps or none; counts += (shadow rays,
+// box, triangle tests): nothing without feelers.
 vec3 rs_shade(Ray r, Hit h, Surf s, inout vec3 counts)
 {
 	vec3 local = u_ambient * s.diffuse;
@@ -85,7 +86,7 @@ vec3 rs_shade(Ray r, Hit h, Surf s, inout vec3 counts)
 		lit = rs_shadow_lit(i, s.p, dot(s.ng, l));
 		if (lit <= 0.0)
 			continue;
-#else
+#elif !RS_SHADOW_NONE
 		Ray f = rs_spawn(s, l, h.slot);
 		vec3 fd = u_light_pos[i] - f.o;
 		f.tmax = length(fd);

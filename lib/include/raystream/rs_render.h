@@ -43,6 +43,11 @@ enum rs_primary_mode {
 enum rs_shadow_mode {
 	RS_SHADOW_RAYS = 0, /**< exact shadow feelers through the BVH (default) */
 	RS_SHADOW_MAP = 1,  /**< cube shadow maps, box-filtered (GL backends only) */
+	/** Unshadowed: every light in front of a surface counts as visible; no feelers, no
+	 * maps (every backend). For scenes whose look needs no shadows: the paper's classic
+	 * environment mapping (its Table 3) had none. rs_render_trace_desc() hands it to the
+	 * frame (rs_trace_desc.unshadowed), which every backend shades from. */
+	RS_SHADOW_NONE = 2,
 };
 
 /** How the GL backends chain their kernels. */
@@ -191,7 +196,7 @@ struct rs_render_stats {
 	uint64_t pixels;
 	uint64_t primary_rays;   /**< one per pixel (rasterized ones included) */
 	uint64_t secondary_rays; /**< reflected and refracted segments */
-	uint64_t shadow_rays;    /**< shadow feelers (0 with shadow maps) */
+	uint64_t shadow_rays;    /**< shadow feelers (0 with shadow maps or none) */
 	bool counters_valid;     /**< box/triangle counts below were measured */
 	uint64_t box_tests;
 	uint64_t triangle_tests;
@@ -487,9 +492,10 @@ enum rs_status rs_render_accel_update(const struct rs_render_accel *accel,
 /** Free what rs_render_accel_build() allocated and zero the struct; NULL is allowed. */
 void rs_render_accel_free(struct rs_render_accel *accel);
 
-/** The reference tracer's descriptor of `desc`: size, passes, lights, triangle test and
- * spawn scale (camera, rows and intersector 0). Every backend resolves its frame from it
- * (rs_trace_frame_init()), so the kernels and the reference read the same numbers. */
+/** The reference tracer's descriptor of `desc`: size, passes, lights, triangle test,
+ * spawn scale and unshadowed (shadows RS_SHADOW_NONE) (camera, rows and intersector 0).
+ * Every backend resolves its frame from it (rs_trace_frame_init()), so the kernels and the
+ * reference read the same numbers. */
 struct rs_trace_desc rs_render_trace_desc(const struct rs_render_desc *desc);
 
 /** The BVH builder's descriptor of `desc`: desc->bvh, with bvh.threads 0 taken from

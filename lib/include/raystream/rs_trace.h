@@ -194,6 +194,9 @@ struct rs_trace_desc {
 	 * scene triangle ids (a BLAS slot is shared by the instances of its mesh). NULL: one level.
 	 */
 	const struct rs_packed_two_level *two_level;
+	/** Every light in front of a surface counts as visible: no shadow feelers are traced
+	 * (rs_render's shadows=none). false: exact feelers. */
+	bool unshadowed;
 };
 
 /** Counts over the rendered pixels. Hit numbers are means per pixel over all its rays. */
@@ -354,6 +357,7 @@ struct rs_trace_frame {
 	double bounds_center[3];   /**< the scene's bounding box centre */
 	double bounds_radius;      /**< and its half-diagonal (0 for an empty scene) */
 	bool has_geometry;         /**< false: every ray misses (empty scene) */
+	bool unshadowed;           /**< rs_trace_desc.unshadowed: no feelers, lights visible */
 	struct rs_environment env; /**< resolved (rs_scene_environment()), centre in the frame */
 	struct rs_trace_rules rules;
 	const struct rs_trace_intersector *intersector; /**< NULL: walk packed's BVH */
