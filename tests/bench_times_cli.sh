@@ -33,6 +33,10 @@ if run --chain paper --json t.json && grep -q '^wrote t.json$' out.txt; then
             (.rows[0].kernel_ms | has("intersect"))' t.json >/dev/null; then ok "--json"
   else bad "--json: $(head -c 400 t.json)"; fi
 else bad "--json: $(head -c 300 err.txt)"; fi
+# An instance mode asked for is named in the line (a two-level row must not read as flat).
+if run --instances flatten && grep -q " trace rays instances flatten nodes " out.txt &&
+   run && ! grep -q " instances " out.txt; then ok "instances named"
+else bad "instances named: $(head -c 300 err.txt) $(head -n 1 out.txt)"; fi
 # --error: the GL tracer agrees with the CPU reference tracer; the classic environment map
 # without shadows does not (its error is what the column reports); shadows none is named.
 if run --error --json t.json && jq -e '.rows[0].error.psnr_db >= 57 and

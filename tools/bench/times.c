@@ -28,17 +28,22 @@ static void print_row(const char *name, const struct rs_render_desc *d,
 {
 	struct bench_summary wall = bench_summarize(t->wall_ms, t->n);
 	struct bench_summary cpu = bench_summarize(t->cpu_ms, t->n);
-	char refl[32] = "", nodes[32];
+	char refl[32] = "", nodes[32], inst[32] = "";
 	if (d->reflections != RS_REFLECT_TRACE) {
 		refl[0] = ' ';
 		rs_tool_reflections_name(d, refl + 1, sizeof refl - 1);
 	}
-	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s%s nodes %s storage %s: cpu %.1f ms "
+	/* an instance mode asked for is named: a two-level row must not read as a flat one */
+	if (d->instances != RS_INSTANCES_AUTO) {
+		memcpy(inst, " instances ", 11);
+		rs_render_desc_get(d, "instances", inst + 11, sizeof inst - 11, NULL);
+	}
+	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s%s%s nodes %s storage %s: cpu %.1f ms "
 	       "(%.1f-%.1f), wall %.1f ms (%.1f-%.1f) = %.2f fps, %.2f Mrays/s (%llu rays), hit "
 	       "numbers %.1f;",
 	       name, s->backend, d->width, d->height, d->passes, d->lights, chain_name(d->chain),
 	       d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
-	       rs_tool_shadows_name(d->shadows), refl,
+	       rs_tool_shadows_name(d->shadows), refl, inst,
 	       rs_tool_nodes_name(&d->pack, nodes, sizeof nodes),
 	       rs_tool_storage_name(s->scene_storage), cpu.median, cpu.min, cpu.max, wall.median,
 	       wall.min, wall.max, 1000.0 / wall.median, (double)rays / (wall.median * 1000.0),
