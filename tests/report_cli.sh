@@ -62,6 +62,10 @@ check_run() {
   if [ "$(head -c 8 "$dir/report.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] &&
     [ "$(stat -c %s "$dir/report.png")" -gt 2000 ]; then ok "$name: plot is a PNG"
   else bad "$name: report.png missing or not a PNG"; fi
+  # the setting without shadows is measured on every backend (the tracer's and, on GL, the
+  # classic environment map's)
+  if grep -q "trace 2p no shadows,[a-z]*,[a-z]*,none," "$csv"; then ok "$name: no-shadows setting measured"
+  else bad "$name: no 'trace 2p no shadows' row with shadows none"; fi
   if ls "$dir"/*.tmp-* >/dev/null 2>&1; then bad "$name: temporary left behind"; fi
 }
 
@@ -78,7 +82,7 @@ if "$bin" --quick --backend egl --time cpu --diffs --out egl >egl.out 2>egl.err;
     ok "egl: a difference image per setting" || bad "egl: $pngs difference images"
   grep -q "Pareto (CPU ms)" egl/report.md && ok "egl: front by CPU time" || bad "egl: --time cpu ignored"
   grep -q "raster 2p map" egl/report.csv && grep -q ",map,128,3," egl/report.csv &&
-    grep -q ",envmap," egl/report.csv &&
+    grep -q ",envmap," egl/report.csv && grep -q "envmap no shadows,egl,trace,none," egl/report.csv &&
     ok "egl: raster, shadow-map and env-map settings measured" || bad "egl: settings missing"
   # A setting the scene cannot have (Cow5 has more mirror objects than inter-reflection
   # maps hold) is a refused row of a complete report, not a failed run.

@@ -59,6 +59,33 @@ static void png_round_trip_is_exact_after_quantizing(void **state)
 	rs_free(got);
 }
 
+/* A tie (c * 255 exactly k + 0.5 in fp32) rounds up, as the GLES display kernel's
+ * floor(c * 255 + 0.5) does: lrintf() rounded half of them down (to even), so a GPU byte
+ * and the CPU's differed by one there. */
+static void quantize_rounds_ties_up_as_the_display_kernel(void **state)
+{
+	int ties = 0, even = 0;
+	for (int k = 0; k < 255; ++k) {
+		float c = ((float)k + 0.5f) / 255.0f;
+		for (int step = 0; step < 4; ++step)
+			c = nextafterf(c, 0.0f);
+		for (int step = 0; step < 9; ++step, c = nextafterf(c, 1.0f)) {
+			float x = c * 255.0f;
+			uint8_t q = rs_image_quantize_value(c);
+			if (x == (float)k + 0.5f) {
+				assert_int_equal(q, k + 1);
+				++ties;
+				even += k % 2 == 0;
+			} else { /* the nearest step (x + 0.5 may round up in fp32, as on the GPU)
+				  */
+				assert_true(fabsf((float)q - x) <= 0.5f);
+			}
+		}
+	}
+	assert_true(ties >= 100); /* the loop found ties of both parities to check */
+	assert_true(even >= 50);
+}
+
 /* RGBA8 as renderers hand it out (rs_frame.rgba8) is written as it is: an RGBA PNG whose
  * colours read back exactly. */
 static void png_from_rgba8_keeps_every_byte(void **state)
@@ -192,6 +219,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(png_round_trip_is_exact_after_quantizing),
+	    cmocka_unit_test(quantize_rounds_ties_up_as_the_display_kernel),
 	    cmocka_unit_test(png_from_rgba8_keeps_every_byte),
 	    cmocka_unit_test(pfm_round_trip_keeps_rows_and_infinity),
 	    cmocka_unit_test(nan_is_refused_without_leaving_a_file),

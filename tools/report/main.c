@@ -1,11 +1,11 @@
 /*
  * raystream-report: speed against error. For one scene and size, every setting the
  * render interface offers that trades accuracy for speed (passes, traced or rasterised
- * primary, exact shadow feelers or shadow maps of several sizes and box filters, BVH
- * builder, triangle test) is rendered by a backend and timed, and its image compared with
- * the CPU double-precision reference at the most passes measured with exact shadows. Out:
- * report.csv, report.md (with the Pareto front and the setting to pick per error budget)
- * and report.png (gnuplot). Progress goes to stderr, one line per setting.
+ * primary, exact shadow feelers, shadow maps of several sizes and box filters or no
+ * shadows, environment maps, BVH builder, triangle test) is rendered by a backend and timed, and
+ * its image compared with the CPU double-precision reference at the most passes measured with exact
+ * shadows. Out: report.csv, report.md (with the Pareto front and the setting to pick per error
+ * budget) and report.png (gnuplot). Progress goes to stderr, one line per setting.
  */
 #include <math.h>
 #include <stdio.h>
@@ -66,6 +66,12 @@ static void settings(struct report *rep, const struct options *o)
 			add(rep, b, d, label);
 		}
 	}
+	/* no shadows at all: what a scene without occluders needs, and the error it costs one
+	 * that has them */
+	d = base;
+	d.shadows = RS_SHADOW_NONE;
+	snprintf(label, sizeof label, "%s trace 2p no shadows", b);
+	add(rep, b, d, label);
 	if (gl) {
 		/* shadow map side, box filter; the quick run keeps the plumbing, not the sizes */
 		static const uint32_t maps[][2] = {
@@ -104,6 +110,10 @@ static void settings(struct report *rep, const struct options *o)
 		d.shadow_map_size = o->size < 128 ? 128 : 512;
 		d.shadow_filter = 3;
 		snprintf(label, sizeof label, "%s trace 2p envmap map %u/3", b, d.shadow_map_size);
+		add(rep, b, d, label);
+		/* the paper's classic method: reflections from the map, no shadows */
+		d.shadows = RS_SHADOW_NONE;
+		snprintf(label, sizeof label, "%s trace 2p envmap no shadows", b);
 		add(rep, b, d, label);
 		/* inter-reflection: a map per mirror object, re-captured every frame */
 		for (uint32_t k = 1; k <= 2; ++k) {

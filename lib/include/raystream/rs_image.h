@@ -25,15 +25,20 @@ extern "C" {
 /** Largest width or height accepted by the image calls. */
 #define RS_IMAGE_MAX_SIDE 16384u
 
-/** One channel as rs_image_quantize() rounds it: round(clamp(c, 0, 1) * 255), NaN -> 0. */
+/**
+ * One channel as rs_image_quantize() rounds it: floor(clamp(c, 0, 1) * 255 + 0.5), NaN -> 0.
+ * The GLES display kernel's expression, evaluated alike in fp32 (C11 mode: no contraction
+ * into a fused multiply-add): a tie (c * 255 exactly k + 0.5) rounds up on both sides, where
+ * lrintf() rounded it to even.
+ */
 static inline uint8_t rs_image_quantize_value(float c)
 {
 	c = !(c > 0.0f) ? 0.0f : c > 1.0f ? 1.0f : c; /* !(c > 0) also catches NaN */
-	return (uint8_t)lrintf(c * 255.0f);
+	return (uint8_t)floorf(c * 255.0f + 0.5f);
 }
 
 /**
- * Quantise linear RGB floats (row 0 = top) to 8 bits: round(clamp(c, 0, 1) * 255); NaN
+ * Quantise linear RGB floats (row 0 = top) to 8 bits: floor(clamp(c, 0, 1) * 255 + 0.5); NaN
  * becomes 0. This is also what the GLES display kernel does, so images compare exactly.
  * out: caller-owned width * height * 3 bytes.
  */
