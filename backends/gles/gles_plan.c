@@ -102,6 +102,14 @@ static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pas
 		s->out[ST_ORIG] = s->out[ST_DIR] = REF_NONE;
 		if (pass > 0)
 			s->out[3] = REF_NONE;
+		/* Displayed (a frame asked for RGBA8 bytes only, gles_renderer.c): the free
+		 * target 0 takes them, and the colour nothing reads after it is not stored
+		 * (the display pass and a float write a pixel fewer: docs/benchmarks.md, "The
+		 * display pass fused into the last trace pass"). */
+		s->display = true;
+		memcpy(s->shown, s->out, sizeof s->shown);
+		s->shown[0] = REF_COLOR;
+		s->shown[ST_ACC] = REF_NONE;
 	}
 }
 
@@ -185,6 +193,11 @@ enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct
 	if (*out_two_level && desc->instances == RS_INSTANCES_AUTO && !moving && fits)
 		*out_two_level = false;
 	return RS_OK;
+}
+
+bool rs_gles_plan_displays(const struct rs_gles_plan *plan)
+{
+	return plan->count > 0 && plan->steps[plan->count - 1].display;
 }
 
 void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *out)
