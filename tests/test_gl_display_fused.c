@@ -245,7 +245,8 @@ static void the_display_pass_stays_where_it_must(void **state)
 		/* rgb and rgba8 at once: the display pass, whatever the chain */
 		render(r, &(struct rs_frame){.rgb = rgb, .rgba8 = first}, &s);
 		assert_int_equal(calls(&s, "display"), 1);
-		/* rgba8 alone: displayed only on the fused chain without counters; the same bytes */
+		/* rgba8 alone: displayed only on the fused chain without counters; the same bytes
+		 */
 		render(r, &(struct rs_frame){.rgba8 = bytes}, &s);
 		assert_int_equal(calls(&s, "display"), k == 0 ? 0 : 1);
 		assert_memory_equal(bytes, first, sizeof bytes);

@@ -6,7 +6,9 @@
  *             carries the hit). With cube maps only the first pass traces: the rays it
  *             leaves read the maps at its end (step.mapped), so the frame is that one pass
  *             (the separate chain's second pass traces nothing, yet costs two full-screen
- *             kernels, docs/benchmarks.md);
+ *             kernels, docs/benchmarks.md). Its last pass can write the frame's RGBA8
+ *             colour in place of the display pass (rs_gles_step.display; whether a frame
+ *             does is gles_render's choice);
  *   separate  ray generation, then per segment intersect (or the raster visibility and
  *             resolve passes) and shade;
  *   paper     as separate, with shade split into the paper's environment, shading and

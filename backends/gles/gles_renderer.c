@@ -2,7 +2,8 @@
  * the capability probe at creation; per scene the frame description, the plans, the
  * kernels specialised for the scene (lights, whether any material reflects or refracts,
  * triangle test, counters), the upload and the captures; per frame the captures that
- * change, the frame's plan, the display pass and the readback. */
+ * change, the frame's plan (its last pass writing the RGBA8 colour, or the display pass
+ * after it: displayed()) and the readback. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
