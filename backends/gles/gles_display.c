@@ -26,10 +26,11 @@ struct rs_gles_display {
 
 static enum rs_status make(const struct rs_gl *gl, struct rs_gles_display *d, struct rs_error *err)
 {
-	static const char *const files[1] = {"present.glsl"};
+	/* quantize.glsl: the rounding every display value takes (display.glsl's, fused.glsl's) */
+	static const char *const files[2] = {"quantize.glsl", "present.glsl"};
 	d->gl = gl;
 	enum rs_status st =
-	    rs_gles_program_compile(gl, "#version 300 es\n", files, 1, &d->prog, err);
+	    rs_gles_program_compile(gl, "#version 300 es\n", files, 2, &d->prog, err);
 	if (st != RS_OK)
 		return st;
 	d->u_size = gl->GetUniformLocation(d->prog, "u_size");

@@ -86,7 +86,8 @@ enum rs_status rs_gles_capture_cube(struct gles *g, const struct rs_gles_plan *p
 		                   ax[0] * cam.up[1] - ax[1] * cam.up[0]};
 		bool mirror = right[0] * sd[0] + right[1] * sd[1] + right[2] * sd[2] < 0.0;
 		struct rs_render_stats stats = {0};
-		st = rs_gles_plan_run(g, plan, &cam, near, (GLsizei)n, (GLsizei)n, &stats, err);
+		st = rs_gles_plan_run(g, plan, &cam, near, (GLsizei)n, (GLsizei)n, false, &stats,
+		                      err);
 		if (st == RS_OK)
 			st = g->face_direct
 			         ? rs_gles_to_face(g, plan, tex, f, (GLsizei)n, mirror, err)

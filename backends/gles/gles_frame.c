@@ -1,6 +1,7 @@
 /* Running a plan (gles_plan.c): per step, bind what it reads and draw into its targets;
- * then, as steps of their own, the display pass (colour to RGBA8) and the readback of
- * colour, depth, triangle ids and counters. Each pass is timed with a glFinish after it
+ * then, as steps of their own, the display pass (colour to RGBA8; not after a displayed
+ * run, whose last step wrote it) and the readback of colour, depth, triangle ids and
+ * counters. Each pass is timed with a glFinish after it
  * (the per-kernel times of the stats; llvmpipe runs passes one by one anyway, a GPU loses
  * a little overlap). */
 #include <math.h>
@@ -89,8 +90,9 @@ static void bind_inputs(const struct gles *g, const struct rs_gles_plan *plan,
 
 enum rs_status rs_gles_plan_run(struct gles *g, const struct rs_gles_plan *plan,
                                 const struct rs_camera *camera, float near, GLsizei w, GLsizei h,
-                                struct rs_render_stats *stats, struct rs_error *err)
+                                bool display, struct rs_render_stats *stats, struct rs_error *err)
 {
+	RS_ASSERT(!display || rs_gles_plan_displays(plan));
 	rs_gles_frame_state(g, w, h);
 	enum rs_status st = RS_OK;
 	for (uint32_t i = 0; st == RS_OK && i < plan->count; ++i) {
@@ -99,13 +101,15 @@ enum rs_status rs_gles_plan_run(struct gles *g, const struct rs_gles_plan *plan,
 		double t0 = rs_now_ms();
 		g->gl.UseProgram(p->id);
 		bind_inputs(g, plan, s, p, camera, near, w, h);
+		bool shown = display && s->display;
+		rs_gles_uniform_i(&g->gl, p, U_DISPLAY, shown ? 1 : 0);
 		if (s->raster) {
 			st = visibility(g, p, camera, rs_gles_target(g, s->out[0]), stats, t0, err);
 			continue;
 		}
 		GLuint out[4];
 		for (int k = 0; k < s->n_out; ++k)
-			out[k] = rs_gles_target(g, s->out[k]);
+			out[k] = rs_gles_target(g, shown ? s->shown[k] : s->out[k]);
 		st = rs_gles_draw(g, s->name, out, s->n_out, stats, t0, err);
 	}
 	return st;

@@ -114,6 +114,7 @@ enum {
 	U_TOP_COUNT,
 	U_INSTANCE_COUNT,
 	U_PROTO_INSTANCES,
+	U_DISPLAY, /* fused.glsl: target 0 takes the RGBA8 colour (rs_gles_step.display) */
 	U_COUNT
 };
 
@@ -156,6 +157,11 @@ struct rs_gles_step {
 	/* The fused chain with cube maps: the rays this pass leaves read the maps at its end
 	 * (the second pass, which would only read them, is not run). */
 	bool mapped;
+	/* The fused chain's last pass: in a displayed run (rs_gles_plan_run's `display`) it
+	 * writes the RGBA8 colour itself, into the targets `shown` (target 0 the display
+	 * target, the float colour not stored), and no display pass follows. */
+	bool display;
+	uint8_t shown[4];
 	uint32_t pass;
 };
 
@@ -175,7 +181,9 @@ struct rs_gles_plan {
 	struct rs_gles_step steps[RS_GLES_MAX_STEPS];
 	uint32_t count; /* 0: no such plan for this scene */
 	bool counters;
-	uint8_t result_acc, result_cnt; /* REF_* holding the colour and counters at the end */
+	/* REF_* holding the colour and counters at the end (not the colour after a displayed
+	 * run: g->color holds its RGBA8 bytes only) */
+	uint8_t result_acc, result_cnt;
 };
 
 /* The renderer's plans: the frame's, and the capture frames' (gles_envmap.c). */
@@ -254,6 +262,10 @@ struct gles {
  * (fused only without counters and cube maps), the passes run (with cube maps at most 2)
  * and the ping-pong targets. */
 void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *out);
+/* gles_plan.c: whether `plan`'s last step can write the RGBA8 colour itself (the fused
+ * chain's last pass, rs_gles_step.display): then a run with `display` needs no display
+ * pass. */
+bool rs_gles_plan_displays(const struct rs_gles_plan *plan);
 
 /* gles_plan.c: whether `scene` is walked in two levels under `desc` (rs_render_two_level()
  * and this backend's limits: traced primaries, shadow rays and reflections only);
@@ -265,11 +277,13 @@ enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct
                                  struct rs_error *err);
 
 /* gles_frame.c. Run `plan` from `camera` over the viewport w x h (primary rays start `near`
- * from the eye), kernel times into stats. */
+ * from the eye), kernel times into stats. `display` (only where rs_gles_plan_displays()):
+ * the last step writes the RGBA8 colour into g->color and leaves no float colour. */
 enum rs_status rs_gles_plan_run(struct gles *g, const struct rs_gles_plan *plan,
                                 const struct rs_camera *camera, float near, GLsizei w, GLsizei h,
-                                struct rs_render_stats *stats, struct rs_error *err);
-/* The display pass, a step apart from the plan: the plan's colour to RGBA8 in g->color. */
+                                bool display, struct rs_render_stats *stats, struct rs_error *err);
+/* The display pass, a step apart from the plan: the plan's colour to RGBA8 in g->color
+ * (after a run without `display`). */
 enum rs_status rs_gles_display(struct gles *g, const struct rs_gles_plan *plan,
                                struct rs_render_stats *stats, struct rs_error *err);
 /* Read the plan's results into `frame` (colour, RGBA8, depth, triangle ids) and, with

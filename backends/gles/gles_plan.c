@@ -6,7 +6,9 @@
  *             carries the hit). With cube maps only the first pass traces: the rays it
  *             leaves read the maps at its end (step.mapped), so the frame is that one pass
  *             (the separate chain's second pass traces nothing, yet costs two full-screen
- *             kernels, docs/benchmarks.md);
+ *             kernels, docs/benchmarks.md). Its last pass can write the frame's RGBA8
+ *             colour in place of the display pass (rs_gles_step.display; whether a frame
+ *             does is gles_render's choice);
  *   separate  ray generation, then per segment intersect (or the raster visibility and
  *             resolve passes) and shade;
  *   paper     as separate, with shade split into the paper's environment, shading and
@@ -102,6 +104,14 @@ static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pas
 		s->out[ST_ORIG] = s->out[ST_DIR] = REF_NONE;
 		if (pass > 0)
 			s->out[3] = REF_NONE;
+		/* Displayed (a frame asked for RGBA8 bytes only, gles_renderer.c): the free
+		 * target 0 takes them, and the colour nothing reads after it is not stored
+		 * (the display pass and a float write a pixel fewer: docs/benchmarks.md, "The
+		 * display pass fused into the last trace pass"). */
+		s->display = true;
+		memcpy(s->shown, s->out, sizeof s->shown);
+		s->shown[0] = REF_COLOR;
+		s->shown[ST_ACC] = REF_NONE;
 	}
 }
 
@@ -185,6 +195,11 @@ enum rs_status rs_gles_two_level(const struct rs_render_desc *desc, const struct
 	if (*out_two_level && desc->instances == RS_INSTANCES_AUTO && !moving && fits)
 		*out_two_level = false;
 	return RS_OK;
+}
+
+bool rs_gles_plan_displays(const struct rs_gles_plan *plan)
+{
+	return plan->count > 0 && plan->steps[plan->count - 1].display;
 }
 
 void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *out)

@@ -41,13 +41,17 @@ static const struct {
     [PROG_INTERSECT] =
         {{"common.glsl", "cubemaps.glsl", "intersect.glsl"}, 3, {NULL}, 0, ALL_PASSES},
     [PROG_SHADE] = {{PATH_FILES, "shade.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
-    [PROG_FUSED] = {{PATH_FILES, "fused.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
-    [PROG_DISPLAY] = {{"display.glsl"}, 1, {NULL}, 0, ALL_PASSES},
+    [PROG_FUSED] =
+        {{PATH_FILES, "quantize.glsl", "fused.glsl"}, PATH_COUNT + 2, {NULL}, 0, ALL_PASSES},
+    [PROG_DISPLAY] = {{"quantize.glsl", "display.glsl"}, 2, {NULL}, 0, ALL_PASSES},
     [PROG_RASTER] =
         {{"raster.glsl"}, 1, {"common.glsl", "camera.glsl", "raster_vertex.glsl"}, 3, ALL_PASSES},
     [PROG_SHADOW] = {{"shadow.glsl"}, 1, {"common.glsl", "shadow_vertex.glsl"}, 2, ALL_PASSES},
-    [PROG_FUSED_FIRST] =
-        {{PATH_FILES, "camera.glsl", "fused.glsl"}, PATH_COUNT + 2, {NULL}, 0, FIRST_PASS},
+    [PROG_FUSED_FIRST] = {{PATH_FILES, "camera.glsl", "quantize.glsl", "fused.glsl"},
+                          PATH_COUNT + 3,
+                          {NULL},
+                          0,
+                          FIRST_PASS},
     [PROG_ENVIRONMENT] = {{PATH_FILES, "environment.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
     [PROG_SHADING] = {{PATH_FILES, "shading.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
     [PROG_NEXTRAY] = {{PATH_FILES, "nextray.glsl"}, PATH_COUNT + 1, {NULL}, 0, ALL_PASSES},
@@ -56,8 +60,9 @@ static const struct {
                       {NULL},
                       0,
                       ALL_PASSES},
-    [PROG_FUSED_RASTER] = {{PATH_FILES, "camera.glsl", "visibility.glsl", "fused.glsl"},
-                           PATH_COUNT + 3,
+    [PROG_FUSED_RASTER] = {{PATH_FILES, "camera.glsl", "visibility.glsl", "quantize.glsl",
+                            "fused.glsl"},
+                           PATH_COUNT + 4,
                            {NULL},
                            0,
                            RASTER_FIRST_PASS},
@@ -122,6 +127,7 @@ static const char *const uniform_names[U_COUNT] = {
     [U_TOP_COUNT] = "u_top_count",
     [U_INSTANCE_COUNT] = "u_instance_count",
     [U_PROTO_INSTANCES] = "u_proto_instances",
+    [U_DISPLAY] = "u_display",
 };
 _Static_assert(RS_RENDER_MAX_MIRROR_OBJECTS == 4, "one u_objmapN name per mirror object");
 

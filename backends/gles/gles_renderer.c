@@ -2,12 +2,14 @@
  * the capability probe at creation; per scene the frame description, the plans, the
  * kernels specialised for the scene (lights, whether any material reflects or refracts,
  * triangle test, counters), the upload and the captures; per frame the captures that
- * change, the frame's plan, the display pass and the readback. */
+ * change, the frame's plan (its last pass writing the RGBA8 colour, or the display pass
+ * after it: displayed()) and the readback. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "gles_internal.h"
+#include "gles_seams.h"
 
 /* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). 2D
  * storage only: buffer textures have no rows (rs_gles_choose_storage checked their length). */
@@ -158,10 +160,15 @@ static enum rs_status prepare(struct gles *g, struct rs_error *err)
 	struct rs_camera cam;
 	rs_camera_resolve(rs_scene_camera(g->scene), &cam);
 	struct rs_render_stats stats = {0};
+	const struct rs_gles_plan *plan = &g->plans[PLAN_FRAME];
 	if (st == RS_OK)
-		st = rs_gles_plan_run(g, &g->plans[PLAN_FRAME], &cam, 0.0f, 1, 1, &stats, err);
+		st = rs_gles_plan_run(g, plan, &cam, 0.0f, 1, 1, false, &stats, err);
 	if (st == RS_OK)
-		st = rs_gles_display(g, &g->plans[PLAN_FRAME], &stats, err);
+		st = rs_gles_display(g, plan, &stats, err);
+	/* ... and displayed (gles_render's other way to a frame): the last pass then draws into
+	 * other targets, for which llvmpipe compiles a variant of its program at its first draw */
+	if (st == RS_OK && rs_gles_plan_displays(plan))
+		st = rs_gles_plan_run(g, plan, &cam, 0.0f, 1, 1, true, &stats, err);
 	return st;
 }
 
@@ -262,6 +269,22 @@ static enum rs_status gles_set_scene(void *impl, const struct rs_scene *scene,
 	return set_scene(impl, scene, desc, false, stats, err);
 }
 
+/* The one decision of a frame's way to RGBA8: the last trace pass writes the bytes itself
+ * (a displayed run, rs_gles_step.display; no display pass) where the plan can and nothing
+ * reads the float colour after it: no float readback (rs_frame.rgb) and no window (its
+ * present and refinement read the float colour). Else the display pass, when RGBA8 is
+ * asked for. On llvmpipe a classic environment-map frame takes 0.96-0.98x the time
+ * (docs/benchmarks.md, "The display pass fused into the last trace pass"). */
+static bool displayed(const struct gles *g, const struct rs_gles_plan *plan,
+                      const struct rs_frame *frame)
+{
+	/* test builds only (gles_seams.h): the display pass forced, to compare both ways */
+	if (rs__gles_display_unfused && rs__gles_display_unfused())
+		return false;
+	return frame->rgba8 && !frame->rgb && !g->cops->display_target &&
+	       rs_gles_plan_displays(plan);
+}
+
 static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
                                   const struct rs_frame *frame, struct rs_render_stats *stats,
                                   struct rs_error *err)
@@ -278,12 +301,13 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
 		capture_ms = rs_now_ms() - t0;
 	}
 	const struct rs_gles_plan *plan = &g->plans[PLAN_FRAME];
+	bool display = displayed(g, plan, frame);
 	double t1 = rs_now_ms();
 	if (st == RS_OK)
 		st = rs_gles_plan_run(g, plan, camera, 0.0f, (GLsizei)g->desc.width,
-		                      (GLsizei)g->desc.height, stats, err);
-	/* The display pass is a step of its own: RGBA8 is made only when asked for. */
-	if (st == RS_OK && frame->rgba8)
+		                      (GLsizei)g->desc.height, display, stats, err);
+	/* Else the display pass is a step of its own: RGBA8 is made only when asked for. */
+	if (st == RS_OK && frame->rgba8 && !display)
 		st = rs_gles_display(g, plan, stats, err);
 	stats->render_ms = rs_now_ms() - t1 + capture_ms;
 	stats->pixels = (uint64_t)g->desc.width * g->desc.height;

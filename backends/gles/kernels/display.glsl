@@ -1,12 +1,11 @@
-// display.glsl: linear colour to RGBA8 exactly as rs_image_quantize_value() rounds:
-// round(clamp(c, 0, 1) * 255); the stored k / 255 converts back to k exactly.
+// display.glsl: linear colour to RGBA8 (quantize.glsl's rs_quantize: as
+// rs_image_quantize_value() rounds, NaN to 0). The display pass of a frame whose last trace
+// pass does not write the RGBA8 colour itself (rs_gles_step.display, gles_renderer.c).
 // In: u_acc (rgb, state). Out: 0 RGBA8 colour, alpha 1.
 uniform sampler2D u_acc;
 layout(location = 0) out vec4 o_color;
 
 void main()
 {
-	vec3 c = texelFetch(u_acc, ivec2(gl_FragCoord.xy), 0).rgb;
-	c = mix(c, vec3(0.0), isnan(c));
-	o_color = vec4(floor(clamp(c, 0.0, 1.0) * 255.0 + 0.5) / 255.0, 1.0);
+	o_color = vec4(rs_quantize(texelFetch(u_acc, ivec2(gl_FragCoord.xy), 0).rgb), 1.0);
 }

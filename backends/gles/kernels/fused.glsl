@@ -9,7 +9,11 @@
 // With RS_ENVMAP and u_envmap_after (cubemaps.glsl) the rays this pass leaves read the
 // captured maps at its end, as the separate chain's second pass does without tracing: the
 // classic method's whole frame is this one pass.
-// Out: 0 orig, 1 dir, 2 acc, 3 hit = (t, u, v, slot).
+// With u_display (the last pass of a frame shown as RGBA8: rs_gles_step.display, chosen
+// per frame by gles_renderer.c) target 0, whose ray nothing reads after the last pass, is
+// the RGBA8 display target and takes the colour as display.glsl would write it
+// (quantize.glsl); the display pass and its read of the colour are then not run.
+// Out: 0 orig (u_display: RGBA8 colour, alpha 1), 1 dir, 2 acc, 3 hit = (t, u, v, slot).
 #if RS_FIRST_PASS
 uniform float u_near;
 #else
@@ -17,6 +21,7 @@ uniform sampler2D u_orig;
 uniform sampler2D u_dir;
 uniform sampler2D u_acc;
 #endif
+uniform int u_display;
 layout(location = 0) out vec4 o_orig;
 layout(location = 1) out vec4 o_dir;
 layout(location = 2) out vec4 o_acc;
@@ -52,7 +57,7 @@ void main()
 			rs_path_environment_from(orig, dir, acc, true);
 #endif
 	}
-	o_orig = orig;
+	o_orig = u_display != 0 ? vec4(rs_quantize(acc.rgb), 1.0) : orig;
 	o_dir = dir;
 	o_acc = acc;
 	o_hit = rs_hit_texel(h);

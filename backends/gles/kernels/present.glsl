@@ -1,7 +1,8 @@
 // present.glsl: a frame into a window's default framebuffer (gles_display.c), scaled to
 // the image rectangle with bilinear filtering done here (float targets are not filterable
-// in GLES 3.0), then rounded as display.glsl rounds: at scale 1 every pixel is exactly the
-// byte the display kernel writes, so the window shows what a readback returns.
+// in GLES 3.0), then rounded by quantize.glsl's rs_quantize as every display value is: at
+// scale 1 every pixel is exactly the byte a readback returns (display.glsl's, or the last
+// fused pass's of a displayed frame).
 // In: u_image (rgb: the float colour state, or an RGBA8 frame as k / 255), row 0 = top;
 //     u_size (the image's texels used), u_origin (the rectangle's lower-left corner in
 //     window pixels), u_scale (image texels per window pixel).
@@ -26,5 +27,5 @@ void main()
 	ivec2 i = ivec2(floor(s));
 	vec3 c = mix(mix(texel(i), texel(i + ivec2(1, 0)), f.x),
 	             mix(texel(i + ivec2(0, 1)), texel(i + ivec2(1, 1)), f.x), f.y);
-	o_color = vec4(floor(clamp(c, 0.0, 1.0) * 255.0 + 0.5) / 255.0, 1.0);
+	o_color = vec4(rs_quantize(c), 1.0);
 }

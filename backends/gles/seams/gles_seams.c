@@ -1,6 +1,7 @@
 /* Test seams (gles_seams.h; test builds only): one kernel's source replaced, to check that a
  * compile error names the file and line; cube map captures forced onto their readback
- * fallback, to compare it with the GPU path. */
+ * fallback, to compare it with the GPU path; frames forced onto the display pass, to compare
+ * it with the last fused pass writing the RGBA8 colour. */
 #include <string.h>
 
 #include "gles_seams.h"
@@ -28,4 +29,16 @@ void rs__gles_force_capture_readback(bool on)
 bool rs__gles_capture_readback(void)
 {
 	return capture_readback;
+}
+
+static bool display_unfused;
+
+void rs__gles_force_display_unfused(bool on)
+{
+	display_unfused = on;
+}
+
+bool rs__gles_display_unfused(void)
+{
+	return display_unfused;
 }
