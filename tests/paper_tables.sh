@@ -82,6 +82,23 @@ grep -q "^Machine: " tables.md && grep -q "llvmpipe\|Renderers: egl: [^;]" table
   ok "machine and renderer named" || bad "machine or renderer missing"
 [ "$(grep -c '^paper-tables: Table' stderr.txt)" -ge 5 ] && ok "progress shown" ||
   bad "progress: $(cat stderr.txt)"
+grep -q "^Speed: the egl columns' fps are medians of 1 round(s)" tables.md &&
+  ok "Table 3 says how its speed was taken" || bad "Table 3's speed line missing"
+# --rounds N: Table 3's columns N times, alternating; a count outside 1..64 is refused.
+if bash "$script" --quick --rounds 2 --build "$build" >rounds.md 2>stderr.txt &&
+   grep -q "medians of 2 round(s)" rounds.md && grep -q "round 2 of 2: mirrors, inter-reflection" stderr.txt &&
+   grep -Eq '^\| ours, fps / the ray tracer.s( \| [0-9.]+){3} \| 1 \| [0-9.]+ \|$' rounds.md; then
+  ok "--rounds 2: two alternating rounds, ratios as medians"
+else bad "--rounds 2: $(tail -c 300 stderr.txt)"; fi
+for n in 0 65 x; do
+  if bash "$script" --quick --rounds "$n" --build "$build" >stdout.txt 2>stderr.txt; then
+    bad "--rounds $n accepted"
+  else
+    rc=$?
+    [ "$rc" = 2 ] && grep -q -- "--rounds: '$n' is not a whole number in 1..64" stderr.txt &&
+      ok "--rounds $n refused" || bad "--rounds $n: exit $rc, $(cat stderr.txt)"
+  fi
+done
 if bash "$script" --frobnicate >stdout.txt 2>stderr.txt; then bad "bad option accepted"
 else grep -q "unknown option '--frobnicate'" stderr.txt && ok "bad option refused" ||
   bad "bad option message: $(cat stderr.txt)"; fi

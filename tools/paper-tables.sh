@@ -11,9 +11,12 @@
 set -euo pipefail
 usage() {
   cat <<'EOF'
-usage: tools/paper-tables.sh [--quick] [--build DIR] [--backend egl|osmesa|cpu] [--out FILE.md]
+usage: tools/paper-tables.sh [--quick] [--build DIR] [--backend egl|osmesa|cpu] [--rounds N] [--out FILE.md]
   The paper's Tables 1-3 beside ours, as Markdown (stdout unless --out; progress on stderr).
   --quick          box (and mirrors) at 32x32, one frame: the plumbing (CI), not speed
+  --rounds N       Table 3: N rounds of its four backend columns, alternating within each
+                   round; fps the median of the rounds, ratios the median of the per-round
+                   ratios (1..64; default 7, --quick 1)
   --build DIR      the build folder (default: $RS_BUILD_DIR, else build/ in the source tree)
   --backend NAME   the backend of Tables 2 and 3 (default: egl)
   --out FILE.md    write the tables there, all or nothing (its folder must exist; checked
@@ -26,13 +29,20 @@ build=${RS_BUILD_DIR:-$root/build}
 backend=egl
 quick=0
 out=""
+rounds=""
 while [ $# -gt 0 ]; do
   case $1 in
     -h|--help) usage; exit 0 ;;
     --quick) quick=1; shift ;;
-    --build|--backend|--out)
+    --build|--backend|--out|--rounds)
       [ $# -ge 2 ] && [ -n "$2" ] || code=2 die "$1 needs a value (try --help)"
-      case $1 in --build) build=$2 ;; --backend) backend=$2 ;; --out) out=$2 ;; esac
+      case $1 in
+        --build) build=$2 ;; --backend) backend=$2 ;; --out) out=$2 ;;
+        --rounds)
+          [[ "$2" =~ ^[0-9]+$ ]] && [ "$2" -ge 1 ] && [ "$2" -le 64 ] ||
+            code=2 die "--rounds: '$2' is not a whole number in 1..64"
+          rounds=$2 ;;
+      esac
       shift 2 ;;
     *) code=2 die "unknown option '$1' (try --help)" ;;
   esac
@@ -53,9 +63,9 @@ bench=$build/tools/bench/raystream-bench
 [ -x "$bench" ] || die "$bench not built (cmake --build $build)"
 command -v jq >/dev/null || die "jq is needed to read raystream-bench --json (tools/deps.sh)"
 if [ "$quick" = 1 ]; then
-  size=32; frames=1; t1=(--scene box --size 32 --flat-size 16 --repeats 1)
+  size=32; frames=1; t1=(--scene box --size 32 --flat-size 16 --repeats 1); rounds=${rounds:-1}
 else
-  size=512; frames=5; t1=()
+  size=512; frames=5; t1=(); rounds=${rounds:-7}
 fi
 # Table 3: inter-reflection bounces (the paper does not give its number).
 bounces3=2
@@ -88,6 +98,17 @@ error() {
 }
 # ratio A B: A / B to two decimals ("—" when B is 0).
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (b > 0) printf "%.2f", a / b; else printf "—" }'; }
+# median X...: the median of the numbers given ("—" is skipped; "—" when none is left).
+median() {
+  printf '%s\n' "$@" | grep -E '^[0-9.]+$' | sort -g |
+    awk '{ a[NR] = $1 } END { if (NR == 0) printf "—"
+                              else if (NR % 2) printf "%s", a[(NR + 1) / 2]
+                              else printf "%.2f", (a[NR / 2] + a[NR / 2 + 1]) / 2 }'
+}
+# range X...: "lowest–highest" of the numbers given.
+range() {
+  printf '%s\n' "$@" | grep -E '^[0-9.]+$' | sort -g | sed -n '1p;$p' | paste -sd'-' | sed 's/-/–/'
+}
 
 {
   echo "# The paper's tables on this machine"
@@ -111,18 +132,34 @@ t2=(--table 2 --backend "$backend")
 [ "$quick" = 1 ] && t2+=(--scene box --size 32 --repeats 1)
 { echo "## Table 2 (raystream-bench --table 2)"; echo; "$bench" "${t2[@]}"; echo; } >>"$tmp/out.md"
 
-# Each row: fps hits [PSNR max bad%] (times_row).
-step "Table 3: mirrors, 5 passes, $backend"
-read -r fps3 hits3 db3 max3 bad3 <<<"$(times_row mirrors 5 trace "$backend" trace rays --error)"
-step "Table 3: mirrors, classic environment mapping (rasterized primaries), $backend"
-read -r fpsenv _ dbenv maxenv badenv \
-  <<<"$(times_row mirrors 5 raster "$backend" envmap rays --error)"
-step "Table 3: mirrors, classic environment mapping, no shadows (the paper's), $backend"
-read -r fpsnone _ dbnone maxnone badnone \
-  <<<"$(times_row mirrors 5 raster "$backend" envmap none --error)"
-step "Table 3: mirrors, inter-reflection environment mapping ($bounces3 bounces), $backend"
-read -r fpsinter _ dbinter maxinter badinter \
-  <<<"$(times_row mirrors 5 trace "$backend" "interreflect:$bounces3" rays --error)"
+# Each row: fps hits [PSNR max bad%] (times_row). The four backend columns alternate
+# within each round, so that a change of the machine's speed (other work, a shared host's
+# steal time) falls on every column alike; the error is the first round's (the images do
+# not change between rounds).
+t3_fps=() env_fps=() none_fps=() inter_fps=() env_r=() none_r=() inter_r=()
+load3=$(cut -d' ' -f1-3 /proc/loadavg)
+for ((r = 1; r <= rounds; r++)); do
+  e=""
+  [ "$r" = 1 ] && e=--error
+  step "Table 3, round $r of $rounds: mirrors, 5 passes, $backend"
+  read -r f h d m b <<<"$(times_row mirrors 5 trace "$backend" trace rays $e)"
+  [ "$r" = 1 ] && { hits3=$h db3=$d max3=$m bad3=$b; }
+  t3_fps+=("$f")
+  step "Table 3, round $r of $rounds: mirrors, classic environment mapping (rasterized primaries), $backend"
+  read -r fe _ d m b <<<"$(times_row mirrors 5 raster "$backend" envmap rays $e)"
+  [ "$r" = 1 ] && { dbenv=$d maxenv=$m badenv=$b; }
+  step "Table 3, round $r of $rounds: mirrors, classic environment mapping, no shadows (the paper's), $backend"
+  read -r fn _ d m b <<<"$(times_row mirrors 5 raster "$backend" envmap none $e)"
+  [ "$r" = 1 ] && { dbnone=$d maxnone=$m badnone=$b; }
+  step "Table 3, round $r of $rounds: mirrors, inter-reflection environment mapping ($bounces3 bounces), $backend"
+  read -r fr _ d m b <<<"$(times_row mirrors 5 trace "$backend" "interreflect:$bounces3" rays $e)"
+  [ "$r" = 1 ] && { dbinter=$d maxinter=$m badinter=$b; }
+  env_fps+=("$fe") none_fps+=("$fn") inter_fps+=("$fr")
+  env_r+=("$(ratio "$fe" "$f")") none_r+=("$(ratio "$fn" "$f")") inter_r+=("$(ratio "$fr" "$f")")
+done
+load3="$load3 at the start, $(cut -d' ' -f1-3 /proc/loadavg) at the end"
+fps3=$(median "${t3_fps[@]}") fpsenv=$(median "${env_fps[@]}")
+fpsnone=$(median "${none_fps[@]}") fpsinter=$(median "${inter_fps[@]}")
 step "Table 3: mirrors, 5 passes, cpu reference"
 read -r fpscpu _ <<<"$(times_row mirrors 5 trace cpu)"
 {
@@ -133,8 +170,14 @@ read -r fpscpu _ <<<"$(times_row mirrors 5 trace cpu)"
   echo "| paper, fps | — | 101.74 | 3.46 | 12.79 | — |"
   echo "| paper, effects | — | approximate reflection | inter-reflection | inter- and self-reflection, shadows | — |"
   echo "| ours, fps | $fpsenv | $fpsnone | $fpsinter ($bounces3 bounces) | $fps3 (hit numbers $hits3) | $fpscpu |"
-  echo "| ours, fps / the ray tracer's | $(ratio "$fpsenv" "$fps3") | $(ratio "$fpsnone" "$fps3") | $(ratio "$fpsinter" "$fps3") | 1 | $(ratio "$fpscpu" "$fps3") |"
+  echo "| ours, fps / the ray tracer's | $(median "${env_r[@]}") | $(median "${none_r[@]}") | $(median "${inter_r[@]}") | 1 | $(ratio "$fpscpu" "$fps3") |"
   echo "| ours, error against the CPU reference tracer | $(error "$dbenv" "$maxenv" "$badenv") | $(error "$dbnone" "$maxnone" "$badnone") | $(error "$dbinter" "$maxinter" "$badinter") | $(error "$db3" "$max3" "$bad3") | the reference |"
+  echo
+  echo "Speed: the $backend columns' fps are medians of $rounds round(s), the four alternating"
+  echo "within each round (load average $load3);"
+  echo "their ratios to the ray tracer are the medians of the per-round ratios (rounds' range:"
+  echo "classic $(range "${env_r[@]}"), reflection only $(range "${none_r[@]}"), inter-reflection"
+  echo "$(range "${inter_r[@]}")). The CPU reference: one run."
   echo
   echo "Classic environment mapping: rasterized primary hits (the paper's classic method is the"
   echo "GPU's rasterizer with a cube map; the ray tracer column traces its primaries), exact"
