@@ -66,7 +66,16 @@ for scene in box cow1; do
           [ $(( (back - sum) * 100 )) -le "$back" ]; then
         ok "$scene/$passes: the backend's rays ($back, peer $sum)"
       else bad "$scene/$passes: peer traced $sum rays, the backend $back"; fi
+      # the ratio of one alternating run: median (lowest-highest) of the per-round ratios
+      ratio=$(echo "$row" | awk -F'|' '{gsub(/^ +| +$/, "", $12); print $12}')
+      if [[ "$ratio" =~ ^([0-9.]+)\ \(([0-9.]+)–([0-9.]+)\)$ ]] &&
+          awk -v m="${BASH_REMATCH[1]}" -v lo="${BASH_REMATCH[2]}" -v hi="${BASH_REMATCH[3]}" \
+            'BEGIN { exit !(m > 0 && lo <= m && m <= hi) }'; then
+        ok "$scene/$passes: backend / Embree per round ($ratio)"
+      else bad "$scene/$passes: backend / Embree cell: '$ratio'"; fi
     done
+    grep -q "^Peer: .*measured alternately: each of 2 round(s) one backend frame" out.txt &&
+      ok "$scene: the peer's ratio says it alternates" || bad "$scene: peer header: $(grep '^Peer' out.txt)"
   else
     grep -q "^Peer: not built" out.txt && ok "$scene: peer absence stated" || bad "$scene: no peer line"
   fi

@@ -110,10 +110,8 @@ static void choose_rays(struct t2_result *r, const struct rs_render_stats *count
 	r->rays = rays_of(&r->rays_stats);
 }
 
-/* Open `backend` with `d` and upload the scene; RS_ERR_UNSUPPORTED means "refused". */
-static enum rs_status open_with_scene(const char *backend, const struct rs_render_desc *d,
-                                      const struct rs_scene *scene, struct rs_renderer **out,
-                                      struct rs_error *err)
+enum rs_status t2_open(const char *backend, const struct rs_render_desc *d,
+                       const struct rs_scene *scene, struct rs_renderer **out, struct rs_error *err)
 {
 	enum rs_status s = rs_renderer_open(backend, d, out, err);
 	if (s == RS_OK)
@@ -132,7 +130,7 @@ static int count_hits(const struct bench_options *o, const struct rs_scene *scen
 	d.counters = true;
 	struct rs_renderer *rn = NULL;
 	struct rs_error err = {0};
-	enum rs_status s = open_with_scene(o->backend, &d, scene, &rn, &err);
+	enum rs_status s = t2_open(o->backend, &d, scene, &rn, &err);
 	struct rs_frame frame = {.rgba8 = r->rgba8};
 	if (s == RS_OK)
 		s = rs_renderer_render(rn, NULL, &frame, &err);
@@ -158,7 +156,7 @@ static int run_setting(const struct bench_options *o, const struct rs_scene *sce
 	struct rs_render_desc d = t2_desc(o, set->primary, set->passes);
 	struct rs_renderer *rn = NULL;
 	struct rs_error err = {0};
-	enum rs_status s = open_with_scene(o->backend, &d, scene, &rn, &err);
+	enum rs_status s = t2_open(o->backend, &d, scene, &rn, &err);
 	if (s == RS_ERR_UNSUPPORTED) {
 		r->refused = true;
 		snprintf(r->why, sizeof r->why, "%s", err.message);

@@ -44,6 +44,12 @@ struct t2_peer {
 	double trace_median[2], trace_min[2], trace_max[2];
 	double frame_median, frame_min, frame_max; /* whole frames: Embree under the reference */
 	struct rs_image_diff diff;                 /* frame image against the reference */
+	/* Measured alternately (t2_peer_scene): each round one backend frame of the traced
+	 * setting of this pass count, then Embree's two replays; `alternated` false when the
+	 * backend refused that setting (the replays then ran alone). */
+	bool alternated;
+	double backend_median;                     /* the backend's frame ms, median of rounds */
+	double ratio_median, ratio_min, ratio_max; /* backend / Embree rays per second, per round */
 };
 
 struct t2_scene {
@@ -67,7 +73,14 @@ static inline const char *t2_verdict(const struct rs_image_diff *d)
 struct rs_render_desc t2_desc(const struct bench_options *o, enum rs_primary_mode primary,
                               uint32_t passes);
 
-/* Run the peer on `sc` for 1 and 2 passes; ref[p] is the reference image of p passes. */
+/* Open `backend` with `d` and upload the scene; RS_ERR_UNSUPPORTED means "refused". */
+enum rs_status t2_open(const char *backend, const struct rs_render_desc *d,
+                       const struct rs_scene *scene, struct rs_renderer **out,
+                       struct rs_error *err);
+
+/* Run the peer on `sc` for 1 and 2 passes, alternating with the backend's traced setting of
+ * the same pass count (sc->settings measured first: its rays); ref[p] is the reference image
+ * of p passes. */
 int t2_peer_scene(const struct bench_options *o, struct t2_scene *sc, float *const ref[3]);
 /* The peer's table, with the backend / peer ratios. */
 void t2_peer_print(const struct bench_options *o, const struct t2_scene *scenes, uint32_t count);

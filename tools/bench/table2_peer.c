@@ -23,6 +23,54 @@ static void summary(double *v, uint32_t n, double *med, double *lo, double *hi)
 	*hi = s.max;
 }
 
+/* The peer's replays, each round after one backend frame of the traced setting of `passes`
+ * (the timed frames' RGBA8 output), so that a change of the machine's speed falls on both
+ * alike: the ratio is taken per round. Without that setting (refused) the replays alone.
+ * trace[m][i]: replay m (0 one ray at a time, 1 streams) of round i, ms. */
+static enum rs_status alternate(const struct bench_options *o, struct t2_scene *sc, uint32_t passes,
+                                struct bench_peer *peer, double trace[2][T2_MAX_REPEATS],
+                                struct rs_error *err)
+{
+	struct t2_peer *p = &sc->peer[passes];
+	const struct t2_result *b = &sc->settings[passes == 1 ? 0 : 3];
+	struct rs_renderer *r = NULL;
+	enum rs_status s = RS_OK;
+	uint8_t *rgba8 = NULL;
+	if (!b->refused) {
+		struct rs_render_desc d = t2_desc(o, RS_PRIMARY_TRACE, passes);
+		rgba8 = malloc((size_t)o->size * o->size * 4);
+		s = rgba8 ? t2_open(o->backend, &d, sc->scene, &r, err)
+		          : rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory for the frame");
+	}
+	struct rs_frame fr = {.rgba8 = rgba8};
+	if (r && s == RS_OK)
+		s = rs_renderer_render(r, NULL, &fr, err); /* warm-up */
+	double back[T2_MAX_REPEATS], ratio[T2_MAX_REPEATS];
+	for (uint32_t i = 0; i < o->repeats && s == RS_OK; ++i) {
+		if (r) {
+			double t0 = rs_now_ms();
+			s = rs_renderer_render(r, NULL, &fr, err);
+			back[i] = rs_now_ms() - t0;
+		}
+		for (int m = 0; m < 2 && s == RS_OK; ++m)
+			s = bench_peer_replay(peer, m == 1, &trace[m][i], &p->replay_hits[m], err);
+		if (r && s == RS_OK) {
+			double best = trace[0][i] < trace[1][i] ? trace[0][i] : trace[1][i];
+			ratio[i] = ((double)b->rays / back[i]) /
+			           ((double)(p->closest + p->occluded) / best);
+		}
+	}
+	rs_renderer_destroy(&r);
+	free(rgba8);
+	if (s == RS_OK && !b->refused) {
+		double lo, hi;
+		summary(back, o->repeats, &p->backend_median, &lo, &hi);
+		summary(ratio, o->repeats, &p->ratio_median, &p->ratio_min, &p->ratio_max);
+		p->alternated = true;
+	}
+	return s;
+}
+
 static int peer_passes(const struct bench_options *o, struct t2_scene *sc, uint32_t passes,
                        const float *ref, float *rgb)
 {
@@ -55,10 +103,9 @@ static int peer_passes(const struct bench_options *o, struct t2_scene *sc, uint3
 	}
 	if (s == RS_OK)
 		s = bench_peer_recorded(peer, &p->closest, &p->occluded, &p->hits, &err);
-	/* alternating, so that load changes hit both ways alike */
-	for (uint32_t i = 0; i < o->repeats && s == RS_OK; ++i)
-		for (int m = 0; m < 2 && s == RS_OK; ++m)
-			s = bench_peer_replay(peer, m == 1, &trace[m][i], &p->replay_hits[m], &err);
+	/* the replays trace Embree's scene over this renderer's packed triangles: kept alive */
+	if (s == RS_OK)
+		s = alternate(o, sc, passes, peer, trace, &err);
 	rs_renderer_destroy(&r);
 	bench_peer_destroy(&peer);
 	if (s != RS_OK) {
@@ -88,11 +135,14 @@ int t2_peer_scene(const struct bench_options *o, struct t2_scene *sc, float *con
 
 void t2_peer_print(const struct bench_options *o, const struct t2_scene *scenes, uint32_t count)
 {
-	printf("\nPeer: %s on the same rays and %u thread(s), median (min–max) of %u: one ray at a "
-	       "time (rtcIntersect1 / rtcOccluded1) and streams of 256 (rtcIntersect1M / "
-	       "rtcOccluded1M, coherent); backend / Embree = the backend's rays per second over "
-	       "whole frames against Embree's best of the two over the same rays\n\n",
-	       bench_peer_name(), o->threads, o->repeats);
+	printf(
+	    "\nPeer: %s on the same rays and %u thread(s), median (min–max) of %u: one ray at a "
+	    "time (rtcIntersect1 / rtcOccluded1) and streams of 256 (rtcIntersect1M / "
+	    "rtcOccluded1M, coherent); backend / Embree = the backend's rays per second over "
+	    "whole frames against Embree's best of the two over the same rays, measured "
+	    "alternately: each of %u round(s) one backend frame (the traced setting, RGBA8) then "
+	    "Embree's two replays, the ratio taken per round, median (min–max) of the rounds\n\n",
+	    bench_peer_name(), o->threads, o->repeats, o->repeats);
 	printf("| scene | passes | Embree rays: closest + shadow (hits; replay hits 1, 1M) | "
 	       "Embree ms, 1 ray | Embree ms, streams | Embree Mrays/s, best | Embree + "
 	       "reference shading: frame ms | Embree image vs reference | backend rays | backend "
@@ -109,12 +159,13 @@ void t2_peer_print(const struct bench_options *o, const struct t2_scene *scenes,
 			double embree = (double)rays / (best * 1e3);
 			/* the traced setting of the same pass count */
 			const struct t2_result *b = &scenes[i].settings[passes == 1 ? 0 : 3];
-			char back[64] = "refused", ratio[32] = "n/a", brays[32] = "-";
-			if (!b->refused) {
-				double mr = (double)b->rays / (b->ms_median * 1e3);
+			char back[64] = "refused", ratio[64] = "n/a", brays[32] = "-";
+			if (!b->refused && p->alternated) {
+				double mr = (double)b->rays / (p->backend_median * 1e3);
 				snprintf(brays, sizeof brays, "%llu", (unsigned long long)b->rays);
 				snprintf(back, sizeof back, "%.2f", mr);
-				snprintf(ratio, sizeof ratio, "%.3f", mr / embree);
+				snprintf(ratio, sizeof ratio, "%.3f (%.3f–%.3f)", p->ratio_median,
+				         p->ratio_min, p->ratio_max);
 			}
 			printf("| %-5s | %u | %llu + %llu (%llu; %llu, %llu) | %.1f (%.1f–%.1f) | "
 			       "%.1f "
