@@ -33,6 +33,7 @@ static const struct paper2_row {
     {"cow17", {12.24, 14.53, 7.31}, {248.820, 99.822, 361.564}},
 };
 
+/* 0 and 3 are the traced settings the peer runs beside (t2_traced()) */
 const struct t2_setting t2_settings[T2_SETTINGS] = {
     {"tree BVH, 1 pass", RS_PRIMARY_TRACE, 1, 0},
     {"raster + BVH, 1 pass", RS_PRIMARY_RASTER, 1, 1},

@@ -62,6 +62,12 @@ struct t2_scene {
 	struct t2_peer peer[3];              /* by pass count (1, 2) */
 };
 
+/* The traced setting of `passes` (1 or 2) in t2_settings: the backend's side of the peer. */
+static inline const struct t2_result *t2_traced(const struct t2_scene *sc, uint32_t passes)
+{
+	return &sc->settings[passes == 1 ? 0 : 3];
+}
+
 /* Whether an image agrees with the reference well enough to call it the same work: the
  * accuracy bar of the GLES backends (PSNR >= 40 dB, at most 0.1% of pixels off by > 8/255). */
 static inline const char *t2_verdict(const struct rs_image_diff *d)

@@ -32,7 +32,7 @@ static enum rs_status alternate(const struct bench_options *o, struct t2_scene *
                                 struct rs_error *err)
 {
 	struct t2_peer *p = &sc->peer[passes];
-	const struct t2_result *b = &sc->settings[passes == 1 ? 0 : 3];
+	const struct t2_result *b = t2_traced(sc, passes);
 	struct rs_renderer *r = NULL;
 	enum rs_status s = RS_OK;
 	uint8_t *rgba8 = NULL;
@@ -157,10 +157,9 @@ void t2_peer_print(const struct bench_options *o, const struct t2_scene *scenes,
 			double best = p->trace_median[0] < p->trace_median[1] ? p->trace_median[0]
 			                                                      : p->trace_median[1];
 			double embree = (double)rays / (best * 1e3);
-			/* the traced setting of the same pass count */
-			const struct t2_result *b = &scenes[i].settings[passes == 1 ? 0 : 3];
+			const struct t2_result *b = t2_traced(&scenes[i], passes);
 			char back[64] = "refused", ratio[64] = "n/a", brays[32] = "-";
-			if (!b->refused && p->alternated) {
+			if (p->alternated) { /* the backend's setting ran (not refused) */
 				double mr = (double)b->rays / (p->backend_median * 1e3);
 				snprintf(brays, sizeof brays, "%llu", (unsigned long long)b->rays);
 				snprintf(back, sizeof back, "%.2f", mr);
