@@ -29,6 +29,23 @@ awk -v a="$first" -v x="$x" -v y="$y" -v z="$z" -v s="$stated" 'BEGIN { split(a,
   d = sqrt((p[1]-x)^2 + (p[2]-y)^2 + (p[3]-z)^2); exit !(s > 0 && d * 1e3 <= 5 * s) }' \
   || fail "first pose $first is more than 5x its stated ${stated} mm from the truth"
 
+# With --verifier: the fourth light drawn and DIR/layout.json written; tracked with it, every
+# sample is solved with the verifier found in both views, and the pose is still the truth's.
+"$synth" -n 4 --verifier --seed 3 "$work/ver" > /dev/null
+[ -s "$work/ver/layout.json" ] || fail "--verifier wrote no layout.json"
+uri="video:$work/ver/left_%04d.png,$work/ver/right_%04d.png?calib=$work/ver/rig.yaml&layout=$work/ver/layout.json&rate=60"
+out=$("$track" --sigma 1 --stats 0 "$uri")
+[ "$(grep -c 'RS_POSE_OK.* optical=RS_OPTICAL_SOLVED verifier=2' <<<"$out")" -eq 4 ] \
+  || fail "expected 4 poses with the verifier in both views: $out"
+read -r x y z <<<"$(grep -v '^#' "$work/ver/truth.txt" | head -n 1 | cut -d' ' -f3-5)"
+first=$(grep -m1 ' seq=0 ' <<<"$out" | sed 's/.*pos=\[\([^]]*\)\].*/\1/')
+awk -v a="$first" -v x="$x" -v y="$y" -v z="$z" 'BEGIN { split(a, p, " ");
+  d = sqrt((p[1]-x)^2 + (p[2]-y)^2 + (p[3]-z)^2); exit !(d < 0.001) }' \
+  || fail "verifier: first pose $first is not the truth $x $y $z"
+# Without the layout the same frames see the fourth light as a stray: no verifier= field.
+out=$("$track" --sigma 1 --stats 0 "${uri/&layout=$work\/ver\/layout.json/}")
+grep -q ' verifier=' <<<"$out" && fail "verifier= printed without a verifier layout"
+
 # flips FILE: how many consecutive quaternions (4 numbers per line on stdin) lie in
 # opposite hemispheres (q and -q are one rotation; a flip is a jump in the output).
 flips() {

@@ -19,11 +19,12 @@ fail() { echo "optical_hard_cli: $*" >&2; exit 1; }
 # print "frames good worst worst_bound unexplained" (worst: error / stated, worst_bound:
 # error / bound); the truth is matched by frame (seq=).
 check() {
-  local dir=$work/$1 rate=$2
+  local dir=$work/$1 rate=$2 extra=""
+  [ -e "$dir/layout.json" ] && extra="&layout=$dir/layout.json"
   # sigma_px: the centroid noise of the 320x240 spots (radius ~1.6 px) at 2 grey levels
   # (worst clean pose at ~2x the law with 0.04; 0.015 px measured at 640x480).
   "$track" --sigma 0.3 --stats 0 \
-    "video:$dir/left_%04d.png,$dir/right_%04d.png?calib=$dir/rig.yaml&rate=$rate&sigma_px=0.04" \
+    "video:$dir/left_%04d.png,$dir/right_%04d.png?calib=$dir/rig.yaml&rate=$rate&sigma_px=0.04$extra" \
     > "$dir/track-$rate.txt"
   awk '
     FNR == NR { if ($1 !~ /^#/) { x[$1] = $3; y[$1] = $4; z[$1] = $5;
@@ -59,11 +60,16 @@ check() {
   ' "$dir/truth.txt" "$dir/track-$rate.txt"
 }
 
-for name in edges corners stray ghosts; do
+# stray-verifier: the stray sequence with the layout's verifier light drawn (--verifier),
+# tracked with its layout.json: the stray is refused where it moves the pose, so its
+# error against the stated one is asserted too (docs/optical.md, "The verifier").
+for name in edges corners stray ghosts stray-verifier; do
   # CI's small size: 320x240 (f = 400 px), the default 2 grey levels of noise; --seed
   # picks other poses for the stray and ghosts runs.
-  "$synth" --hard "$name" --size 320x240 --seed "${OPTICAL_HARD_SEED:-1}" "$work/$name" \
-    > /dev/null || fail "--hard $name"
+  extra=()
+  [ "$name" = stray-verifier ] && extra=(--verifier)
+  "$synth" --hard "${name%-verifier}" "${extra[@]}" --size 320x240 \
+    --seed "${OPTICAL_HARD_SEED:-1}" "$work/$name" > /dev/null || fail "--hard $name"
   frames=$(grep -vc '^#' "$work/$name/truth.txt")
   for rate in 60 5; do
     read -r n good worst worst_bound unexplained <<<"$(check "$name" "$rate")"
@@ -77,8 +83,18 @@ for name in edges corners stray ghosts; do
     [ "$unexplained" -eq 0 ] || fail "$name $label: $unexplained frames not solved and no reason"
     awk -v w="$worst_bound" 'BEGIN { exit !(w <= 1) }' \
       || fail "$name $label: a good pose $worst_bound x its integrity bound off"
+    [ "$name" = stray ] && stray_worst=$worst
     [ "$name" = stray ] || awk -v w="$worst" 'BEGIN { exit !(w <= 5) }' \
       || fail "$name $label: a good pose $worst x its stated error off"
+    if [ "$name" = stray-verifier ]; then
+      refused=$(grep -c ' optical=RS_OPTICAL_VERIFIER' "$work/$name/track-$rate.txt" || true)
+      echo "#   verifier: $refused frames refused by it"
+      # where three markers alone let a pose beyond 5x through, the verifier refused some
+      awk -v w="$stray_worst" 'BEGIN { exit !(w > 5) }' && { [ "$refused" -gt 0 ] ||
+        fail "$name $label: the verifier refused nothing"; }
+      grep -q ' RS_POSE_OK .* verifier=2' "$work/$name/track-$rate.txt" \
+        || fail "$name $label: no good pose with the verifier seen in both views"
+    fi
     # Each sequence has frames the tracker solves (a check that cannot pass vacuously).
     [ "$rate" = 5 ] || [ "$good" -gt 0 ] || fail "$name $label: nothing solved"
     # Tracked runs have poses with a prior; cold ones none (frames 0.2 s apart).

@@ -39,14 +39,18 @@ struct seq {
 	double t, dt;      /* frame time, interval (0: 60 Hz) */
 	double tag, small; /* stray offset of this frame; worst ratio below 5 mm of it */
 	double bound;      /* largest error / integrity bound of a good pose */
-	int marker_like;   /* the stray spots are marker-sized: error/stated printed only */
+	int marker_like;   /* the stray spots are marker-sized: error/stated printed only... */
+	int verified;      /* ...unless the layout has a verifier (asserted then) */
+	int unverified;    /* good poses whose verifier was seen in neither view */
+	int refused;       /* frames the verifier refused (RS_OPTICAL_VERIFIER) */
 	int tracked;       /* good poses with a prior (prior_frames > 0) */
 	double claim[2];   /* sums of bound / stated rotation errors, cold and tracked */
 	/* sums over good poses: squared errors and squared stated errors */
 	double se_rot, se_pos, st_rot, st_pos;
 };
 
-static void seq_open_masked(struct seq *s, double baseline, const struct rs_optical_mask *mask1)
+static void seq_open_layout(struct seq *s, double baseline, const struct rs_optical_mask *mask1,
+                            int verified)
 {
 	memset(s, 0, sizeof *s);
 	struct rs_optical_tracker_desc d = {.centroid_sigma_px = SIGMA_PX};
@@ -54,12 +58,22 @@ static void seq_open_masked(struct seq *s, double baseline, const struct rs_opti
 		d.mask[1] = *mask1;
 	make_rig(baseline, &d.rig);
 	s->rig = d.rig;
-	rs_pose_layout_default(&s->layout);
+	if (verified)
+		rs_pose_layout_default_verified(&s->layout);
+	else
+		rs_pose_layout_default(&s->layout);
+	s->verified = verified;
+	d.layout = s->layout;
 	assert_int_equal(rs_optical_tracker_create(&d, &s->tracker, NULL), RS_OK);
 	/* The solver's own gates assume isotropic noise: told the largest per-axis marker
 	 * noise (depth, ~0.2 mm at 0.05 px, 1 m and a 0.4 m baseline). */
 	struct rs_pose_solver_desc sd = {.noise_sigma_m = 0.0003};
 	assert_int_equal(rs_pose_solver_create(&sd, &s->layout, &s->solver, NULL), RS_OK);
+}
+
+static void seq_open_masked(struct seq *s, double baseline, const struct rs_optical_mask *mask1)
+{
+	seq_open_layout(s, baseline, mask1, 0);
 }
 
 static void seq_open(struct seq *s, double baseline)
@@ -72,13 +86,16 @@ static void seq_close(struct seq *s, const char *name)
 	printf("# %-28s %3d frames, %3d good (%3d tracked), worst error/stated %.2f%s, "
 	       "error/bound %.2f\n",
 	       name, s->frames, s->good, s->tracked, s->worst,
-	       s->marker_like ? " (printed, not asserted)" : "", s->bound);
+	       s->marker_like && !s->verified ? " (printed, not asserted)" : "", s->bound);
+	if (s->verified)
+		printf("#   verifier: %d frames refused, %d good poses unverified\n", s->refused,
+		       s->unverified);
 	if (s->good)
 		printf("#   mean bound/stated rotation: cold %.2f, tracked %.2f\n",
 		       s->good > s->tracked ? s->claim[0] / (s->good - s->tracked) : 0.0,
 		       s->tracked ? s->claim[1] / s->tracked : 0.0);
 	assert_int_equal(s->unexplained, 0);
-	if (!s->marker_like)
+	if (!s->marker_like || s->verified)
 		assert_true(s->worst <= MAX_RATIO);
 	assert_true(s->bound <= 1.0);
 	rs_optical_tracker_destroy(&s->tracker);
@@ -124,9 +141,13 @@ static void seq_account(struct seq *s, const struct rs_marker_sample *smp,
 			       s->t, r, a * 57.3, oq->stated_rotation_rad * 57.3, oq->step_score,
 			       oq->side_chi2, oq->marker_chi2, oq->reprojection_chi2);
 		s->worst = r > s->worst ? r : s->worst;
+		s->unverified += s->verified && oq->verifier_views == 0;
+		if (!s->verified)
+			assert_int_equal(oq->verifier_views, 0);
 		s->good++;
 		return;
 	}
+	s->refused += oq->verdict == RS_OPTICAL_VERIFIER;
 	/* Not solved: the tracker's verdict or the solver's message says why. */
 	if (oq->verdict == RS_OPTICAL_SOLVED && !rs_pose_solver_last_error(s->solver)[0])
 		s->unexplained++;
@@ -303,12 +324,12 @@ static void stray_sequence(struct seq *s, const struct rs_pose *T, int k, int tr
 	}
 }
 
-static void stray_runs(int marker_like)
+static void stray_runs(int marker_like, int verified)
 {
 	struct rng r = {.s = 1919};
 	for (int tracked = 1; tracked >= 0; --tracked) {
 		struct seq s;
-		seq_open(&s, 0.4);
+		seq_open_layout(&s, 0.4, NULL, verified);
 		s.marker_like = marker_like;
 		/* marker-like: about a marker's spot (3.2 px disc at 230 grey) */
 		g_ghost_sigma = marker_like ? 2.4 : 1.6;
@@ -325,10 +346,11 @@ static void stray_runs(int marker_like)
 		 * (asserted) but up to 5.43x tracked, 30.9x cold their stated error (printed). */
 		printf("# %sstray within 5 mm of the hidden marker: worst error/stated %.2f\n",
 		       marker_like ? "marker-like " : "", s.small);
-		seq_close(
-		    &s, marker_like
-		            ? (tracked ? "marker-like stray, tracked" : "marker-like stray, cold")
-		            : (tracked ? "stray on epipolar, tracked" : "stray on epipolar, cold"));
+		char name[64];
+		snprintf(name, sizeof name, "%s, %s%s",
+		         marker_like ? "marker-like stray" : "stray on epipolar",
+		         tracked ? "tracked" : "cold", verified ? ", verifier" : "");
+		seq_close(&s, name);
 	}
 	g_ghost_sigma = 1.6;
 	g_ghost_level = 150;
@@ -337,7 +359,7 @@ static void stray_runs(int marker_like)
 static void test_stray_spot_on_hidden_markers_epipolar_line(void **state)
 {
 	(void)state;
-	stray_runs(0);
+	stray_runs(0, 0);
 }
 
 /* A stray spot as large and bright as a marker's: no test of one frame pair can refuse it
@@ -346,7 +368,16 @@ static void test_stray_spot_on_hidden_markers_epipolar_line(void **state)
 static void test_marker_like_stray_within_its_integrity_bound(void **state)
 {
 	(void)state;
-	stray_runs(1);
+	stray_runs(1, 0);
+}
+
+/* The same with the layout's verifier light in view (docs/optical.md, "The verifier"): the
+ * stray is refused where it moves the pose, and no pose reported good is more than 5 times
+ * its stated error off, tracked or cold. */
+static void test_marker_like_stray_refused_by_the_verifier(void **state)
+{
+	(void)state;
+	stray_runs(1, 1);
 }
 
 /* The pose of a sample's three markers (id order) fitted to layout L. */
@@ -769,6 +800,7 @@ int main(void)
 	    cmocka_unit_test(test_markers_at_the_corners),
 	    cmocka_unit_test(test_stray_spot_on_hidden_markers_epipolar_line),
 	    cmocka_unit_test(test_marker_like_stray_within_its_integrity_bound),
+	    cmocka_unit_test(test_marker_like_stray_refused_by_the_verifier),
 	    cmocka_unit_test(test_stray_at_the_mirror_depth_within_its_integrity_bound),
 	    cmocka_unit_test(test_tracked_bound_at_most_the_cold_one),
 	    cmocka_unit_test(test_camera_mask_refuses_a_static_light),

@@ -91,15 +91,8 @@ void side_chi2(const double layout_sides[3], const cv::Vec3d P[3], const cv::Mat
 // The pose of markers P (layout id order): false when degenerate.
 static bool fit_pose(const rs_pose_layout &layout, const cv::Vec3d P[3], rs_pose *T)
 {
-	double model[3][3], measured[3][3];
-	for (int i = 0; i < 3; ++i)
-		for (int k = 0; k < 3; ++k) {
-			model[i][k] = layout.markers[i][k];
-			measured[i][k] = P[i][k];
-		}
 	rs_pose M;
-	if (rs_pose_fit((const double(*)[3])model, (const double(*)[3])measured, 3, &M, nullptr,
-	                nullptr) != RS_OK)
+	if (!fit_layout(layout, P, 3, &M))
 		return false;
 	rs_pose_compose(&M, &layout.T_markers_display, T);
 	return true;
@@ -278,6 +271,8 @@ extern "C" const char *rs_optical_verdict_name(enum rs_optical_verdict v)
 		return "RS_OPTICAL_STEP";
 	case RS_OPTICAL_SPOT_SIZE:
 		return "RS_OPTICAL_SPOT_SIZE";
+	case RS_OPTICAL_VERIFIER:
+		return "RS_OPTICAL_VERIFIER";
 	}
 	return "RS_OPTICAL_UNKNOWN";
 }

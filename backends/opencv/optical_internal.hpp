@@ -42,10 +42,15 @@ inline cv::Mat wrap(const rs_optical_image &img)
 // RS_ERR_INVALID unless pixels, sizes (1..16384) and stride are sane.
 rs_status check_image(const rs_optical_image *img, rs_error *err);
 
+// The pose (marker frame to camera 0) of points P in layout id order: the three markers,
+// and with n = 4 the layout's verifier (rs_pose_fit). False when degenerate.
+bool fit_layout(const rs_pose_layout &layout, const cv::Vec3d *P, int n, rs_pose *T);
+
 // Linearised RMS rotation error (rad) and 3-D RMS error of the display origin of the pose
-// fitted to markers P[i] (camera frame, layout id order) with covariances S[i]
-// (docs/optical.md, "Error law"). Infinite when the markers are degenerate.
-void pose_error_law(const rs_pose_layout &layout, const cv::Vec3d P[3], const cv::Matx33d S[3],
+// fitted to points P[i] (camera frame, layout id order: the three markers, and with n = 4
+// the layout's verifier) with covariances S[i] (docs/optical.md, "Error law"). Infinite
+// when the points are degenerate.
+void pose_error_law(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S, int n,
                     double *out_rot_rms, double *out_pos_rms);
 
 // Inverse covariance, per unit centroid variance, of a centroid in undistorted pixels at

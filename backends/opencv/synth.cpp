@@ -87,19 +87,22 @@ extern "C" enum rs_status rs_optical_synth_render(const struct rs_optical_rig *r
 		return rs_error_set(err, RS_ERR_INVALID, "synth: bad descriptor");
 	cv::Matx33d R = quat_to_R(T_cam0_markers->orientation);
 	cv::Vec3d t(T_cam0_markers->position);
-	cv::Vec3d X[4];
+	// Lights 0-2: the markers; 3: the layout's verifier (id 3: dim_marker and
+	// occluded_marker 4 name it); 4: the stray lamp.
+	cv::Vec3d X[5];
 	for (int i = 0; i < 3; ++i)
 		X[i] = R * cv::Vec3d(layout->markers[i]) + t;
+	X[3] = R * cv::Vec3d(layout->verifier) + t;
 	// The stray lamp: marker-sized, 12 cm beside the triangle, in both views (so it also
 	// lies on its epipolar line and triangulates, just not at the layout's distances).
-	X[3] = X[0] + R * cv::Vec3d(-0.12, 0.05, 0.0);
+	X[4] = X[0] + R * cv::Vec3d(-0.12, 0.05, 0.0);
 	uint8_t *outs[2] = {out0, out1};
 	for (int v = 0; v < 2; ++v) {
 		const rs_optical_camera &c = rig->cam[v];
 		cv::Mat f(c.height, c.width, CV_32F, cv::Scalar(d.background_grey));
 		cv::Point2d first(-1, -1);
-		for (int i = 0; i < 4; ++i) {
-			if (i == 3 && !d.stray_light)
+		for (int i = 0; i < 5; ++i) {
+			if ((i == 3 && !layout->has_verifier) || (i == 4 && !d.stray_light))
 				continue;
 			if (v == 1 && d.occluded_marker == i + 1)
 				continue;

@@ -35,6 +35,9 @@ const double k_spot_size_px = 4.0;
 // The integrity bound's noise part, in stated (expected) errors: the bar for a good
 // pose's error against its noise (docs/optical.md, "The stated error and the integrity bound").
 const double k_bound_noise = 5.0;
+// A verifier blob settles two triples that fit the layout when it lies within this (plus 6
+// centroid sigmas) of where one's unrefined pose puts it (settle_by_verifier()).
+const double k_verifier_settle_px = 3.0;
 
 struct Pair {
 	int i, j;    // blob indices in view 0 and 1
@@ -57,8 +60,9 @@ struct rs_optical_tracker {
 	std::vector<cv::Matx22d> W[2]; // each centroid's inverse covariance per sigma^2
 	DetectCounts counts[2];
 	std::vector<Pair> pairs;
-	std::vector<cv::Vec3d> candidates; // centroids of the triples that fit the layout
-	bool have_last = false;            // the last triple reported, for settle_by_prior()
+	std::vector<cv::Vec3d> candidates;        // centroids of the triples that fit the layout
+	std::vector<cv::Vec4i> candidate_triples; // their pairs (a, b, c) and order
+	bool have_last = false;                   // the last triple reported, for settle_by_prior()
 	double last_time = 0;
 	cv::Vec3d last_centroid;
 	// The last reported display pose, its stated errors and smoothed velocities: the
@@ -206,6 +210,33 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 	for (int i = 0; i < 3; ++i)
 		m[i] = cv::Vec3d(d.layout.markers[i]);
 	sides_of(m, t->layout_sides);
+	if (d.layout.has_verifier)
+		// The verifier and two markers must never fit the layout within the triple's
+		// tolerance: it would be labelled a marker (rs_pose_layout_check() keeps it
+		// RS_POSE_LAYOUT_MIN_VERIFIER_M away; a looser tolerance can reach that).
+		for (int k = 0; k < 3; ++k) {
+			cv::Vec3d tri[3] = {m[(k + 1) % 3], m[(k + 2) % 3],
+			                    cv::Vec3d(d.layout.verifier)};
+			double ts[3], mismatch = INFINITY;
+			sides_of(tri, ts);
+			for (int p = 0; p < 6; ++p) {
+				double worst = 0;
+				for (int j = 0; j < 3; ++j)
+					worst = std::max(
+					    worst,
+					    std::fabs(ts[j] - t->layout_sides[k_perms[p][j]]));
+				mismatch = std::min(mismatch, worst);
+			}
+			if (!(mismatch > d.side_tolerance_m)) {
+				delete t;
+				return rs_error_set(
+				    err, RS_ERR_DEGENERATE,
+				    "optical tracker: the verifier and markers %d and %d fit "
+				    "the layout's sides within side_tolerance_m (%.4f <= "
+				    "%.4f m)",
+				    (k + 1) % 3, (k + 2) % 3, mismatch, d.side_tolerance_m);
+			}
+		}
 	*out = t;
 	return RS_OK;
 }
@@ -396,15 +427,8 @@ static rs_optical_verdict step_gate(const rs_optical_tracker &t, const cv::Vec3d
                                     double time_s, const StepPrior *prior, rs_optical_quality &q,
                                     rs_pose *pose)
 {
-	double model[3][3], measured[3][3];
-	for (int i = 0; i < 3; ++i)
-		for (int k = 0; k < 3; ++k) {
-			model[i][k] = t.d.layout.markers[i][k];
-			measured[i][k] = pts[i][k];
-		}
 	rs_pose T;
-	if (rs_pose_fit((const double(*)[3])model, (const double(*)[3])measured, 3, &T, nullptr,
-	                nullptr) != RS_OK)
+	if (!fit_layout(t.d.layout, pts, 3, &T))
 		return RS_OPTICAL_SIDE_RESIDUAL; // collinear: the side test cannot have passed
 	rs_pose_compose(&T, &t.d.layout.T_markers_display, pose);
 	pose->time_s = time_s;
@@ -443,10 +467,217 @@ static rs_optical_verdict gate(const rs_optical_tracker &t, const cv::Vec3d pts[
 	return RS_OPTICAL_SOLVED;
 }
 
+// Where the pose of markers P puts the layout's verifier (camera-0 frame).
+static bool verifier_at(const rs_pose_layout &layout, const cv::Vec3d P[3], cv::Vec3d *V)
+{
+	rs_pose T;
+	if (!fit_layout(layout, P, 3, &T))
+		return false;
+	double v[3];
+	rs_pose_transform_point(&T, layout.verifier, v);
+	*V = cv::Vec3d(v[0], v[1], v[2]);
+	return true;
+}
+
+// The verifier test (docs/optical.md, "The verifier"). Where the pose of the labelled
+// markers puts the layout's fourth light, with the covariance of that prediction (each
+// marker's triangulation covariance through the rigid fit, by central differences); in each
+// view the blob the triple does not use nearest to its image, if within reach_m of it in
+// space (the integrity bound: any pose that passed the other tests is at most that far
+// off, so a verifier that is in view is found); over the views it is found in, its offset
+// against the prediction's and its centroid's covariance, chi-square with 2 degrees of
+// freedom a view. Not found in either view: unverified, not refused (a hand over it).
+// Found in both views and passed: *out_V is it triangulated, *out_S its covariance.
+static rs_optical_verdict verify(const rs_optical_tracker &t, const cv::Vec3d pts[3],
+                                 const cv::Matx33d cov[3], const int used[2][3], double reach_m,
+                                 rs_optical_quality &q, cv::Vec3d *out_V, cv::Matx33d *out_S)
+{
+	cv::Vec3d V;
+	if (!verifier_at(t.d.layout, pts, &V))
+		return RS_OPTICAL_SIDE_RESIDUAL; // collinear: the side test cannot have passed
+	cv::Matx33d CV = cv::Matx33d::zeros(), Jm[3];
+	const double h = 1e-6;
+	for (int i = 0; i < 3; ++i) {
+		cv::Matx33d &J = Jm[i];
+		for (int k = 0; k < 3; ++k) {
+			cv::Vec3d P[3] = {pts[0], pts[1], pts[2]}, Vp, Vm;
+			P[i][k] += h;
+			bool ok = verifier_at(t.d.layout, P, &Vp);
+			P[i][k] -= 2 * h;
+			if (!ok || !verifier_at(t.d.layout, P, &Vm))
+				return RS_OPTICAL_SIDE_RESIDUAL;
+			cv::Vec3d d = (Vp - Vm) / (2 * h);
+			for (int r = 0; r < 3; ++r)
+				J(r, k) = d[r];
+		}
+		CV += J * cov[i] * J.t();
+	}
+	const cv::Matx34d *M[2] = {&t.P0, &t.P1};
+	const double s2 = t.d.centroid_sigma_px * t.d.centroid_sigma_px;
+	// rows of the views the verifier is found in: offsets e, Jacobians G, centroid noise N
+	cv::Mat_<double> e(0, 1), G(0, 3), N = cv::Mat_<double>::zeros(4, 4);
+	int found[2] = {-1, -1};
+	for (int v = 0; v < 2; ++v) {
+		cv::Matx23d Jv;
+		cv::Vec2d at;
+		if (!project_jacobian(*M[v], V, cv::Point2d(0, 0), &Jv, &at))
+			continue;
+		// reach in pixels: the largest image of a reach_m move (the Jacobian's Frobenius
+		// norm bounds its largest singular value) plus the prediction's own spread
+		cv::Matx22d Cp = Jv * CV * Jv.t();
+		double reach_px = cv::norm(Jv) * reach_m + 6.0 * std::sqrt(cv::trace(Cp)) +
+		                  6.0 * t.d.centroid_sigma_px;
+		int best = -1;
+		double best_d = reach_px;
+		for (int b = 0; b < (int)t.und[v].size(); ++b) {
+			if (b == used[v][0] || b == used[v][1] || b == used[v][2])
+				continue;
+			double d = std::hypot(t.und[v][b].x - at[0], t.und[v][b].y - at[1]);
+			if (d <= best_d) {
+				best_d = d;
+				best = b;
+			}
+		}
+		cv::Matx22d Wi;
+		if (best < 0 || !cv::invert(t.W[v][best], Wi, cv::DECOMP_CHOLESKY))
+			continue;
+		found[v] = best;
+		int r0 = e.rows;
+		e.push_back(t.und[v][best].x - at[0]);
+		e.push_back(t.und[v][best].y - at[1]);
+		G.push_back(cv::Mat_<double>(cv::Mat(Jv)));
+		for (int r = 0; r < 2; ++r)
+			for (int c = 0; c < 2; ++c)
+				N(r0 + r, r0 + c) = s2 * Wi(r, c);
+	}
+	int n = e.rows / 2;
+	q.verifier_views = (uint32_t)n;
+	if (n == 0)
+		return RS_OPTICAL_SOLVED;
+	cv::Mat_<double> C =
+	    G * cv::Mat_<double>(cv::Mat(CV)) * G.t() + N(cv::Rect(0, 0, 2 * n, 2 * n));
+	cv::Mat_<double> x;
+	if (!cv::solve(C, e, x, cv::DECOMP_CHOLESKY)) {
+		q.verifier_chi2 = INFINITY;
+		return RS_OPTICAL_VERIFIER;
+	}
+	q.verifier_chi2 = e.dot(x);
+	double bound = n == 2 ? RS_OPTICAL_CHI2_4DOF : RS_OPTICAL_CHI2_2DOF;
+	if (!(q.verifier_chi2 <= bound))
+		return RS_OPTICAL_VERIFIER;
+	// The fault three markers cannot see moves one marker along one camera's ray: for each
+	// of those six directions u the offset it would make, g = -G J_i u per unit move, and
+	// the offset's component along it, (g^T C^-1 e)^2 / g^T C^-1 g (1 degree of freedom), a
+	// sharper test of that one fault than the total above.
+	cv::Vec3d c1 = -(R_of(t.d.rig).t() * t_of(t.d.rig));
+	for (int i = 0; i < 3; ++i)
+		for (int v = 0; v < 2; ++v) {
+			cv::Vec3d u = v == 0 ? pts[i] : pts[i] - c1;
+			u /= cv::norm(u);
+			cv::Mat_<double> g = -(G * cv::Mat_<double>(cv::Mat(Jm[i] * u))), y;
+			if (!cv::solve(C, g, y, cv::DECOMP_CHOLESKY))
+				continue;
+			double info = g.dot(y), along = y.dot(e);
+			if (info > 0 && !(along * along / info <= RS_OPTICAL_CHI2_1DOF)) {
+				q.verifier_chi2 = std::max(q.verifier_chi2, along * along / info);
+				return RS_OPTICAL_VERIFIER;
+			}
+		}
+	if (n == 2) {
+		const cv::Point2d obs[2] = {t.und[0][found[0]], t.und[1][found[1]]};
+		const cv::Matx22d W[2] = {t.W[0][found[0]], t.W[1][found[1]]};
+		*out_V = refine(t, triangulate(t, obs[0], obs[1]), obs, W);
+		*out_S = point_cov(t, *out_V, W);
+	}
+	return q.verifier_chi2 <= bound ? RS_OPTICAL_SOLVED : RS_OPTICAL_VERIFIER;
+}
+
+// The verifier seen in both views is a fourth point of the rigid body: the pose is fitted
+// to all four, and the sample's markers become where that pose puts them (the solver's
+// fit of them is then this pose), the stated errors and the bound's noise part the
+// four-point law's. A fault the verifier test let through moves this pose less than the
+// three markers' (it is one point of four), and the verifier's own lever steadies the
+// rotation.
+static void fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3d &V, const cv::Matx33d &S,
+                              cv::Vec3d pts[3], const cv::Matx33d cov[3], rs_optical_quality &q)
+{
+	const cv::Vec3d P4[4] = {pts[0], pts[1], pts[2], V};
+	rs_pose T;
+	if (!fit_layout(t.d.layout, P4, 4, &T))
+		return; // cannot happen for a triple that passed the side tests; keep the three
+	const cv::Matx33d S4[4] = {cov[0], cov[1], cov[2], S};
+	double rot, pos;
+	pose_error_law(t.d.layout, P4, S4, 4, &rot, &pos);
+	if (!std::isfinite(rot) || !std::isfinite(pos))
+		return;
+	for (int i = 0; i < 3; ++i) {
+		double x[3];
+		rs_pose_transform_point(&T, t.d.layout.markers[i], x);
+		pts[i] = cv::Vec3d(x[0], x[1], x[2]);
+	}
+	double fault_rot = q.bound_rotation_rad - k_bound_noise * q.stated_rotation_rad;
+	double fault_pos = q.bound_position_m - k_bound_noise * q.stated_position_m;
+	q.rotation_rms_rad = q.stated_rotation_rad = rot;
+	q.position_rms_m = q.stated_position_m = pos;
+	q.bound_rotation_rad = fault_rot + k_bound_noise * rot;
+	q.bound_position_m = fault_pos + k_bound_noise * pos;
+}
+
+// Two triples fit the layout (a verifier light seen along a marker's epipolar line makes a
+// second one): the one whose pose has a blob it does not use where it puts the verifier, in
+// either view, if exactly one does (docs/optical.md, "The verifier"). It then stands alone
+// in t.candidates and is the verifier test's to judge.
+static void settle_by_verifier(rs_optical_tracker &t, int best[3], int *order, double *worst)
+{
+	const double reach_px = k_verifier_settle_px + 6.0 * t.d.centroid_sigma_px;
+	const cv::Matx34d *M[2] = {&t.P0, &t.P1};
+	int seen = -1;
+	for (size_t c = 0; c < t.candidate_triples.size(); ++c) {
+		const cv::Vec4i &tr = t.candidate_triples[c];
+		cv::Vec3d pts[3], V;
+		int used[2][3];
+		for (int k = 0; k < 3; ++k) {
+			const Pair &p = t.pairs[tr[k]];
+			pts[k_perms[tr[3]][k]] = p.X;
+			used[0][k] = p.i;
+			used[1][k] = p.j;
+		}
+		if (!verifier_at(t.d.layout, pts, &V))
+			continue;
+		bool found = false;
+		for (int v = 0; v < 2 && !found; ++v) {
+			cv::Matx23d J;
+			cv::Vec2d at;
+			if (!project_jacobian(*M[v], V, cv::Point2d(0, 0), &J, &at))
+				continue;
+			for (int b = 0; b < (int)t.und[v].size() && !found; ++b)
+				found = b != used[v][0] && b != used[v][1] && b != used[v][2] &&
+				        std::hypot(t.und[v][b].x - at[0], t.und[v][b].y - at[1]) <=
+				            reach_px;
+		}
+		if (!found)
+			continue;
+		if (seen >= 0)
+			return; // two see it: still ambiguous
+		seen = (int)c;
+	}
+	if (seen < 0)
+		return;
+	const cv::Vec4i &tr = t.candidate_triples[seen];
+	best[0] = tr[0];
+	best[1] = tr[1];
+	best[2] = tr[2];
+	cv::Vec3d X[3] = {t.pairs[tr[0]].X, t.pairs[tr[1]].X, t.pairs[tr[2]].X};
+	double cost;
+	*order = best_order(t.layout_sides, X, &cost, worst);
+	t.candidates.assign(1, t.candidates[seen]);
+}
+
 // Blobs of both views (t->blobs) to the sample: undistort, match, triangulate, label, gate.
 static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s,
                              rs_marker_sample *out, rs_optical_quality &q, rs_error *err)
 {
+	q.has_verifier = t->d.layout.has_verifier != 0;
 	try {
 		for (int v = 0; v < 2; ++v) {
 			const rs_optical_camera &c = t->d.rig.cam[v];
@@ -507,6 +738,7 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 	double best_cost = INFINITY, best_worst = INFINITY;
 	const std::vector<Pair> &P = t->pairs;
 	t->candidates.clear();
+	t->candidate_triples.clear();
 	for (size_t a = 0; a < P.size(); ++a)
 		for (size_t b = a + 1; b < P.size(); ++b) {
 			if (P[a].i == P[b].i || P[a].j == P[b].j)
@@ -518,8 +750,11 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 				cv::Vec3d pts[3] = {P[a].X, P[b].X, P[c].X};
 				double cost, worst;
 				int o = best_order(t->layout_sides, pts, &cost, &worst);
-				if (worst <= t->d.side_tolerance_m)
+				if (worst <= t->d.side_tolerance_m) {
 					t->candidates.push_back((pts[0] + pts[1] + pts[2]) / 3.0);
+					t->candidate_triples.push_back(
+					    cv::Vec4i((int)a, (int)b, (int)c, o));
+				}
 				if (cost < best_cost) {
 					best_cost = cost;
 					best_worst = worst;
@@ -535,6 +770,8 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 		q.verdict = best[0] < 0 ? RS_OPTICAL_TOO_FEW_MATCHES : RS_OPTICAL_NO_LAYOUT;
 		return RS_OK;
 	}
+	if (t->candidates.size() > 1 && t->d.layout.has_verifier)
+		settle_by_verifier(*t, best, &order, &best_worst);
 	if (t->candidates.size() > 1 &&
 	    !settle_by_prior(*t, time_s, (P[best[0]].X + P[best[1]].X + P[best[2]].X) / 3.0)) {
 		q.side_error_m = best_worst;
@@ -567,7 +804,7 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 	q.reprojection_px = std::sqrt(sq / 3.0);
 	q.side_error_m = best_worst;
 	q.sigma_m = std::sqrt(sig / 3.0);
-	pose_error_law(t->d.layout, pts, cov, &q.rotation_rms_rad, &q.position_rms_m);
+	pose_error_law(t->d.layout, pts, cov, 3, &q.rotation_rms_rad, &q.position_rms_m);
 	double bound_rot, bound_pos;
 	StepPrior prior_store;
 	const StepPrior *prior = step_prior(*t, time_s, q, &prior_store) ? &prior_store : nullptr;
@@ -602,6 +839,23 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 		bound_pos = bp;
 	}
 	q.verdict = gate(*t, pts, cov, q);
+	if (q.verdict == RS_OPTICAL_SOLVED && t->d.layout.has_verifier) {
+		const int used[2][3] = {{P[best[0]].i, P[best[1]].i, P[best[2]].i},
+		                        {P[best[0]].j, P[best[1]].j, P[best[2]].j}};
+		// how far the verifier can be from where this pose puts it: the integrity bound
+		// turned about the farthest marker, and moved
+		double lever = 0;
+		cv::Vec3d V;
+		if (verifier_at(t->d.layout, pts, &V))
+			for (int k = 0; k < 3; ++k)
+				lever = std::max(lever, cv::norm(V - pts[k]));
+		cv::Vec3d VX;
+		cv::Matx33d VS;
+		q.verdict = verify(*t, pts, cov, used,
+		                   q.bound_rotation_rad * lever + q.bound_position_m, q, &VX, &VS);
+		if (q.verdict == RS_OPTICAL_SOLVED && q.verifier_views == 2)
+			fit_with_verifier(*t, VX, VS, pts, cov, q);
+	}
 	rs_pose pose;
 	if (q.verdict == RS_OPTICAL_SOLVED)
 		q.verdict = step_gate(*t, pts, time_s, prior, q, &pose);

@@ -9,6 +9,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 void rs_pose_layout_default(struct rs_pose_layout *out_layout)
 {
@@ -17,6 +18,15 @@ void rs_pose_layout_default(struct rs_pose_layout *out_layout)
 	    .T_markers_display = {.orientation = {0.0, 0.0, 0.0, 1.0}},
 	};
 	*out_layout = def;
+}
+
+void rs_pose_layout_default_verified(struct rs_pose_layout *out_layout)
+{
+	rs_pose_layout_default(out_layout);
+	out_layout->verifier[0] = 0.04;
+	out_layout->verifier[1] = 0.03;
+	out_layout->verifier[2] = 0.12;
+	out_layout->has_verifier = 1;
 }
 
 void rs_pose_triangle_metrics(const double p[3][3], double sides[3], double *out_min_height)
@@ -38,6 +48,48 @@ void rs_pose_triangle_metrics(const double p[3][3], double sides[3], double *out
 	rs_v3_cross(e[1], e[2], c);
 	double twice_area = rs_v3_norm(c);
 	*out_min_height = longest > 0.0 && isfinite(twice_area) ? twice_area / longest : 0.0;
+}
+
+/* The verifier: finite, off every side's line (a turn about that side moves it) and never
+ * a corner of a triangle that fits the layout's sides. */
+static enum rs_status check_verifier(const struct rs_pose_layout *layout, const double sides[3],
+                                     struct rs_error *err)
+{
+	const double *v = layout->verifier;
+	if (!rs_v3_finite(v) ||
+	    !(fabs(v[0]) <= RS_POSE_MAX_COORD_M && fabs(v[1]) <= RS_POSE_MAX_COORD_M &&
+	      fabs(v[2]) <= RS_POSE_MAX_COORD_M))
+		return rs_error_set(err, RS_ERR_BAD_DATA,
+		                    "layout: the verifier has a non-finite or huge coordinate");
+	for (int k = 0; k < 3; ++k) {
+		const double *a = layout->markers[(k + 1) % 3], *b = layout->markers[(k + 2) % 3];
+		double t[3][3], ts[3], h, ab[3], av[3], c[3];
+		memcpy(t[0], a, sizeof t[0]);
+		memcpy(t[1], b, sizeof t[1]);
+		memcpy(t[2], v, sizeof t[2]);
+		rs_pose_triangle_metrics((const double(*)[3])t, ts, &h);
+		/* distance from the line a-b: |(b - a) x (v - a)| / |b - a| (|b - a| > 0: the
+		 * triangle's heights were checked) */
+		rs_v3_sub(b, a, ab);
+		rs_v3_sub(v, a, av);
+		rs_v3_cross(ab, av, c);
+		double line = rs_v3_norm(c) / rs_v3_norm(ab);
+		if (!(line >= RS_POSE_LAYOUT_MIN_VERIFIER_M))
+			return rs_error_set(
+			    err, RS_ERR_DEGENERATE,
+			    "layout: the verifier is %.4f m from the line of markers "
+			    "%d and %d (< %.4f m): a turn about it would not move it",
+			    line, (k + 1) % 3, (k + 2) % 3, RS_POSE_LAYOUT_MIN_VERIFIER_M);
+		double mismatch = rs_pose_side_mismatch(ts, sides);
+		if (!(mismatch >= RS_POSE_LAYOUT_MIN_VERIFIER_M))
+			return rs_error_set(
+			    err, RS_ERR_DEGENERATE,
+			    "layout: the verifier and markers %d and %d make a triangle "
+			    "within %.4f m of the layout's sides (< %.4f m): it could be "
+			    "taken for a marker",
+			    (k + 1) % 3, (k + 2) % 3, mismatch, RS_POSE_LAYOUT_MIN_VERIFIER_M);
+	}
+	return RS_OK;
 }
 
 enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct rs_error *err)
@@ -76,7 +128,22 @@ enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct 
 		                    "layout: not scalene (two sides differ by %.4f m <= %.4f m), "
 		                    "swapped ids could not be told apart",
 		                    diff, RS_POSE_LAYOUT_MIN_SIDE_DIFF_M);
-	return RS_OK;
+	return layout->has_verifier ? check_verifier(layout, sides, err) : RS_OK;
+}
+
+/* Least over the six orderings of the largest difference between the sides of a and b. */
+double rs_pose_side_mismatch(const double a[3], const double b[3])
+{
+	double best = INFINITY;
+	for (int p = 0; p < 6; ++p) {
+		double worst = 0.0;
+		for (int k = 0; k < 3; ++k) {
+			double d = fabs(a[k] - b[rs_pose_perms[p][k]]);
+			worst = d > worst ? d : worst;
+		}
+		best = worst < best ? worst : best;
+	}
+	return best;
 }
 
 double rs_pose_min_side_difference(const double sides[3])
@@ -167,6 +234,15 @@ enum rs_status rs_pose_layout_load(const char *path, struct rs_pose_layout *out_
 			    "and orientation [x,y,z,w]",
 			    path);
 		}
+	}
+	const cJSON *ver = cJSON_GetObjectItemCaseSensitive(root, "verifier");
+	if (ver) {
+		if (!json_vec(ver, 3, l.verifier)) {
+			cJSON_Delete(root);
+			return rs_error_set(err, RS_ERR_PARSE,
+			                    "layout: '%s': \"verifier\" must be [x,y,z]", path);
+		}
+		l.has_verifier = 1;
 	}
 	cJSON_Delete(root);
 	double *q = l.T_markers_display.orientation;

@@ -11,6 +11,10 @@ void rs_pose_triangle_metrics(const double p[3][3], double sides[3], double *out
 /* Smallest absolute difference between any two of the three side lengths. */
 double rs_pose_min_side_difference(const double sides[3]);
 
+/* Least over the orderings of b of the largest |a[k] - b[perm k]|: how far two triangles'
+ * side lengths are from congruent. */
+double rs_pose_side_mismatch(const double a[3], const double b[3]);
+
 /* All orderings of three markers: rs_pose_perms[p][j] = layout id of measured point j. */
 extern const int rs_pose_perms[6][3];
 

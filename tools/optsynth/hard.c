@@ -319,7 +319,7 @@ int optsynth_hard(const char *dir, const struct optsynth_options *o, const char 
 	struct rs_optical_rig rig;
 	rs_optical_rig_example(o->baseline, o->width, o->height, &rig);
 	struct rs_pose_layout L;
-	rs_pose_layout_default(&L);
+	optsynth_layout(o, &L);
 	struct hard_plan p = {.rng = o->seed * 2654435761u + 1919};
 	int ok;
 	if (!strcmp(name, "edges"))

@@ -68,6 +68,41 @@ static int script_frame(void *ctx, const struct optsynth_options *o,
 	return rs_optical_synth_render(rig, L, T, &d, img0, img1, err) == RS_OK ? 1 : -1;
 }
 
+void optsynth_layout(const struct optsynth_options *o, struct rs_pose_layout *out)
+{
+	if (o->verifier)
+		rs_pose_layout_default_verified(out);
+	else
+		rs_pose_layout_default(out);
+}
+
+/* DIR/layout.json: the layout with its verifier, for the source's layout=FILE (through a
+ * temporary file renamed on success). */
+static int write_layout(const char *dir, const struct rs_pose_layout *L)
+{
+	char path[4096], tmp[4200];
+	snprintf(path, sizeof path, "%s/layout.json", dir);
+	snprintf(tmp, sizeof tmp, "%s.tmp", path);
+	FILE *f = fopen(tmp, "w");
+	if (!f) {
+		fprintf(stderr, TOOL ": cannot write %s\n", path);
+		return 0;
+	}
+	fprintf(f, "{\"markers\": [");
+	for (int i = 0; i < 3; ++i)
+		fprintf(f, "%s[%.6f, %.6f, %.6f]", i ? ", " : "", L->markers[i][0],
+		        L->markers[i][1], L->markers[i][2]);
+	fprintf(f, "],\n \"verifier\": [%.6f, %.6f, %.6f]}\n", L->verifier[0], L->verifier[1],
+	        L->verifier[2]);
+	if (fclose(f) != 0 || rename(tmp, path) != 0) {
+		remove(tmp);
+		fprintf(stderr, TOOL ": cannot write %s\n", path);
+		return 0;
+	}
+	rs_cli_wrote(path);
+	return 1;
+}
+
 int optsynth_write(const char *dir, const struct optsynth_options *o, optsynth_frame_fn frame,
                    void *ctx)
 {
@@ -95,7 +130,9 @@ int optsynth_write(const char *dir, const struct optsynth_options *o, optsynth_f
 		goto done;
 	}
 	struct rs_pose_layout L;
-	rs_pose_layout_default(&L);
+	optsynth_layout(o, &L);
+	if (o->verifier && !write_layout(dir, &L))
+		goto done;
 	fprintf(truth, "# frame time_s T_cam0_markers: x y z (m) qx qy qz qw\n");
 	double prev_q[4];
 	for (int i = 0;; ++i) {
@@ -134,9 +171,16 @@ int optsynth_write(const char *dir, const struct optsynth_options *o, optsynth_f
 	rs_cli_wrote(path);
 	snprintf(path, sizeof path, "%s/truth.txt", dir);
 	rs_cli_wrote(path);
-	printf("%s: %d frame pairs, rig.yaml, truth.txt; try\n  raystream-track --sigma 1 "
-	       "'video:%s/left_%%04d.png,%s/right_%%04d.png?calib=%s/rig.yaml&rate=%g'\n",
-	       dir, n, dir, dir, dir, o->rate);
+	if (o->verifier)
+		printf(
+		    "%s: %d frame pairs, rig.yaml, layout.json, truth.txt; try\n  raystream-track "
+		    "--sigma 1 'video:%s/left_%%04d.png,%s/right_%%04d.png?calib=%s/"
+		    "rig.yaml&layout=%s/layout.json&rate=%g'\n",
+		    dir, n, dir, dir, dir, dir, o->rate);
+	else
+		printf("%s: %d frame pairs, rig.yaml, truth.txt; try\n  raystream-track --sigma 1 "
+		       "'video:%s/left_%%04d.png,%s/right_%%04d.png?calib=%s/rig.yaml&rate=%g'\n",
+		       dir, n, dir, dir, dir, o->rate);
 	code = 0;
 done:
 	if (truth) {
@@ -204,7 +248,7 @@ int main(int argc, char **argv)
 	    .width = 640, .height = 480, .baseline = 0.4, .rate = 60, .synth = {.noise_grey = 2}};
 	uint32_t frames = 120, runs = 5;
 	double seed = 1;
-	bool bench = false, stray = false, reflection = false;
+	bool bench = false, stray = false, reflection = false, verifier = false;
 	const char *dir = NULL, *hard = NULL;
 	const struct rs_cli_option opts[] = {
 	    RS_CLI_U32_OPT("--frames", &frames, 1, 100000, "frame pairs"),
@@ -234,6 +278,9 @@ int main(int argc, char **argv)
 	                    "marker hidden from camera 1"),
 	    RS_CLI_FLAG_OPT("--stray", &stray, "a stray lamp beside the markers"),
 	    RS_CLI_FLAG_OPT("--reflection", &reflection, "a specular streak beside the markers"),
+	    RS_CLI_FLAG_OPT("--verifier", &verifier,
+	                    "a fourth light on a 12 cm post (rs_pose_layout_default_verified), "
+	                    "DIR/layout.json for the source's layout="),
 	    RS_CLI_DOUBLE_OPT("--seed", &seed, "0..1e15", 0, 1e15, "noise and motion seed"),
 	    {.name = "--hard",
 	     .kind = RS_CLI_STRING,
@@ -266,6 +313,7 @@ int main(int argc, char **argv)
 	o.seed = (uint64_t)seed;
 	o.synth.stray_light = stray;
 	o.synth.reflection = reflection;
+	o.verifier = verifier;
 	if (bench && hard)
 		return rs_cli_usage_error(&cli, "--bench and --hard exclude each other");
 	if (bench)

@@ -12,7 +12,11 @@ struct optsynth_options {
 	const char *script;
 	uint64_t seed;
 	struct rs_optical_synth_desc synth;
+	int verifier; /* the layout's verifier light drawn, DIR/layout.json written */
 };
+
+/* The markers drawn: rs_pose_layout_default(), with o->verifier its _verified() form. */
+void optsynth_layout(const struct optsynth_options *o, struct rs_pose_layout *out);
 
 /* One frame pair i of a sequence: its true pose T (time_s set) and both images. Returns 1
  * for a frame, 0 after the last, -1 on error (err set). */

@@ -62,7 +62,10 @@ static const char about[] =
     "     cam:0,1?calib=RIG   (two V4L2 cameras; see docs/optical.md)\n"
     "Optical samples also print stated=DEG/MM (the pose's expected error; clean poses\n"
     "are ~1x it off) and bound=DEG/MM (the integrity bound: the most one undetected\n"
-    "stray spot could put it off and still pass every test).\n"
+    "stray spot could put it off and still pass every test); with a layout verifier\n"
+    "(\"verifier\": [x,y,z] in the layout=FILE of the source) verifier=N, the views it\n"
+    "was seen in where the pose puts it (0: hidden; a stray it refuses: optical=\n"
+    "RS_OPTICAL_VERIFIER).\n"
     "One-letter spellings: -n --count, -d --duration, -r --record, -l --layout,\n"
     "-f --filter, -p --predict, -q --quiet; --bench N is --bench-samples N.\n";
 
@@ -221,6 +224,10 @@ static void print_pose(const struct rs_track_source *src, const struct rs_marker
 		       oq.stated_rotation_rad * 180.0 / RS_PI, oq.stated_position_m * 1e3,
 		       oq.bound_rotation_rad * 180.0 / RS_PI, oq.bound_position_m * 1e3,
 		       oq.prior_frames, rs_optical_verdict_name(oq.verdict));
+	/* With a layout verifier: the views it was found in where the pose puts it (0: hidden,
+	 * the pose only as good as its three markers). */
+	if (rs_optical_source_quality(src, &oq) && oq.has_verifier)
+		printf(" verifier=%u", oq.verifier_views);
 #else
 	(void)src;
 #endif

@@ -39,14 +39,28 @@ struct rs_pose_layout {
 	double markers[RS_TRACK_MARKERS][3];
 	/** Display frame expressed in the marker frame; an all-zero orientation means identity. */
 	struct rs_pose T_markers_display;
+	/** An optional fourth light, the verifier, in the marker frame (metres), used when
+	 *  has_verifier is nonzero. It is not part of the pose's triangle: the optical tracker
+	 *  checks that it is seen where each pose puts it, which refuses a stray spot that
+	 *  three markers cannot tell from a marker (docs/optical.md, "The verifier"). The
+	 *  pose solver ignores it. */
+	double verifier[3];
+	uint32_t has_verifier;
 };
+
+/** Layout check: the verifier lies at least this far from the line through any two markers
+ *  (a pose error that turns the triangle about one of its sides moves it) and each
+ *  triangle of two markers and the verifier has sides at least this far from the layout's
+ *  in every ordering (it is never taken for the marker triangle). */
+#define RS_POSE_LAYOUT_MIN_VERIFIER_M 0.02
 
 /**
  * Load a layout from a JSON calibration file:
  * `{"markers": [[x,y,z],[x,y,z],[x,y,z]],
- *   "T_markers_display": {"position":[x,y,z], "orientation":[x,y,z,w]}}` (metres).
- * "T_markers_display" may be omitted (identity). The orientation is normalised and put in
- * the w >= 0 hemisphere. The layout is checked with rs_pose_layout_check().
+ *   "T_markers_display": {"position":[x,y,z], "orientation":[x,y,z,w]},
+ *   "verifier": [x,y,z]}` (metres).
+ * "T_markers_display" may be omitted (identity), "verifier" too (none). The orientation is
+ * normalised and put in the w >= 0 hemisphere. The layout is checked with rs_pose_layout_check().
  * @param path        file to read (caller's string, not kept)
  * @param out_layout  caller-owned; written only on RS_OK
  * @return RS_OK, RS_ERR_NOT_FOUND / RS_ERR_IO (file), RS_ERR_PARSE (JSON or shape),
@@ -60,7 +74,8 @@ enum rs_status rs_pose_layout_load(const char *path, struct rs_pose_layout *out_
  * calibration offset, within RS_POSE_MAX_COORD_M), smallest triangle height
  * > RS_POSE_LAYOUT_MIN_HEIGHT_M, every two sides differ by > RS_POSE_LAYOUT_MIN_SIDE_DIFF_M
  * (so swapped marker ids can be told apart by side lengths), unit (or all-zero = identity)
- * calibration quaternion.
+ * calibration quaternion; with a verifier: finite, and RS_POSE_LAYOUT_MIN_VERIFIER_M from
+ * every side's line and from the triangle's side lengths.
  * @return RS_OK, RS_ERR_INVALID (NULL), RS_ERR_BAD_DATA or RS_ERR_DEGENERATE.
  */
 enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct rs_error *err);
@@ -71,6 +86,14 @@ enum rs_status rs_pose_layout_check(const struct rs_pose_layout *layout, struct 
  * sides 0.1000, 0.1131, 0.0825 m; smallest height 0.0707 m; T_markers_display = identity.
  */
 void rs_pose_layout_default(struct rs_pose_layout *out_layout);
+
+/**
+ * rs_pose_layout_default() with a verifier light on a 12 cm post above the triangle's
+ * plane, at (0.04, 0.03, 0.12): 130-138 mm from the markers, 122-124 mm from each side's
+ * line, the triangles it makes with two markers at least 30 mm from the layout's sides in
+ * every ordering. Lower posts see a stray less well: docs/optical.md, "The verifier".
+ */
+void rs_pose_layout_default_verified(struct rs_pose_layout *out_layout);
 
 /** What a solved pose is based on. */
 enum rs_pose_status {

@@ -174,6 +174,10 @@ enum rs_optical_verdict {
 	RS_OPTICAL_SPOT_SIZE = 9,       /**< a marker's spot differs in size between the views
 	                                     beyond the other markers' (another light on its
 	                                     epipolar line, docs/optical.md) */
+	RS_OPTICAL_VERIFIER = 10,       /**< the layout's verifier light is seen, but not where
+	                                     the pose puts it: beyond the chi-square bound of
+	                                     the pose's and the centroids' errors (a stray spot
+	                                     taken for a marker, docs/optical.md "The verifier") */
 };
 
 /** Constant name of a verdict ("RS_OPTICAL_REPROJECTION"); never NULL. */
@@ -183,6 +187,7 @@ const char *rs_optical_verdict_name(enum rs_optical_verdict verdict);
 #define RS_OPTICAL_CHI2_1DOF 18.0
 #define RS_OPTICAL_CHI2_2DOF 21.6
 #define RS_OPTICAL_CHI2_3DOF 24.4
+#define RS_OPTICAL_CHI2_4DOF 27.0
 
 /** What one frame pair gave. */
 struct rs_optical_quality {
@@ -225,6 +230,16 @@ struct rs_optical_quality {
 	double stated_position_m; /**< the same for the display origin's position */
 	uint32_t prior_frames;    /**< reported poses in a row before this one, each following
 	                               the last within the step gate (0: a cold pose) */
+	/** With a layout verifier (rs_pose_layout.has_verifier): the views in which it was
+	 *  found where this pose puts it, 0-2. 0 on a solved frame: it was hidden in both (not
+	 *  within the integrity bound's reach of where the pose puts it), so the pose is only
+	 *  as good as three markers make it (its integrity bound). 2: the pose is fitted to
+	 *  the markers and the verifier, its stated errors the four points' law.
+	 *  raystream-track prints `verifier=N`. Always 0 without a verifier. */
+	uint32_t verifier_views;
+	double verifier_chi2;  /**< its squared offset from where the pose puts it over the
+	                            offset's covariance (2 degrees of freedom a view; 0: not seen) */
+	uint32_t has_verifier; /**< 1: the tracker's layout has a verifier */
 };
 
 struct rs_optical_tracker;
@@ -273,15 +288,18 @@ struct rs_optical_synth_desc {
 	double blur_px;         /**< extra Gaussian blur sigma (0) */
 	double background_grey; /**< background level (default 10) */
 	double peak_grey;       /**< marker peak level (default 230) */
-	int dim_marker;         /**< 1 + id of a marker drawn at 35 % brightness (0: none) */
-	int occluded_marker;    /**< 1 + id of a marker hidden in camera 1 (0: none) */
+	int dim_marker;         /**< 1 + id of a marker drawn at half brightness (0: none; 4:
+	                             the layout's verifier) */
+	int occluded_marker;    /**< 1 + id of a marker hidden in camera 1 (0: none; 4: the
+	                             layout's verifier) */
 	int stray_light;        /**< nonzero: a round lamp-sized light in both views */
 	int reflection;         /**< nonzero: an elongated specular streak in both views */
 	uint64_t seed;          /**< noise seed */
 };
 
 /**
- * Render the markers of `layout` at T_cam0_markers into two caller-owned images of the
+ * Render the markers of `layout` (and its verifier, if it has one) at T_cam0_markers into
+ * two caller-owned images of the
  * rig's sizes (stride = width). Marker discs are integrated over each pixel, so their
  * intensity centroid is the projected centre to ~0.01 px.
  */
