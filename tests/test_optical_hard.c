@@ -598,7 +598,8 @@ static void test_tracked_bound_at_most_the_cold_one(void **state)
 		            q[0].bound_position_m > MAX_RATIO * q[0].stated_position_m);
 		for (int f = 1; f < 3; ++f) {
 			assert_int_equal(q[f].verdict, RS_OPTICAL_SOLVED);
-			assert_int_equal(q[f].prior_frames, (uint32_t)f);
+			/* the second pose of a row has no prior: no velocity yet */
+			assert_int_equal(q[f].prior_frames, f == 1 ? 0u : 2u);
 			assert_true(q[f].bound_rotation_rad <=
 			                q[0].bound_rotation_rad * (1 + 1e-9) &&
 			            q[f].bound_position_m <= q[0].bound_position_m * (1 + 1e-9));

@@ -74,6 +74,9 @@ struct rs_optical_tracker {
 	// error (rotation rad, position m): the integrity bound's fault part.
 	double last_bound_rot = 0, last_bound_pos = 0;
 	double velocity[3] = {0, 0, 0}, angular_velocity[3] = {0, 0, 0};
+	// Whether those came from two reported poses in a row (at most k_prior_max_age_s
+	// apart): after a cold pose the velocity is unknown, not zero.
+	bool velocity_known = false;
 };
 
 static void sides_of(const cv::Vec3d p[3], double s[3])
@@ -409,7 +412,11 @@ static bool step_prior(const rs_optical_tracker &t, double time_s, const rs_opti
                        StepPrior *out)
 {
 	double since = time_s - t.last_time;
-	if (!t.have_last || !(since > 0) || since > k_prior_max_age_s)
+	// Without a velocity there is no prediction: a display moving at 0.1 m/s is 1.7 mm
+	// from a constant-position one after a frame, which a step test of a pose's stated
+	// error would refuse (the frames after every gap were held until a pose happened to
+	// fall within it).
+	if (!t.have_last || !t.velocity_known || !(since > 0) || since > k_prior_max_age_s)
 		return false;
 	rs_pose_extrapolate(&t.last_pose, t.velocity, t.angular_velocity, since, &out->predicted);
 	// Variance of the step: this pose's, the last one's, and the velocity's (two poses'
@@ -864,7 +871,12 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 		return RS_OK; // held by the solver: never a pose the gate refuses
 	}
 	q.prior_frames = prior ? t->chain : 0;
-	t->chain = q.prior_frames + 1;
+	// Poses in a row: this one follows the last reported within k_prior_max_age_s. The
+	// second of a row has no prior (no velocity yet) but is in the row, and gives one.
+	bool follows =
+	    t->have_last && time_s - t->last_time > 0 && time_s - t->last_time <= k_prior_max_age_s;
+	t->chain = follows ? t->chain + 1 : 1;
+	t->velocity_known = follows;
 	rs_pose_velocity_update(t->have_last ? &t->last_pose : nullptr, &pose, k_velocity_tc_s,
 	                        k_prior_max_age_s, t->velocity, t->angular_velocity);
 	t->last_pose = pose;

@@ -228,8 +228,10 @@ struct rs_optical_quality {
 	 * integrity bound"). */
 	double stated_rotation_rad;
 	double stated_position_m; /**< the same for the display origin's position */
-	uint32_t prior_frames;    /**< reported poses in a row before this one, each following
-	                               the last within the step gate (0: a cold pose) */
+	/** Reported poses in a row before this one when it had a prior (the step gate's
+	 *  prediction); 0: a cold pose, or the second of a row, whose velocity is not known
+	 *  yet. */
+	uint32_t prior_frames;
 	/** With a layout verifier (rs_pose_layout.has_verifier): the views in which it was
 	 *  found where this pose puts it, 0-2. 0 on a solved frame: it was hidden in both (not
 	 *  within the integrity bound's reach of where the pose puts it), so the pose is only
