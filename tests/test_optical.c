@@ -112,14 +112,6 @@ static void test_rig_file_roundtrip(void **state)
 	}
 }
 
-static void write_text(const char *path, const char *text)
-{
-	FILE *f = fopen(path, "w");
-	assert_non_null(f);
-	fputs(text, f);
-	fclose(f);
-}
-
 /* Missing, malformed, incomplete and impossible calibration files: one-line errors. */
 static void test_rig_file_errors(void **state)
 {

@@ -6,6 +6,7 @@
 #define RS_TEST_OPTICAL_FIXTURE_H
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "raystream/rs_optical.h"
@@ -43,6 +44,15 @@ static inline void facing_pose(struct rng *r, struct rs_pose *T)
 	T->position[1] = -0.03 + 0.05 * (2 * uniform01(r) - 1);
 	T->position[2] = 1.0 + 0.05 * (2 * uniform01(r) - 1);
 	T->time_s = 0;
+}
+
+/* A small text file for the file-loading tests (cmocka's assert: include it first). */
+static inline void write_text(const char *path, const char *text)
+{
+	FILE *f = fopen(path, "w");
+	assert_non_null(f);
+	fputs(text, f);
+	fclose(f);
 }
 
 /* Pinhole projection (the fixture rigs have no distortion) into camera v. */

@@ -77,14 +77,6 @@ static double error_ratio(const struct rs_pose_layout *L, const struct rs_marker
 	return a > e ? a : e;
 }
 
-static void write_text(const char *path, const char *text)
-{
-	FILE *f = fopen(path, "w");
-	assert_non_null(f);
-	fputs(text, f);
-	fclose(f);
-}
-
 /* The layout file's "verifier", and the checks that keep it from being a marker. */
 static void test_verifier_layout_file_and_checks(void **state)
 {

@@ -171,6 +171,15 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 			    "%zu), the camera's frames %dx%d",
 			    v, m.width, m.height, m.stride, c.width, c.height);
 	}
+	// The verifier and two markers must never fit the layout within the triple's tolerance,
+	// or it could be labelled a marker: rs_pose_layout_check() keeps those triangles at
+	// least RS_POSE_LAYOUT_MIN_VERIFIER_M from the layout's sides.
+	if (d.layout.has_verifier && !(d.side_tolerance_m < RS_POSE_LAYOUT_MIN_VERIFIER_M))
+		return rs_error_set(
+		    err, RS_ERR_DEGENERATE,
+		    "optical tracker: with a verifier, side_tolerance_m (%.4f m) must "
+		    "be below %.4f m, or the verifier could be taken for a marker",
+		    d.side_tolerance_m, RS_POSE_LAYOUT_MIN_VERIFIER_M);
 	if (!detect_desc_valid(dd) || !(d.epipolar_gate_px > 0) ||
 	    !std::isfinite(d.epipolar_gate_px) || !(d.centroid_sigma_px > 0) ||
 	    !std::isfinite(d.centroid_sigma_px) || !(d.side_tolerance_m > 0) ||
@@ -213,33 +222,6 @@ extern "C" enum rs_status rs_optical_tracker_create(const struct rs_optical_trac
 	for (int i = 0; i < 3; ++i)
 		m[i] = cv::Vec3d(d.layout.markers[i]);
 	sides_of(m, t->layout_sides);
-	if (d.layout.has_verifier)
-		// The verifier and two markers must never fit the layout within the triple's
-		// tolerance: it would be labelled a marker (rs_pose_layout_check() keeps it
-		// RS_POSE_LAYOUT_MIN_VERIFIER_M away; a looser tolerance can reach that).
-		for (int k = 0; k < 3; ++k) {
-			cv::Vec3d tri[3] = {m[(k + 1) % 3], m[(k + 2) % 3],
-			                    cv::Vec3d(d.layout.verifier)};
-			double ts[3], mismatch = INFINITY;
-			sides_of(tri, ts);
-			for (int p = 0; p < 6; ++p) {
-				double worst = 0;
-				for (int j = 0; j < 3; ++j)
-					worst = std::max(
-					    worst,
-					    std::fabs(ts[j] - t->layout_sides[k_perms[p][j]]));
-				mismatch = std::min(mismatch, worst);
-			}
-			if (!(mismatch > d.side_tolerance_m)) {
-				delete t;
-				return rs_error_set(
-				    err, RS_ERR_DEGENERATE,
-				    "optical tracker: the verifier and markers %d and %d fit "
-				    "the layout's sides within side_tolerance_m (%.4f <= "
-				    "%.4f m)",
-				    (k + 1) % 3, (k + 2) % 3, mismatch, d.side_tolerance_m);
-			}
-		}
 	*out = t;
 	return RS_OK;
 }
@@ -474,6 +456,25 @@ static rs_optical_verdict gate(const rs_optical_tracker &t, const cv::Vec3d pts[
 	return RS_OPTICAL_SOLVED;
 }
 
+// The blob of view v nearest to `at` (undistorted pixels) within `radius` px, other than
+// the triple's own (`used`); -1 if none.
+static int nearest_unused_blob(const rs_optical_tracker &t, int v, cv::Vec2d at, const int used[3],
+                               double radius)
+{
+	int best = -1;
+	double best_d = radius;
+	for (int b = 0; b < (int)t.und[v].size(); ++b) {
+		if (b == used[0] || b == used[1] || b == used[2])
+			continue;
+		double d = std::hypot(t.und[v][b].x - at[0], t.und[v][b].y - at[1]);
+		if (d <= best_d) {
+			best_d = d;
+			best = b;
+		}
+	}
+	return best;
+}
+
 // Where the pose of markers P puts the layout's verifier (camera-0 frame).
 static bool verifier_at(const rs_pose_layout &layout, const cv::Vec3d P[3], cv::Vec3d *V)
 {
@@ -496,12 +497,18 @@ static bool verifier_at(const rs_pose_layout &layout, const cv::Vec3d P[3], cv::
 // freedom a view. Not found in either view: unverified, not refused (a hand over it).
 // Found in both views and passed: *out_V is it triangulated, *out_S its covariance.
 static rs_optical_verdict verify(const rs_optical_tracker &t, const cv::Vec3d pts[3],
-                                 const cv::Matx33d cov[3], const int used[2][3], double reach_m,
+                                 const cv::Matx33d cov[3], const int used[2][3],
                                  rs_optical_quality &q, cv::Vec3d *out_V, cv::Matx33d *out_S)
 {
 	cv::Vec3d V;
 	if (!verifier_at(t.d.layout, pts, &V))
 		return RS_OPTICAL_SIDE_RESIDUAL; // collinear: the side test cannot have passed
+	// how far the verifier can be from where this pose puts it: the integrity bound turned
+	// about the farthest marker, and moved
+	double lever = 0;
+	for (int k = 0; k < 3; ++k)
+		lever = std::max(lever, cv::norm(V - pts[k]));
+	const double reach_m = q.bound_rotation_rad * lever + q.bound_position_m;
 	cv::Matx33d CV = cv::Matx33d::zeros(), Jm[3];
 	const double h = 1e-6;
 	for (int i = 0; i < 3; ++i) {
@@ -534,17 +541,7 @@ static rs_optical_verdict verify(const rs_optical_tracker &t, const cv::Vec3d pt
 		cv::Matx22d Cp = Jv * CV * Jv.t();
 		double reach_px = cv::norm(Jv) * reach_m + 6.0 * std::sqrt(cv::trace(Cp)) +
 		                  6.0 * t.d.centroid_sigma_px;
-		int best = -1;
-		double best_d = reach_px;
-		for (int b = 0; b < (int)t.und[v].size(); ++b) {
-			if (b == used[v][0] || b == used[v][1] || b == used[v][2])
-				continue;
-			double d = std::hypot(t.und[v][b].x - at[0], t.und[v][b].y - at[1]);
-			if (d <= best_d) {
-				best_d = d;
-				best = b;
-			}
-		}
+		int best = nearest_unused_blob(t, v, at, used[v], reach_px);
 		cv::Matx22d Wi;
 		if (best < 0 || !cv::invert(t.W[v][best], Wi, cv::DECOMP_CHOLESKY))
 			continue;
@@ -596,7 +593,19 @@ static rs_optical_verdict verify(const rs_optical_tracker &t, const cv::Vec3d pt
 		*out_V = refine(t, triangulate(t, obs[0], obs[1]), obs, W);
 		*out_S = point_cov(t, *out_V, W);
 	}
-	return q.verifier_chi2 <= bound ? RS_OPTICAL_SOLVED : RS_OPTICAL_VERIFIER;
+	return RS_OPTICAL_SOLVED;
+}
+
+// The claim is the expected error (the law); the integrity bound adds the fault part (what
+// one undetected stray spot may have added) to the noise the gate's 5x bar allows
+// (docs/optical.md).
+static void state_errors(double rot, double pos, double fault_rot, double fault_pos,
+                         rs_optical_quality &q)
+{
+	q.rotation_rms_rad = q.stated_rotation_rad = rot;
+	q.position_rms_m = q.stated_position_m = pos;
+	q.bound_rotation_rad = fault_rot + k_bound_noise * rot;
+	q.bound_position_m = fault_pos + k_bound_noise * pos;
 }
 
 // The verifier seen in both views is a fourth point of the rigid body: the pose is fitted
@@ -606,7 +615,8 @@ static rs_optical_verdict verify(const rs_optical_tracker &t, const cv::Vec3d pt
 // three markers' (it is one point of four), and the verifier's own lever steadies the
 // rotation.
 static void fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3d &V, const cv::Matx33d &S,
-                              cv::Vec3d pts[3], const cv::Matx33d cov[3], rs_optical_quality &q)
+                              double fault_rot, double fault_pos, cv::Vec3d pts[3],
+                              const cv::Matx33d cov[3], rs_optical_quality &q)
 {
 	const cv::Vec3d P4[4] = {pts[0], pts[1], pts[2], V};
 	rs_pose T;
@@ -622,12 +632,7 @@ static void fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3d &V, c
 		rs_pose_transform_point(&T, t.d.layout.markers[i], x);
 		pts[i] = cv::Vec3d(x[0], x[1], x[2]);
 	}
-	double fault_rot = q.bound_rotation_rad - k_bound_noise * q.stated_rotation_rad;
-	double fault_pos = q.bound_position_m - k_bound_noise * q.stated_position_m;
-	q.rotation_rms_rad = q.stated_rotation_rad = rot;
-	q.position_rms_m = q.stated_position_m = pos;
-	q.bound_rotation_rad = fault_rot + k_bound_noise * rot;
-	q.bound_position_m = fault_pos + k_bound_noise * pos;
+	state_errors(rot, pos, fault_rot, fault_pos, q);
 }
 
 // Two triples fit the layout (a verifier light seen along a marker's epipolar line makes a
@@ -657,10 +662,7 @@ static void settle_by_verifier(rs_optical_tracker &t, int best[3], int *order, d
 			cv::Vec2d at;
 			if (!project_jacobian(*M[v], V, cv::Point2d(0, 0), &J, &at))
 				continue;
-			for (int b = 0; b < (int)t.und[v].size() && !found; ++b)
-				found = b != used[v][0] && b != used[v][1] && b != used[v][2] &&
-				        std::hypot(t.und[v][b].x - at[0], t.und[v][b].y - at[1]) <=
-				            reach_px;
+			found = nearest_unused_blob(t, v, at, used[v], reach_px) >= 0;
 		}
 		if (!found)
 			continue;
@@ -836,12 +838,7 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 			br = std::min(br, t->last_bound_rot + rr);
 			bp = std::min(bp, t->last_bound_pos + rp);
 		}
-		// The claim is the expected error (the law); the integrity bound adds the fault
-		// part to the noise the gate's 5x bar allows (docs/optical.md).
-		q.stated_rotation_rad = q.rotation_rms_rad;
-		q.stated_position_m = q.position_rms_m;
-		q.bound_rotation_rad = br + k_bound_noise * q.rotation_rms_rad;
-		q.bound_position_m = bp + k_bound_noise * q.position_rms_m;
+		state_errors(q.rotation_rms_rad, q.position_rms_m, br, bp, q);
 		bound_rot = br;
 		bound_pos = bp;
 	}
@@ -849,19 +846,11 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 	if (q.verdict == RS_OPTICAL_SOLVED && t->d.layout.has_verifier) {
 		const int used[2][3] = {{P[best[0]].i, P[best[1]].i, P[best[2]].i},
 		                        {P[best[0]].j, P[best[1]].j, P[best[2]].j}};
-		// how far the verifier can be from where this pose puts it: the integrity bound
-		// turned about the farthest marker, and moved
-		double lever = 0;
-		cv::Vec3d V;
-		if (verifier_at(t->d.layout, pts, &V))
-			for (int k = 0; k < 3; ++k)
-				lever = std::max(lever, cv::norm(V - pts[k]));
 		cv::Vec3d VX;
 		cv::Matx33d VS;
-		q.verdict = verify(*t, pts, cov, used,
-		                   q.bound_rotation_rad * lever + q.bound_position_m, q, &VX, &VS);
+		q.verdict = verify(*t, pts, cov, used, q, &VX, &VS);
 		if (q.verdict == RS_OPTICAL_SOLVED && q.verifier_views == 2)
-			fit_with_verifier(*t, VX, VS, pts, cov, q);
+			fit_with_verifier(*t, VX, VS, bound_rot, bound_pos, pts, cov, q);
 	}
 	rs_pose pose;
 	if (q.verdict == RS_OPTICAL_SOLVED)

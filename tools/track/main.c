@@ -219,15 +219,16 @@ static void print_pose(const struct rs_track_source *src, const struct rs_marker
 	 * still pass every test, plus 5x the stated error), the poses in a row before it and,
 	 * when it gave no markers, why. */
 	struct rs_optical_quality oq;
-	if (rs_optical_source_quality(src, &oq))
+	if (rs_optical_source_quality(src, &oq)) {
 		printf(" stated=%.3fdeg/%.3fmm bound=%.3fdeg/%.3fmm prior=%u optical=%s",
 		       oq.stated_rotation_rad * 180.0 / RS_PI, oq.stated_position_m * 1e3,
 		       oq.bound_rotation_rad * 180.0 / RS_PI, oq.bound_position_m * 1e3,
 		       oq.prior_frames, rs_optical_verdict_name(oq.verdict));
-	/* With a layout verifier: the views it was found in where the pose puts it (0: hidden,
-	 * the pose only as good as its three markers). */
-	if (rs_optical_source_quality(src, &oq) && oq.has_verifier)
-		printf(" verifier=%u", oq.verifier_views);
+		/* With a layout verifier: the views it was found in where the pose puts it (0:
+		 * hidden, the pose only as good as its three markers). */
+		if (oq.has_verifier)
+			printf(" verifier=%u", oq.verifier_views);
+	}
 #else
 	(void)src;
 #endif

@@ -148,7 +148,9 @@ struct rs_optical_tracker_desc {
 	double epipolar_gate_px;              /**< max distance from the epipolar line (default
 	                                           max(2, 6 sqrt(2) centroid_sigma_px)) */
 	double centroid_sigma_px;             /**< expected centroid noise (0.3), for quality */
-	double side_tolerance_m;              /**< worst side-length mismatch of a triple (0.01) */
+	double side_tolerance_m;              /**< worst side-length mismatch of a triple (0.01;
+	                                           with a layout verifier below
+	                                           RS_POSE_LAYOUT_MIN_VERIFIER_M) */
 	struct rs_optical_mask mask[2];       /**< per camera: regions to ignore (none) */
 };
 
