@@ -2,9 +2,9 @@
  * that is not part of the pose's triangle, checked where each pose puts it. Three markers
  * and two cameras cannot refuse a marker-like stray spot on a hidden marker's epipolar
  * line (test_optical_hard.c: up to 30x the stated error, cold); with the verifier in view
- * such poses are refused where they are far off (no pose reported good more than ~5x its
- * stated error off, against 40-93x without it), and on clean data it refuses at most 0.1 %
- * of the samples. Also its layout file, its checks, and a verifier
+ * such poses are refused where they are far off (no pose reported good more than 5x its
+ * stated error off over nine sets of poses, against 40-93x without it), and on clean data
+ * it refuses at most 0.1 % of the samples. Also its layout file, its checks, and a verifier
  * hidden in one view or both. Blob centroids are exact projections plus Gaussian noise at
  * the stated sigma (rs_optical_tracker_process_blobs). */
 #include <setjmp.h>
@@ -21,7 +21,6 @@
 
 #define SIGMA_PX 0.05
 #define MAX_RATIO 5.0
-#define MAX_VERIFIED_RATIO 6.0
 
 static struct rs_optical_tracker *make_tracker(const struct rs_pose_layout *L, double sigma_px)
 {
@@ -135,8 +134,11 @@ static void check_clean(double sigma_px)
 	rs_pose_layout_default_verified(&L);
 	struct rs_optical_tracker *t = make_tracker(&L, sigma_px);
 	struct rng r = {.s = 4242 + (uint64_t)(sigma_px * 1000)};
-	const int trials = 3000;
-	int refused = 0, solved = 0, views[3] = {0};
+	/* VERIFIER_CLEAN_TRIALS=N: a longer run for the false-alarm rate (docs/benchmarks.md) */
+	const int trials =
+	    getenv("VERIFIER_CLEAN_TRIALS") ? atoi(getenv("VERIFIER_CLEAN_TRIALS")) : 3000;
+	assert_true(trials >= 3);
+	int refused = 0, refused_in_both = 0, solved = 0, views[3] = {0};
 	double chi2_sum = 0, se[2][2] = {{0}}, st[2][2] = {{0}};
 	for (int trial = 0; trial < trials; ++trial) {
 		struct rs_pose T;
@@ -161,6 +163,7 @@ static void check_clean(double sigma_px)
 		                 RS_OK);
 		if (oq.verdict == RS_OPTICAL_VERIFIER) {
 			refused++;
+			refused_in_both += hide == 0;
 			continue;
 		}
 		if (oq.verdict != RS_OPTICAL_SOLVED) {
@@ -193,10 +196,13 @@ static void check_clean(double sigma_px)
 		       kr, kp);
 		assert_true(fabs(kr - 1) < 0.15 && fabs(kp - 1) < 0.15);
 	}
+	const int in_both = (trials + 2) / 3;
 	printf("# %.2f px: %d/%d solved (verifier in 2/1/0 views: %d/%d/%d), %d refused by the "
-	       "verifier (%.3f %%), mean chi-square in both views %.2f (4 degrees)\n",
+	       "verifier (%.3f %%; in both views %d of %d, %.3f %%), mean chi-square in both "
+	       "views %.2f (4 degrees)\n",
 	       sigma_px, solved, trials, views[2], views[1], views[0], refused,
-	       100.0 * refused / trials, mean);
+	       100.0 * refused / trials, refused_in_both, in_both,
+	       100.0 * refused_in_both / in_both, mean);
 	/* The issue's bars: at most 0.1 % refused, at least 99 % solved. What else is not
 	 * solved is AMBIGUOUS: the verifier's image within the epipolar gate of a marker's in
 	 * one view, so that both make a triple that fits (in a rendered frame the two spots
@@ -218,7 +224,7 @@ static void test_verifier_on_clean_samples(void **state)
  * where it would see a point d along camera 0's ray through the marker (0.2-45 mm, both
  * ways), cold (each sample a second apart) and tracked (60 Hz after five clean samples).
  * The verifier's worst error/stated of a good pose, against the same sweep without it. */
-static double stray_sweep(int verified, int tracked, int *out_good, int *out_refused,
+static double stray_sweep(uint64_t seed, int verified, int tracked, int *out_good, int *out_refused,
                           int *out_beyond)
 {
 	struct rs_pose_layout L;
@@ -226,9 +232,7 @@ static double stray_sweep(int verified, int tracked, int *out_good, int *out_ref
 	if (!verified)
 		L.has_verifier = 0;
 	struct rs_optical_tracker *t = make_tracker(&L, SIGMA_PX);
-	/* VERIFIER_SEED=N: other poses (the figures in docs/benchmarks.md) */
-	struct rng r = {.s = getenv("VERIFIER_SEED") ? strtoull(getenv("VERIFIER_SEED"), NULL, 10)
-	                                             : 1919};
+	struct rng r = {.s = seed};
 	static const double offsets_mm[] = {0.2, 0.5, 1,  1.5, 2,  3,  4,  5,  6,
 	                                    8,   10,  12, 16,  20, 25, 30, 38, 45};
 	const int n_off = (int)(sizeof offsets_mm / sizeof offsets_mm[0]);
@@ -290,13 +294,21 @@ static double stray_sweep(int verified, int tracked, int *out_good, int *out_ref
 	return worst;
 }
 
+/* VERIFIER_SEED=N: other poses (the figures in docs/benchmarks.md) */
+static uint64_t sweep_seed(void)
+{
+	return getenv("VERIFIER_SEED") ? strtoull(getenv("VERIFIER_SEED"), NULL, 10) : 1919;
+}
+
 static void test_verifier_refuses_a_marker_like_stray(void **state)
 {
 	(void)state;
 	for (int tracked = 0; tracked <= 1; ++tracked) {
 		int good[2], refused[2], beyond[2];
-		double without = stray_sweep(0, tracked, &good[0], &refused[0], &beyond[0]);
-		double with = stray_sweep(1, tracked, &good[1], &refused[1], &beyond[1]);
+		double without =
+		    stray_sweep(sweep_seed(), 0, tracked, &good[0], &refused[0], &beyond[0]);
+		double with =
+		    stray_sweep(sweep_seed(), 1, tracked, &good[1], &refused[1], &beyond[1]);
 		printf(
 		    "# stray on a hidden marker's epipolar line, %s, 2160 samples: without a "
 		    "verifier %d good, %d beyond 5x, worst error/stated %.2f; with it %d good, %d "
@@ -306,14 +318,36 @@ static void test_verifier_refuses_a_marker_like_stray(void **state)
 		/* the case is hard: three markers alone report such poses good */
 		assert_true(without > MAX_RATIO);
 		assert_true(refused[1] > 0);
-		/* With one verifier the last stretch is its test's power: a fault of the display
-		 * origin's own marker (a corner of the triangle, a point of high leverage in the
-		 * four-point fit) is found at 4.24 sigma of the residual, which leaves the origin
-		 * up to ~5x its stated error off: 4.3 and 4.7 here, up to 5.6 over eight other
-		 * seeds (VERIFIER_SEED=1..8; docs/benchmarks.md). Asserted at 6, against 40-93
-		 * without the verifier. */
-		assert_true(with <= MAX_VERIFIED_RATIO);
+		assert_true(with <= MAX_RATIO);
 	}
+}
+
+/* The issue's bar over eight more sets of poses, with the verifier: no good pose beyond
+ * 5x its stated error. The verifier's offset alone (verify()) left 5 of 6,242 poses at
+ * 5.1-5.6x over these seeds: a stray on the display origin's own marker (a corner, the
+ * point of most leverage) found at 4.24 sigma of that offset moves the origin ~5x. Tested
+ * against all six degrees of freedom of the four-point fit (Baarda's w-test per fault
+ * direction, fit_with_verifier) the worst is 4.83 here; over 16 further seeds 2 of ~9,600
+ * poses reach 5.15 and 5.44, both a 1 mm stray on the origin's marker that no test at
+ * 4.24 sigma sees, plus the noise (docs/benchmarks.md). */
+static void test_verifier_bar_over_seeds(void **state)
+{
+	(void)state;
+	int total = 0, over = 0;
+	double worst = 0;
+	for (uint64_t seed = 1; seed <= 8; ++seed)
+		for (int tracked = 0; tracked <= 1; ++tracked) {
+			int good, refused, beyond;
+			double w = stray_sweep(seed, 1, tracked, &good, &refused, &beyond);
+			worst = w > worst ? w : worst;
+			total += good;
+			over += beyond;
+		}
+	printf("# seeds 1-8, cold and tracked, with the verifier: %d good poses, %d beyond 5x, "
+	       "worst error/stated %.2f\n",
+	       total, over, worst);
+	assert_int_equal(over, 0);
+	assert_true(worst <= MAX_RATIO);
 }
 
 int main(void)
@@ -322,6 +356,7 @@ int main(void)
 	    cmocka_unit_test(test_verifier_layout_file_and_checks),
 	    cmocka_unit_test(test_verifier_on_clean_samples),
 	    cmocka_unit_test(test_verifier_refuses_a_marker_like_stray),
+	    cmocka_unit_test(test_verifier_bar_over_seeds),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

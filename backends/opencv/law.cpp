@@ -60,4 +60,81 @@ void pose_error_law(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::
 	*out_pos_rms = std::sqrt(tp);
 }
 
+// How a point at `arm` from the translation moves under the left perturbation
+// R <- exp([w]x) R, t <- t + dt: by -[arm]x w + dt, the 3x6 matrix [-[arm]x | I].
+static cv::Matx<double, 3, 6> rigid_jacobian(const cv::Vec3d &arm)
+{
+	cv::Matx<double, 3, 6> A;
+	const cv::Matx33d K = -skew(arm);
+	for (int a = 0; a < 3; ++a)
+		for (int b = 0; b < 3; ++b) {
+			A(a, b) = K(a, b);
+			A(a, b + 3) = a == b ? 1.0 : 0.0;
+		}
+	return A;
+}
+
+// Gauss-Newton from the closed-form fit to the generalised least-squares rigid fit: each
+// point weighted by its inverse covariance, so a triangulated point's long axis (its depth
+// along the baseline's bisector, where a centroid error along the epipolar line moves it)
+// counts for what it is worth (rigid_jacobian's perturbation).
+bool fit_layout_weighted(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
+                         int n, rs_pose *T, cv::Matx66d *out_C)
+{
+	if (!fit_layout(layout, P, n, T))
+		return false;
+	cv::Matx33d Wt[4];
+	for (int i = 0; i < n; ++i)
+		if (!cv::invert(S[i], Wt[i], cv::DECOMP_CHOLESKY))
+			return false;
+	cv::Matx66d H;
+	for (int it = 0; it < 8; ++it) {
+		cv::Matx33d R = quat_to_R(T->orientation);
+		cv::Vec3d t(T->position);
+		H = cv::Matx66d::zeros();
+		cv::Vec6d g = cv::Vec6d::all(0);
+		for (int i = 0; i < n; ++i) {
+			const double *m = i < 3 ? layout.markers[i] : layout.verifier;
+			cv::Vec3d Rm = R * cv::Vec3d(m[0], m[1], m[2]);
+			cv::Vec3d r = P[i] - (Rm + t);
+			const cv::Matx<double, 3, 6> A = rigid_jacobian(Rm);
+			H += A.t() * Wt[i] * A;
+			g += A.t() * Wt[i] * r;
+		}
+		cv::Vec6d d;
+		if (!cv::solve(H, g, d, cv::DECOMP_CHOLESKY))
+			return false;
+		double ang = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+		rs_pose D = {};
+		D.orientation[3] = std::cos(ang / 2);
+		double s = ang > 0 ? std::sin(ang / 2) / ang : 0.5;
+		for (int k = 0; k < 3; ++k)
+			D.orientation[k] = d[k] * s;
+		double pos[3] = {t[0] + d[3], t[1] + d[4], t[2] + d[5]};
+		rs_pose_compose(&D, T, T);
+		for (int k = 0; k < 3; ++k)
+			T->position[k] = pos[k];
+		if (ang < 1e-12 && std::sqrt(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]) < 1e-12)
+			break;
+	}
+	return cv::invert(H, *out_C, cv::DECOMP_CHOLESKY) != 0;
+}
+
+double fault_w2(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
+                const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u)
+{
+	const double *m = i < 3 ? layout.markers[i] : layout.verifier;
+	cv::Matx33d R = quat_to_R(T.orientation), Wi;
+	cv::Vec3d Rm = R * cv::Vec3d(m[0], m[1], m[2]);
+	cv::Vec3d r = P[i] - (Rm + cv::Vec3d(T.position));
+	if (!cv::invert(S[i], Wi, cv::DECOMP_CHOLESKY))
+		return INFINITY; // fit_layout_weighted refused it already
+	const cv::Matx<double, 3, 6> A = rigid_jacobian(Rm);
+	// the residual's covariance at point i, S_i - A_i C A_i^T; the fault's signature W_i u
+	cv::Matx33d Q = S[i] - A * C * A.t();
+	cv::Vec3d f = Wi * u;
+	double num = f.dot(r), den = f.dot(Q * f);
+	return den > 0 ? num * num / den : 0; // den 0: a fault the fit cannot see, no test
+}
+
 } // namespace rs_optical

@@ -46,6 +46,17 @@ rs_status check_image(const rs_optical_image *img, rs_error *err);
 // and with n = 4 the layout's verifier (rs_pose_fit). False when degenerate.
 bool fit_layout(const rs_pose_layout &layout, const cv::Vec3d *P, int n, rs_pose *T);
 
+// The generalised least-squares fit: points weighted by their inverse covariances S
+// (Gauss-Newton from fit_layout's closed form), *out_C the covariance of its parameters
+// (rotation vector, translation; rigid_jacobian in law.cpp). False when degenerate.
+bool fit_layout_weighted(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
+                         int n, rs_pose *T, cv::Matx66d *out_C);
+
+// Baarda's w-test, squared (chi-square with 1 degree of freedom on clean data), of one fault
+// in the weighted fit T of points P (covariances S; C as above): point i moved along unit u.
+double fault_w2(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
+                const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u);
+
 // Linearised RMS rotation error (rad) and 3-D RMS error of the display origin of the pose
 // fitted to points P[i] (camera frame, layout id order: the three markers, and with n = 4
 // the layout's verifier) with covariances S[i] (docs/optical.md, "Error law"). Infinite

@@ -608,31 +608,51 @@ static void state_errors(double rot, double pos, double fault_rot, double fault_
 	q.bound_position_m = fault_pos + k_bound_noise * pos;
 }
 
-// The verifier seen in both views is a fourth point of the rigid body: the pose is fitted
-// to all four, and the sample's markers become where that pose puts them (the solver's
-// fit of them is then this pose), the stated errors and the bound's noise part the
-// four-point law's. A fault the verifier test let through moves this pose less than the
-// three markers' (it is one point of four), and the verifier's own lever steadies the
-// rotation.
-static void fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3d &V, const cv::Matx33d &S,
-                              double fault_rot, double fault_pos, cv::Vec3d pts[3],
-                              const cv::Matx33d cov[3], rs_optical_quality &q)
+// The verifier seen in both views is a fourth point of the rigid body. Each point's fault
+// along either camera's ray (a stray taken for it; the verifier's own included) is tested
+// by Baarda's w-test against the residuals of the generalised least-squares fit to all
+// four (RS_OPTICAL_VERIFIER when one fails): all six degrees of freedom of the four
+// points, where verify() used the verifier's offset alone. The pose is then the closed-form
+// fit to the four, the sample's markers become where it puts them (the solver's fit of
+// them is then this pose), the stated errors and the bound's noise part its law. Not the
+// weighted fit's pose: its law, half the closed form's, trusts the modelled centroid
+// noise's shape, and on rendered frames the error did not shrink with it (docs/optical.md,
+// "The verifier"). A fault the tests let through moves this pose less than the three
+// markers' (it is one point of four), and the verifier's own lever steadies the rotation.
+static rs_optical_verdict fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3d &V,
+                                            const cv::Matx33d &S, double fault_rot,
+                                            double fault_pos, cv::Vec3d pts[3],
+                                            const cv::Matx33d cov[3], rs_optical_quality &q)
 {
 	const cv::Vec3d P4[4] = {pts[0], pts[1], pts[2], V};
-	rs_pose T;
-	if (!fit_layout(t.d.layout, P4, 4, &T))
-		return; // cannot happen for a triple that passed the side tests; keep the three
 	const cv::Matx33d S4[4] = {cov[0], cov[1], cov[2], S};
+	rs_pose G, T;
+	cv::Matx66d C;
+	if (!fit_layout_weighted(t.d.layout, P4, S4, 4, &G, &C) ||
+	    !fit_layout(t.d.layout, P4, 4, &T))
+		return RS_OPTICAL_SOLVED; // cannot happen for a triple that passed the side tests;
+		                          // keep the three
+	const cv::Vec3d c1 = -(R_of(t.d.rig).t() * t_of(t.d.rig));
+	for (int i = 0; i < 4; ++i)
+		for (int v = 0; v < 2; ++v) {
+			cv::Vec3d u = v == 0 ? P4[i] : P4[i] - c1;
+			double w2 = fault_w2(t.d.layout, P4, S4, G, C, i, u / cv::norm(u));
+			if (!(w2 <= RS_OPTICAL_CHI2_1DOF)) {
+				q.verifier_chi2 = std::max(q.verifier_chi2, w2);
+				return RS_OPTICAL_VERIFIER;
+			}
+		}
 	double rot, pos;
 	pose_error_law(t.d.layout, P4, S4, 4, &rot, &pos);
 	if (!std::isfinite(rot) || !std::isfinite(pos))
-		return;
+		return RS_OPTICAL_SOLVED;
 	for (int i = 0; i < 3; ++i) {
 		double x[3];
 		rs_pose_transform_point(&T, t.d.layout.markers[i], x);
 		pts[i] = cv::Vec3d(x[0], x[1], x[2]);
 	}
 	state_errors(rot, pos, fault_rot, fault_pos, q);
+	return RS_OPTICAL_SOLVED;
 }
 
 // Two triples fit the layout (a verifier light seen along a marker's epipolar line makes a
@@ -850,7 +870,8 @@ static rs_status solve_blobs(rs_optical_tracker *t, bool external, double time_s
 		cv::Matx33d VS;
 		q.verdict = verify(*t, pts, cov, used, q, &VX, &VS);
 		if (q.verdict == RS_OPTICAL_SOLVED && q.verifier_views == 2)
-			fit_with_verifier(*t, VX, VS, bound_rot, bound_pos, pts, cov, q);
+			q.verdict =
+			    fit_with_verifier(*t, VX, VS, bound_rot, bound_pos, pts, cov, q);
 	}
 	rs_pose pose;
 	if (q.verdict == RS_OPTICAL_SOLVED)
