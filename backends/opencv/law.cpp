@@ -120,9 +120,10 @@ bool fit_layout_weighted(const rs_pose_layout &layout, const cv::Vec3d *P, const
 	return cv::invert(H, *out_C, cv::DECOMP_CHOLESKY) != 0;
 }
 
-double fault_w2(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
-                const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u)
+double fault_w(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
+               const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u, double *out_per_m)
 {
+	*out_per_m = 0;
 	const double *m = i < 3 ? layout.markers[i] : layout.verifier;
 	cv::Matx33d R = quat_to_R(T.orientation), Wi;
 	cv::Vec3d Rm = R * cv::Vec3d(m[0], m[1], m[2]);
@@ -133,8 +134,11 @@ double fault_w2(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx
 	// the residual's covariance at point i, S_i - A_i C A_i^T; the fault's signature W_i u
 	cv::Matx33d Q = S[i] - A * C * A.t();
 	cv::Vec3d f = Wi * u;
-	double num = f.dot(r), den = f.dot(Q * f);
-	return den > 0 ? num * num / den : 0; // den 0: a fault the fit cannot see, no test
+	double den = f.dot(Q * f);
+	if (!(den > 0))
+		return 0; // a fault the fit cannot see: no test
+	*out_per_m = std::sqrt(den);
+	return f.dot(r) / *out_per_m;
 }
 
 } // namespace rs_optical

@@ -52,10 +52,13 @@ bool fit_layout(const rs_pose_layout &layout, const cv::Vec3d *P, int n, rs_pose
 bool fit_layout_weighted(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
                          int n, rs_pose *T, cv::Matx66d *out_C);
 
-// Baarda's w-test, squared (chi-square with 1 degree of freedom on clean data), of one fault
-// in the weighted fit T of points P (covariances S; C as above): point i moved along unit u.
-double fault_w2(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
-                const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u);
+// Baarda's w-test (standard normal on clean data) of one fault in the weighted fit T of
+// points P (covariances S; C as above): point i moved along unit u. *out_per_m: how much w
+// grows per metre the point moves along u (its square root of information; 0: the fit
+// cannot see such a fault, and w is 0).
+double fault_w(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
+               const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u,
+               double *out_per_m);
 
 // Linearised RMS rotation error (rad) and 3-D RMS error of the display origin of the pose
 // fitted to points P[i] (camera frame, layout id order: the three markers, and with n = 4

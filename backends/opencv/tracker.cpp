@@ -633,15 +633,50 @@ static rs_optical_verdict fit_with_verifier(const rs_optical_tracker &t, const c
 		return RS_OPTICAL_SOLVED; // cannot happen for a triple that passed the side tests;
 		                          // keep the three
 	const cv::Vec3d c1 = -(R_of(t.d.rig).t() * t_of(t.d.rig));
+	const double k = std::sqrt(RS_OPTICAL_CHI2_1DOF);
+	cv::Vec3d u[4][2];
+	double w[4][2], per_m[4][2];
 	for (int i = 0; i < 4; ++i)
 		for (int v = 0; v < 2; ++v) {
-			cv::Vec3d u = v == 0 ? P4[i] : P4[i] - c1;
-			double w2 = fault_w2(t.d.layout, P4, S4, G, C, i, u / cv::norm(u));
-			if (!(w2 <= RS_OPTICAL_CHI2_1DOF)) {
-				q.verifier_chi2 = std::max(q.verifier_chi2, w2);
+			u[i][v] = v == 0 ? P4[i] : P4[i] - c1;
+			u[i][v] /= cv::norm(u[i][v]);
+			w[i][v] = fault_w(t.d.layout, P4, S4, G, C, i, u[i][v], &per_m[i][v]);
+			if (!(std::fabs(w[i][v]) <= k)) {
+				q.verifier_chi2 = std::max(q.verifier_chi2, w[i][v] * w[i][v]);
 				return RS_OPTICAL_VERIFIER;
 			}
 		}
+	// The fault part of the integrity bound with four points: a fault of point i along u
+	// passes while |w + d per_m| <= k, d from (-k - w) / per_m to (k - w) / per_m; the
+	// pose moves most at an edge (the closed-form fit of the points with point i moved
+	// there). It must pass the three markers' tests too: the smaller of the two parts.
+	double o0[3], fr = 0, fp = 0;
+	rs_pose_transform_point(&T, t.d.layout.T_markers_display.position, o0);
+	for (int i = 0; i < 4 && std::isfinite(fr); ++i)
+		for (int v = 0; v < 2; ++v) {
+			if (!(per_m[i][v] > 0)) { // untested: only the three markers' part holds
+				fr = fp = INFINITY;
+				break;
+			}
+			for (int sign = -1; sign <= 1; sign += 2) {
+				cv::Vec3d Q[4] = {P4[0], P4[1], P4[2], P4[3]};
+				Q[i] += u[i][v] * ((sign * k - w[i][v]) / per_m[i][v]);
+				rs_pose Te;
+				double o[3];
+				if (!fit_layout(t.d.layout, Q, 4, &Te)) {
+					fr = fp = INFINITY;
+					break;
+				}
+				rs_pose_transform_point(&Te, t.d.layout.T_markers_display.position,
+				                        o);
+				fr = std::max(fr, rs_pose_angle_between(&Te, &T));
+				fp = std::max(fp, std::sqrt((o[0] - o0[0]) * (o[0] - o0[0]) +
+				                            (o[1] - o0[1]) * (o[1] - o0[1]) +
+				                            (o[2] - o0[2]) * (o[2] - o0[2])));
+			}
+		}
+	fault_rot = std::min(fault_rot, fr);
+	fault_pos = std::min(fault_pos, fp);
 	double rot, pos;
 	pose_error_law(t.d.layout, P4, S4, 4, &rot, &pos);
 	if (!std::isfinite(rot) || !std::isfinite(pos))
