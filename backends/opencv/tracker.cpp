@@ -1,8 +1,7 @@
 // Frame pair -> three labelled marker positions: blobs in both views, pairs on each other's
 // epipolar line, triangulation, the triple whose side lengths fit the layout, refinement
 // (optimal correction onto the epipolar geometry, then triangulation) and quality figures.
-#include "optical_detect.hpp"
-#include "optical_internal.hpp"
+#include "tracker_internal.hpp"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -18,7 +17,6 @@ using namespace rs_optical;
 namespace
 {
 
-const int k_perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
 const size_t k_max_blobs = 24; // per view; more bright spots than this is not a marker scene
 // The last triple settles an ambiguous frame only if at most this old, and only for a
 // candidate within this distance of it while every other candidate is farther (and 3x
@@ -35,49 +33,8 @@ const double k_spot_size_px = 4.0;
 // The integrity bound's noise part, in stated (expected) errors: the bar for a good
 // pose's error against its noise (docs/optical.md, "The stated error and the integrity bound").
 const double k_bound_noise = 5.0;
-// A verifier blob settles two triples that fit the layout when it lies within this (plus 6
-// centroid sigmas) of where one's unrefined pose puts it (settle_by_verifier()).
-const double k_verifier_settle_px = 3.0;
-
-struct Pair {
-	int i, j;    // blob indices in view 0 and 1
-	cv::Vec3d X; // triangulated, camera-0 frame
-};
 
 } // namespace
-
-struct rs_optical_tracker {
-	rs_optical_tracker_desc d;
-	cv::Matx34d P0, P1; // pixels
-	cv::Matx34d N0, N1; // normalised camera coordinates
-	cv::Matx33d F;      // undistorted pixel coordinates: x1^T F x0 = 0
-	double layout_sides[3];
-	DetectScratch scratch;
-	Mask mask[2]; // the desc's rectangles and the integral of its mask image
-	std::vector<rs_optical_blob> blobs[2];
-	std::vector<cv::Point2d> raw[2], und[2];
-	std::vector<double> area[2];   // thresholded area of each raw centroid's spot (0: unknown)
-	std::vector<cv::Matx22d> W[2]; // each centroid's inverse covariance per sigma^2
-	DetectCounts counts[2];
-	std::vector<Pair> pairs;
-	std::vector<cv::Vec3d> candidates;        // centroids of the triples that fit the layout
-	std::vector<cv::Vec4i> candidate_triples; // their pairs (a, b, c) and order
-	bool have_last = false;                   // the last triple reported, for settle_by_prior()
-	double last_time = 0;
-	cv::Vec3d last_centroid;
-	// The last reported display pose, its stated errors and smoothed velocities: the
-	// step gate's prediction.
-	rs_pose last_pose;
-	double last_rot_rms = 0, last_pos_rms = 0;
-	uint32_t chain = 0; // reported poses in a row, each within the step gate of the last
-	// The last reported pose's bound on what an undetected stray spot may have added to its
-	// error (rotation rad, position m): the integrity bound's fault part.
-	double last_bound_rot = 0, last_bound_pos = 0;
-	double velocity[3] = {0, 0, 0}, angular_velocity[3] = {0, 0, 0};
-	// Whether those came from two reported poses in a row (at most k_prior_max_age_s
-	// apart): after a cold pose the velocity is unknown, not zero.
-	bool velocity_known = false;
-};
 
 static void sides_of(const cv::Vec3d p[3], double s[3])
 {
@@ -86,7 +43,7 @@ static void sides_of(const cv::Vec3d p[3], double s[3])
 	s[2] = cv::norm(p[1] - p[0]);
 }
 
-static cv::Vec3d triangulate(const rs_optical_tracker &t, cv::Point2d a, cv::Point2d b)
+cv::Vec3d rs_optical::triangulate(const rs_optical_tracker &t, cv::Point2d a, cv::Point2d b)
 {
 	// Linear (DLT) triangulation, as cv::triangulatePoints, for one point without
 	// allocating: the null vector of the 4x4 system by SVD. In normalised camera
@@ -235,7 +192,7 @@ extern "C" void rs_optical_tracker_destroy(struct rs_optical_tracker **tracker)
 }
 
 // Best labelling of three points: cost = squared side mismatch, worst = largest mismatch.
-static int best_order(const double ls[3], const cv::Vec3d p[3], double *cost, double *worst)
+int rs_optical::best_order(const double ls[3], const cv::Vec3d p[3], double *cost, double *worst)
 {
 	double s[3];
 	sides_of(p, s);
@@ -259,8 +216,8 @@ static int best_order(const double ls[3], const cv::Vec3d p[3], double *cost, do
 
 // The 2x3 projection Jacobian of view M at X (undistorted pixels per metre) and the
 // residual of the observation; false behind the camera.
-static bool project_jacobian(const cv::Matx34d &M, const cv::Vec3d &X, cv::Point2d obs,
-                             cv::Matx23d *J, cv::Vec2d *r)
+bool rs_optical::project_jacobian(const cv::Matx34d &M, const cv::Vec3d &X, cv::Point2d obs,
+                                  cv::Matx23d *J, cv::Vec2d *r)
 {
 	cv::Vec3d x = M * cv::Vec4d(X[0], X[1], X[2], 1.0);
 	if (!(x[2] > 0))
@@ -291,8 +248,8 @@ static cv::Matx33d info_matrix(const rs_optical_tracker &t, const cv::Vec3d &X,
 
 // Covariance of a triangulated point for centroid noise sigma_px per image coordinate:
 // sigma^2 (J^T W J)^-1; infinite when the views do not constrain it.
-static cv::Matx33d point_cov(const rs_optical_tracker &t, const cv::Vec3d &X,
-                             const cv::Matx22d W[2])
+cv::Matx33d rs_optical::point_cov(const rs_optical_tracker &t, const cv::Vec3d &X,
+                                  const cv::Matx22d W[2])
 {
 	cv::Matx33d inv;
 	if (!cv::invert(info_matrix(t, X, W), inv, cv::DECOMP_CHOLESKY))
@@ -315,8 +272,8 @@ static void reprojection(const rs_optical_tracker &t, const cv::Vec3d &X, const 
 // Gauss-Newton on the weighted reprojection error in both views (the maximum-likelihood
 // point for Gaussian centroid noise), from the DLT solution; three steps converge to
 // ~1e-9 px.
-static cv::Vec3d refine(const rs_optical_tracker &t, cv::Vec3d X, const cv::Point2d obs[2],
-                        const cv::Matx22d W[2])
+cv::Vec3d rs_optical::refine(const rs_optical_tracker &t, cv::Vec3d X, const cv::Point2d obs[2],
+                             const cv::Matx22d W[2])
 {
 	const cv::Matx34d *P[2] = {&t.P0, &t.P1};
 	for (int it = 0; it < 3; ++it) {
@@ -456,285 +413,16 @@ static rs_optical_verdict gate(const rs_optical_tracker &t, const cv::Vec3d pts[
 	return RS_OPTICAL_SOLVED;
 }
 
-// The blob of view v nearest to `at` (undistorted pixels) within `radius` px, other than
-// the triple's own (`used`); -1 if none.
-static int nearest_unused_blob(const rs_optical_tracker &t, int v, cv::Vec2d at, const int used[3],
-                               double radius)
-{
-	int best = -1;
-	double best_d = radius;
-	for (int b = 0; b < (int)t.und[v].size(); ++b) {
-		if (b == used[0] || b == used[1] || b == used[2])
-			continue;
-		double d = std::hypot(t.und[v][b].x - at[0], t.und[v][b].y - at[1]);
-		if (d <= best_d) {
-			best_d = d;
-			best = b;
-		}
-	}
-	return best;
-}
-
-// Where the pose of markers P puts the layout's verifier (camera-0 frame).
-static bool verifier_at(const rs_pose_layout &layout, const cv::Vec3d P[3], cv::Vec3d *V)
-{
-	rs_pose T;
-	if (!fit_layout(layout, P, 3, &T))
-		return false;
-	double v[3];
-	rs_pose_transform_point(&T, layout.verifier, v);
-	*V = cv::Vec3d(v[0], v[1], v[2]);
-	return true;
-}
-
-// The verifier test (docs/optical.md, "The verifier"). Where the pose of the labelled
-// markers puts the layout's fourth light, with the covariance of that prediction (each
-// marker's triangulation covariance through the rigid fit, by central differences); in each
-// view the blob the triple does not use nearest to its image, if within reach_m of it in
-// space (the integrity bound: any pose that passed the other tests is at most that far
-// off, so a verifier that is in view is found); over the views it is found in, its offset
-// against the prediction's and its centroid's covariance, chi-square with 2 degrees of
-// freedom a view. Not found in either view: unverified, not refused (a hand over it).
-// Found in both views and passed: *out_V is it triangulated, *out_S its covariance.
-static rs_optical_verdict verify(const rs_optical_tracker &t, const cv::Vec3d pts[3],
-                                 const cv::Matx33d cov[3], const int used[2][3],
-                                 rs_optical_quality &q, cv::Vec3d *out_V, cv::Matx33d *out_S)
-{
-	cv::Vec3d V;
-	if (!verifier_at(t.d.layout, pts, &V))
-		return RS_OPTICAL_SIDE_RESIDUAL; // collinear: the side test cannot have passed
-	// how far the verifier can be from where this pose puts it: the integrity bound turned
-	// about the farthest marker, and moved
-	double lever = 0;
-	for (int k = 0; k < 3; ++k)
-		lever = std::max(lever, cv::norm(V - pts[k]));
-	const double reach_m = q.bound_rotation_rad * lever + q.bound_position_m;
-	cv::Matx33d CV = cv::Matx33d::zeros(), Jm[3];
-	const double h = 1e-6;
-	for (int i = 0; i < 3; ++i) {
-		cv::Matx33d &J = Jm[i];
-		for (int k = 0; k < 3; ++k) {
-			cv::Vec3d P[3] = {pts[0], pts[1], pts[2]}, Vp, Vm;
-			P[i][k] += h;
-			bool ok = verifier_at(t.d.layout, P, &Vp);
-			P[i][k] -= 2 * h;
-			if (!ok || !verifier_at(t.d.layout, P, &Vm))
-				return RS_OPTICAL_SIDE_RESIDUAL;
-			cv::Vec3d d = (Vp - Vm) / (2 * h);
-			for (int r = 0; r < 3; ++r)
-				J(r, k) = d[r];
-		}
-		CV += J * cov[i] * J.t();
-	}
-	const cv::Matx34d *M[2] = {&t.P0, &t.P1};
-	const double s2 = t.d.centroid_sigma_px * t.d.centroid_sigma_px;
-	// rows of the views the verifier is found in: offsets e, Jacobians G, centroid noise N
-	cv::Mat_<double> e(0, 1), G(0, 3), N = cv::Mat_<double>::zeros(4, 4);
-	int found[2] = {-1, -1};
-	for (int v = 0; v < 2; ++v) {
-		cv::Matx23d Jv;
-		cv::Vec2d at;
-		if (!project_jacobian(*M[v], V, cv::Point2d(0, 0), &Jv, &at))
-			continue;
-		// reach in pixels: the largest image of a reach_m move (the Jacobian's Frobenius
-		// norm bounds its largest singular value) plus the prediction's own spread
-		cv::Matx22d Cp = Jv * CV * Jv.t();
-		double reach_px = cv::norm(Jv) * reach_m + 6.0 * std::sqrt(cv::trace(Cp)) +
-		                  6.0 * t.d.centroid_sigma_px;
-		int best = nearest_unused_blob(t, v, at, used[v], reach_px);
-		cv::Matx22d Wi;
-		if (best < 0 || !cv::invert(t.W[v][best], Wi, cv::DECOMP_CHOLESKY))
-			continue;
-		found[v] = best;
-		int r0 = e.rows;
-		e.push_back(t.und[v][best].x - at[0]);
-		e.push_back(t.und[v][best].y - at[1]);
-		G.push_back(cv::Mat_<double>(cv::Mat(Jv)));
-		for (int r = 0; r < 2; ++r)
-			for (int c = 0; c < 2; ++c)
-				N(r0 + r, r0 + c) = s2 * Wi(r, c);
-	}
-	int n = e.rows / 2;
-	q.verifier_views = (uint32_t)n;
-	if (n == 0)
-		return RS_OPTICAL_SOLVED;
-	cv::Mat_<double> C =
-	    G * cv::Mat_<double>(cv::Mat(CV)) * G.t() + N(cv::Rect(0, 0, 2 * n, 2 * n));
-	cv::Mat_<double> x;
-	if (!cv::solve(C, e, x, cv::DECOMP_CHOLESKY)) {
-		q.verifier_chi2 = INFINITY;
-		return RS_OPTICAL_VERIFIER;
-	}
-	q.verifier_chi2 = e.dot(x);
-	double bound = n == 2 ? RS_OPTICAL_CHI2_4DOF : RS_OPTICAL_CHI2_2DOF;
-	if (!(q.verifier_chi2 <= bound))
-		return RS_OPTICAL_VERIFIER;
-	// The fault three markers cannot see moves one marker along one camera's ray: for each
-	// of those six directions u the offset it would make, g = -G J_i u per unit move, and
-	// the offset's component along it, (g^T C^-1 e)^2 / g^T C^-1 g (1 degree of freedom), a
-	// sharper test of that one fault than the total above.
-	cv::Vec3d c1 = -(R_of(t.d.rig).t() * t_of(t.d.rig));
-	for (int i = 0; i < 3; ++i)
-		for (int v = 0; v < 2; ++v) {
-			cv::Vec3d u = v == 0 ? pts[i] : pts[i] - c1;
-			u /= cv::norm(u);
-			cv::Mat_<double> g = -(G * cv::Mat_<double>(cv::Mat(Jm[i] * u))), y;
-			if (!cv::solve(C, g, y, cv::DECOMP_CHOLESKY))
-				continue;
-			double info = g.dot(y), along = y.dot(e);
-			if (info > 0 && !(along * along / info <= RS_OPTICAL_CHI2_1DOF)) {
-				q.verifier_chi2 = std::max(q.verifier_chi2, along * along / info);
-				return RS_OPTICAL_VERIFIER;
-			}
-		}
-	if (n == 2) {
-		const cv::Point2d obs[2] = {t.und[0][found[0]], t.und[1][found[1]]};
-		const cv::Matx22d W[2] = {t.W[0][found[0]], t.W[1][found[1]]};
-		*out_V = refine(t, triangulate(t, obs[0], obs[1]), obs, W);
-		*out_S = point_cov(t, *out_V, W);
-	}
-	return RS_OPTICAL_SOLVED;
-}
-
 // The claim is the expected error (the law); the integrity bound adds the fault part (what
 // one undetected stray spot may have added) to the noise the gate's 5x bar allows
 // (docs/optical.md).
-static void state_errors(double rot, double pos, double fault_rot, double fault_pos,
-                         rs_optical_quality &q)
+void rs_optical::state_errors(double rot, double pos, double fault_rot, double fault_pos,
+                              rs_optical_quality &q)
 {
 	q.rotation_rms_rad = q.stated_rotation_rad = rot;
 	q.position_rms_m = q.stated_position_m = pos;
 	q.bound_rotation_rad = fault_rot + k_bound_noise * rot;
 	q.bound_position_m = fault_pos + k_bound_noise * pos;
-}
-
-// The verifier seen in both views is a fourth point of the rigid body. Each point's fault
-// along either camera's ray (a stray taken for it; the verifier's own included) is tested
-// by Baarda's w-test against the residuals of the generalised least-squares fit to all
-// four (RS_OPTICAL_VERIFIER when one fails): all six degrees of freedom of the four
-// points, where verify() used the verifier's offset alone. The pose is then the closed-form
-// fit to the four, the sample's markers become where it puts them (the solver's fit of
-// them is then this pose), the stated errors and the bound's noise part its law. Not the
-// weighted fit's pose: its law, half the closed form's, trusts the modelled centroid
-// noise's shape, and on rendered frames the error did not shrink with it (docs/optical.md,
-// "The verifier"). A fault the tests let through moves this pose less than the three
-// markers' (it is one point of four), and the verifier's own lever steadies the rotation.
-static rs_optical_verdict fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3d &V,
-                                            const cv::Matx33d &S, double fault_rot,
-                                            double fault_pos, cv::Vec3d pts[3],
-                                            const cv::Matx33d cov[3], rs_optical_quality &q)
-{
-	const cv::Vec3d P4[4] = {pts[0], pts[1], pts[2], V};
-	const cv::Matx33d S4[4] = {cov[0], cov[1], cov[2], S};
-	rs_pose G, T;
-	cv::Matx66d C;
-	if (!fit_layout_weighted(t.d.layout, P4, S4, 4, &G, &C) ||
-	    !fit_layout(t.d.layout, P4, 4, &T))
-		return RS_OPTICAL_SOLVED; // cannot happen for a triple that passed the side tests;
-		                          // keep the three
-	const cv::Vec3d c1 = -(R_of(t.d.rig).t() * t_of(t.d.rig));
-	const double k = std::sqrt(RS_OPTICAL_CHI2_1DOF);
-	cv::Vec3d u[4][2];
-	double w[4][2], per_m[4][2];
-	for (int i = 0; i < 4; ++i)
-		for (int v = 0; v < 2; ++v) {
-			u[i][v] = v == 0 ? P4[i] : P4[i] - c1;
-			u[i][v] /= cv::norm(u[i][v]);
-			w[i][v] = fault_w(t.d.layout, P4, S4, G, C, i, u[i][v], &per_m[i][v]);
-			if (!(std::fabs(w[i][v]) <= k)) {
-				q.verifier_chi2 = std::max(q.verifier_chi2, w[i][v] * w[i][v]);
-				return RS_OPTICAL_VERIFIER;
-			}
-		}
-	// The fault part of the integrity bound with four points: a fault of point i along u
-	// passes while |w + d per_m| <= k, d from (-k - w) / per_m to (k - w) / per_m; the
-	// pose moves most at an edge (the closed-form fit of the points with point i moved
-	// there). It must pass the three markers' tests too: the smaller of the two parts.
-	double o0[3], fr = 0, fp = 0;
-	rs_pose_transform_point(&T, t.d.layout.T_markers_display.position, o0);
-	for (int i = 0; i < 4 && std::isfinite(fr); ++i)
-		for (int v = 0; v < 2; ++v) {
-			if (!(per_m[i][v] > 0)) { // untested: only the three markers' part holds
-				fr = fp = INFINITY;
-				break;
-			}
-			for (int sign = -1; sign <= 1; sign += 2) {
-				cv::Vec3d Q[4] = {P4[0], P4[1], P4[2], P4[3]};
-				Q[i] += u[i][v] * ((sign * k - w[i][v]) / per_m[i][v]);
-				rs_pose Te;
-				double o[3];
-				if (!fit_layout(t.d.layout, Q, 4, &Te)) {
-					fr = fp = INFINITY;
-					break;
-				}
-				rs_pose_transform_point(&Te, t.d.layout.T_markers_display.position,
-				                        o);
-				fr = std::max(fr, rs_pose_angle_between(&Te, &T));
-				fp = std::max(fp, std::sqrt((o[0] - o0[0]) * (o[0] - o0[0]) +
-				                            (o[1] - o0[1]) * (o[1] - o0[1]) +
-				                            (o[2] - o0[2]) * (o[2] - o0[2])));
-			}
-		}
-	fault_rot = std::min(fault_rot, fr);
-	fault_pos = std::min(fault_pos, fp);
-	double rot, pos;
-	pose_error_law(t.d.layout, P4, S4, 4, &rot, &pos);
-	if (!std::isfinite(rot) || !std::isfinite(pos))
-		return RS_OPTICAL_SOLVED;
-	for (int i = 0; i < 3; ++i) {
-		double x[3];
-		rs_pose_transform_point(&T, t.d.layout.markers[i], x);
-		pts[i] = cv::Vec3d(x[0], x[1], x[2]);
-	}
-	state_errors(rot, pos, fault_rot, fault_pos, q);
-	return RS_OPTICAL_SOLVED;
-}
-
-// Two triples fit the layout (a verifier light seen along a marker's epipolar line makes a
-// second one): the one whose pose has a blob it does not use where it puts the verifier, in
-// either view, if exactly one does (docs/optical.md, "The verifier"). It then stands alone
-// in t.candidates and is the verifier test's to judge.
-static void settle_by_verifier(rs_optical_tracker &t, int best[3], int *order, double *worst)
-{
-	const double reach_px = k_verifier_settle_px + 6.0 * t.d.centroid_sigma_px;
-	const cv::Matx34d *M[2] = {&t.P0, &t.P1};
-	int seen = -1;
-	for (size_t c = 0; c < t.candidate_triples.size(); ++c) {
-		const cv::Vec4i &tr = t.candidate_triples[c];
-		cv::Vec3d pts[3], V;
-		int used[2][3];
-		for (int k = 0; k < 3; ++k) {
-			const Pair &p = t.pairs[tr[k]];
-			pts[k_perms[tr[3]][k]] = p.X;
-			used[0][k] = p.i;
-			used[1][k] = p.j;
-		}
-		if (!verifier_at(t.d.layout, pts, &V))
-			continue;
-		bool found = false;
-		for (int v = 0; v < 2 && !found; ++v) {
-			cv::Matx23d J;
-			cv::Vec2d at;
-			if (!project_jacobian(*M[v], V, cv::Point2d(0, 0), &J, &at))
-				continue;
-			found = nearest_unused_blob(t, v, at, used[v], reach_px) >= 0;
-		}
-		if (!found)
-			continue;
-		if (seen >= 0)
-			return; // two see it: still ambiguous
-		seen = (int)c;
-	}
-	if (seen < 0)
-		return;
-	const cv::Vec4i &tr = t.candidate_triples[seen];
-	best[0] = tr[0];
-	best[1] = tr[1];
-	best[2] = tr[2];
-	cv::Vec3d X[3] = {t.pairs[tr[0]].X, t.pairs[tr[1]].X, t.pairs[tr[2]].X};
-	double cost;
-	*order = best_order(t.layout_sides, X, &cost, worst);
-	t.candidates.assign(1, t.candidates[seen]);
 }
 
 // Blobs of both views (t->blobs) to the sample: undistort, match, triangulate, label, gate.
