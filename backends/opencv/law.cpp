@@ -77,68 +77,51 @@ static cv::Matx<double, 3, 6> rigid_jacobian(const cv::Vec3d &arm)
 // Gauss-Newton from the closed-form fit to the generalised least-squares rigid fit: each
 // point weighted by its inverse covariance, so a triangulated point's long axis (its depth
 // along the baseline's bisector, where a centroid error along the epipolar line moves it)
-// counts for what it is worth (rigid_jacobian's perturbation).
+// counts for what it is worth (rigid_jacobian's perturbation, the step taken by
+// rs_pose_extrapolate over unit time).
 bool fit_layout_weighted(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
-                         int n, rs_pose *T, cv::Matx66d *out_C)
+                         int n, WeightedFit *fit)
 {
-	if (!fit_layout(layout, P, n, T))
+	rs_pose &T = fit->T;
+	if (!fit_layout(layout, P, n, &T))
 		return false;
-	cv::Matx33d Wt[4];
-	for (int i = 0; i < n; ++i)
-		if (!cv::invert(S[i], Wt[i], cv::DECOMP_CHOLESKY))
+	for (int i = 0; i < n; ++i) {
+		fit->S[i] = S[i];
+		if (!cv::invert(S[i], fit->W[i], cv::DECOMP_CHOLESKY))
 			return false;
+	}
 	cv::Matx66d H;
-	for (int it = 0; it < 8; ++it) {
-		cv::Matx33d R = quat_to_R(T->orientation);
-		cv::Vec3d t(T->position);
+	for (int it = 0; it <= 8; ++it) {
+		// the residuals and Jacobians at T: the last pass's are the fit's
+		cv::Matx33d R = quat_to_R(T.orientation);
 		H = cv::Matx66d::zeros();
 		cv::Vec6d g = cv::Vec6d::all(0);
 		for (int i = 0; i < n; ++i) {
 			const double *m = i < 3 ? layout.markers[i] : layout.verifier;
 			cv::Vec3d Rm = R * cv::Vec3d(m[0], m[1], m[2]);
-			cv::Vec3d r = P[i] - (Rm + t);
-			const cv::Matx<double, 3, 6> A = rigid_jacobian(Rm);
-			H += A.t() * Wt[i] * A;
-			g += A.t() * Wt[i] * r;
+			fit->r[i] = P[i] - (Rm + cv::Vec3d(T.position));
+			fit->A[i] = rigid_jacobian(Rm);
+			H += fit->A[i].t() * fit->W[i] * fit->A[i];
+			g += fit->A[i].t() * fit->W[i] * fit->r[i];
 		}
 		cv::Vec6d d;
 		if (!cv::solve(H, g, d, cv::DECOMP_CHOLESKY))
 			return false;
-		double ang = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-		rs_pose D = {};
-		D.orientation[3] = std::cos(ang / 2);
-		double s = ang > 0 ? std::sin(ang / 2) / ang : 0.5;
-		for (int k = 0; k < 3; ++k)
-			D.orientation[k] = d[k] * s;
-		double pos[3] = {t[0] + d[3], t[1] + d[4], t[2] + d[5]};
-		rs_pose_compose(&D, T, T);
-		for (int k = 0; k < 3; ++k)
-			T->position[k] = pos[k];
-		if (ang < 1e-12 && std::sqrt(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]) < 1e-12)
+		if (cv::norm(d) < 1e-12 || it == 8)
 			break;
+		rs_pose_extrapolate(&T, &d.val[3], &d.val[0], 1.0, &T);
 	}
-	return cv::invert(H, *out_C, cv::DECOMP_CHOLESKY) != 0;
+	return cv::invert(H, fit->C, cv::DECOMP_CHOLESKY) != 0;
 }
 
-double fault_w(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
-               const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u, double *out_per_m)
+double fault_w(const WeightedFit &fit, int i, const cv::Vec3d &u, double *out_per_m)
 {
-	*out_per_m = 0;
-	const double *m = i < 3 ? layout.markers[i] : layout.verifier;
-	cv::Matx33d R = quat_to_R(T.orientation), Wi;
-	cv::Vec3d Rm = R * cv::Vec3d(m[0], m[1], m[2]);
-	cv::Vec3d r = P[i] - (Rm + cv::Vec3d(T.position));
-	if (!cv::invert(S[i], Wi, cv::DECOMP_CHOLESKY))
-		return INFINITY; // fit_layout_weighted refused it already
-	const cv::Matx<double, 3, 6> A = rigid_jacobian(Rm);
 	// the residual's covariance at point i, S_i - A_i C A_i^T; the fault's signature W_i u
-	cv::Matx33d Q = S[i] - A * C * A.t();
-	cv::Vec3d f = Wi * u;
+	cv::Matx33d Q = fit.S[i] - fit.A[i] * fit.C * fit.A[i].t();
+	cv::Vec3d f = fit.W[i] * u;
 	double den = f.dot(Q * f);
-	if (!(den > 0))
-		return 0; // a fault the fit cannot see: no test
-	*out_per_m = std::sqrt(den);
-	return f.dot(r) / *out_per_m;
+	*out_per_m = den > 0 ? std::sqrt(den) : 0;
+	return den > 0 ? f.dot(fit.r[i]) / *out_per_m : 0; // den 0: a fault the fit cannot see
 }
 
 } // namespace rs_optical

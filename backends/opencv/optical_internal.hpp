@@ -46,19 +46,28 @@ rs_status check_image(const rs_optical_image *img, rs_error *err);
 // and with n = 4 the layout's verifier (rs_pose_fit). False when degenerate.
 bool fit_layout(const rs_pose_layout &layout, const cv::Vec3d *P, int n, rs_pose *T);
 
-// The generalised least-squares fit: points weighted by their inverse covariances S
-// (Gauss-Newton from fit_layout's closed form), *out_C the covariance of its parameters
-// (rotation vector, translation; rigid_jacobian in law.cpp). False when degenerate.
-bool fit_layout_weighted(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
-                         int n, rs_pose *T, cv::Matx66d *out_C);
+// The generalised least-squares fit of the layout to points (Gauss-Newton from
+// fit_layout's closed form, each point weighted by its inverse covariance): its pose, the
+// covariance of its parameters (rotation vector, translation: R <- exp([w]x) R, t <- t +
+// dt), and at that pose each point's covariance S, weight W = S^-1, residual r and
+// Jacobian A (the point's move per parameter).
+struct WeightedFit {
+	rs_pose T;
+	cv::Matx66d C;
+	cv::Matx33d S[4], W[4];
+	cv::Vec3d r[4];
+	cv::Matx<double, 3, 6> A[4];
+};
 
-// Baarda's w-test (standard normal on clean data) of one fault in the weighted fit T of
-// points P (covariances S; C as above): point i moved along unit u. *out_per_m: how much w
-// grows per metre the point moves along u (its square root of information; 0: the fit
-// cannot see such a fault, and w is 0).
-double fault_w(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
-               const rs_pose &T, const cv::Matx66d &C, int i, const cv::Vec3d &u,
-               double *out_per_m);
+// The weighted fit of points P (layout id order, n = 3 or 4) with covariances S. False
+// when degenerate or a covariance is singular.
+bool fit_layout_weighted(const rs_pose_layout &layout, const cv::Vec3d *P, const cv::Matx33d *S,
+                         int n, WeightedFit *fit);
+
+// Baarda's w-test (standard normal on clean data) of one fault in the weighted fit: point
+// i moved along unit u. *out_per_m: how much w grows per metre the point moves along u
+// (the square root of its information; 0: the fit cannot see such a fault, and w is 0).
+double fault_w(const WeightedFit &fit, int i, const cv::Vec3d &u, double *out_per_m);
 
 // Linearised RMS rotation error (rad) and 3-D RMS error of the display origin of the pose
 // fitted to points P[i] (camera frame, layout id order: the three markers, and with n = 4

@@ -164,6 +164,39 @@ rs_optical_verdict verify(const rs_optical_tracker &t, const cv::Vec3d pts[3],
 // noise's shape, and on rendered frames the error did not shrink with it (docs/optical.md,
 // "The verifier"). A fault the tests let through moves this pose less than the three
 // markers' (it is one point of four), and the verifier's own lever steadies the rotation.
+// The fault part of the integrity bound with four points: a fault of point i along u
+// passes the w-test while |w + d per_m| <= k, d from (-k - w) / per_m to (k - w) / per_m;
+// the pose T (the closed-form fit) moves most at an edge of that interval. False when a
+// fault is untested (per_m 0) or a moved fit degenerate: then only the three markers' part
+// holds.
+static bool four_point_fault_part(const rs_pose_layout &layout, const cv::Vec3d P4[4],
+                                  const rs_pose &T, const cv::Vec3d u[4][2], const double w[4][2],
+                                  const double per_m[4][2], double k, double *out_rot,
+                                  double *out_pos)
+{
+	double o[3];
+	rs_pose_transform_point(&T, layout.T_markers_display.position, o);
+	const cv::Vec3d o0(o[0], o[1], o[2]);
+	double fr = 0, fp = 0;
+	for (int i = 0; i < 4; ++i)
+		for (int v = 0; v < 2; ++v)
+			for (int sign = -1; sign <= 1; sign += 2) {
+				if (!(per_m[i][v] > 0))
+					return false;
+				cv::Vec3d Q[4] = {P4[0], P4[1], P4[2], P4[3]};
+				Q[i] += u[i][v] * ((sign * k - w[i][v]) / per_m[i][v]);
+				rs_pose Te;
+				if (!fit_layout(layout, Q, 4, &Te))
+					return false;
+				rs_pose_transform_point(&Te, layout.T_markers_display.position, o);
+				fr = std::max(fr, rs_pose_angle_between(&Te, &T));
+				fp = std::max(fp, cv::norm(cv::Vec3d(o[0], o[1], o[2]) - o0));
+			}
+	*out_rot = fr;
+	*out_pos = fp;
+	return true;
+}
+
 rs_optical_verdict fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3d &V,
                                      const cv::Matx33d &S, double fault_rot, double fault_pos,
                                      cv::Vec3d pts[3], const cv::Matx33d cov[3],
@@ -171,10 +204,9 @@ rs_optical_verdict fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3
 {
 	const cv::Vec3d P4[4] = {pts[0], pts[1], pts[2], V};
 	const cv::Matx33d S4[4] = {cov[0], cov[1], cov[2], S};
-	rs_pose G, T;
-	cv::Matx66d C;
-	if (!fit_layout_weighted(t.d.layout, P4, S4, 4, &G, &C) ||
-	    !fit_layout(t.d.layout, P4, 4, &T))
+	WeightedFit G;
+	rs_pose T;
+	if (!fit_layout_weighted(t.d.layout, P4, S4, 4, &G) || !fit_layout(t.d.layout, P4, 4, &T))
 		return RS_OPTICAL_SOLVED; // cannot happen for a triple that passed the side tests;
 		                          // keep the three
 	const cv::Vec3d c1 = -(R_of(t.d.rig).t() * t_of(t.d.rig));
@@ -185,43 +217,18 @@ rs_optical_verdict fit_with_verifier(const rs_optical_tracker &t, const cv::Vec3
 		for (int v = 0; v < 2; ++v) {
 			u[i][v] = v == 0 ? P4[i] : P4[i] - c1;
 			u[i][v] /= cv::norm(u[i][v]);
-			w[i][v] = fault_w(t.d.layout, P4, S4, G, C, i, u[i][v], &per_m[i][v]);
+			w[i][v] = fault_w(G, i, u[i][v], &per_m[i][v]);
 			if (!(std::fabs(w[i][v]) <= k)) {
 				q.verifier_chi2 = std::max(q.verifier_chi2, w[i][v] * w[i][v]);
 				return RS_OPTICAL_VERIFIER;
 			}
 		}
-	// The fault part of the integrity bound with four points: a fault of point i along u
-	// passes while |w + d per_m| <= k, d from (-k - w) / per_m to (k - w) / per_m; the
-	// pose moves most at an edge (the closed-form fit of the points with point i moved
-	// there). It must pass the three markers' tests too: the smaller of the two parts.
-	double o0[3], fr = 0, fp = 0;
-	rs_pose_transform_point(&T, t.d.layout.T_markers_display.position, o0);
-	for (int i = 0; i < 4 && std::isfinite(fr); ++i)
-		for (int v = 0; v < 2; ++v) {
-			if (!(per_m[i][v] > 0)) { // untested: only the three markers' part holds
-				fr = fp = INFINITY;
-				break;
-			}
-			for (int sign = -1; sign <= 1; sign += 2) {
-				cv::Vec3d Q[4] = {P4[0], P4[1], P4[2], P4[3]};
-				Q[i] += u[i][v] * ((sign * k - w[i][v]) / per_m[i][v]);
-				rs_pose Te;
-				double o[3];
-				if (!fit_layout(t.d.layout, Q, 4, &Te)) {
-					fr = fp = INFINITY;
-					break;
-				}
-				rs_pose_transform_point(&Te, t.d.layout.T_markers_display.position,
-				                        o);
-				fr = std::max(fr, rs_pose_angle_between(&Te, &T));
-				fp = std::max(fp, std::sqrt((o[0] - o0[0]) * (o[0] - o0[0]) +
-				                            (o[1] - o0[1]) * (o[1] - o0[1]) +
-				                            (o[2] - o0[2]) * (o[2] - o0[2])));
-			}
-		}
-	fault_rot = std::min(fault_rot, fr);
-	fault_pos = std::min(fault_pos, fp);
+	// a stray must pass the three markers' tests too: the smaller of the two parts
+	double fr, fp;
+	if (four_point_fault_part(t.d.layout, P4, T, u, w, per_m, k, &fr, &fp)) {
+		fault_rot = std::min(fault_rot, fr);
+		fault_pos = std::min(fault_pos, fp);
+	}
 	double rot, pos;
 	pose_error_law(t.d.layout, P4, S4, 4, &rot, &pos);
 	if (!std::isfinite(rot) || !std::isfinite(pos))
