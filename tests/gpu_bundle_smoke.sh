@@ -92,4 +92,6 @@ one_line "foreign archive" 1 "is not a tools/gpu-bundle.sh archive" bash "$runne
 one_line "unwritable output" 1 "cannot write to /nonexistent" bash "$runner" --bundle bundle/rs.tar.gz --out /nonexistent
 one_line "unknown option" 2 "unknown option '--fast'" bash "$runner" --fast
 one_line "bundler: not .tar.gz" 2 "does not end in .tar.gz" bash "$bundler" --out b.zip
+one_line "bundler: output folder refused" 1 "cannot write to /proc/rs-gpu" bash "$bundler" --out /proc/rs-gpu/b.tar.gz
+one_line "bundler: build folder refused" 1 "cannot make /proc/rs-gpu" bash "$bundler" --build /proc/rs-gpu --out b.tar.gz
 finish

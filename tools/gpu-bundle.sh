@@ -37,16 +37,16 @@ case $out in *.tar.gz) ;; *) code=2 die "--out: '$out' does not end in .tar.gz" 
 for tool in cmake jq ldd tar gzip; do
   command -v "$tool" >/dev/null || die "$tool is needed (tools/deps.sh)"
 done
-mkdir -p "$(dirname "$out")" && [ -w "$(dirname "$out")" ] || die "cannot write to $(dirname "$out")"
+mkdir -p "$(dirname "$out")" 2>/dev/null && [ -w "$(dirname "$out")" ] ||
+  die "cannot write to $(dirname "$out")"
 
+mkdir -p "$build" 2>/dev/null || die "cannot make $build"
 echo "gpu-bundle: building raystream-bench in $build" >&2
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DRS_WITH_OSMESA=OFF \
   -DRS_BUILD_TESTS=OFF -DRS_WITH_OPENCV=OFF -DRS_WITH_HIDAPI=OFF -DRS_WITH_LIBUSB=OFF \
-  >"$build.configure.log" 2>&1 || die "cmake configure failed: $(tail -n 3 "$build.configure.log")"
-rm -f "$build.configure.log"
-cmake --build "$build" --target raystream-bench -j "$(nproc)" >/dev/null 2>"$build.err" ||
-  die "build failed: $(tail -n 5 "$build.err")"
-rm -f "$build.err"
+  >"$build/gpu-bundle.log" 2>&1 || die "cmake configure failed (see $build/gpu-bundle.log)"
+cmake --build "$build" --target raystream-bench -j "$(nproc)" >>"$build/gpu-bundle.log" 2>&1 ||
+  die "build failed (see $build/gpu-bundle.log)"
 bench=$build/tools/bench/raystream-bench
 [ -x "$bench" ] || die "$bench was not built"
 
