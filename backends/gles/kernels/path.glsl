@@ -6,7 +6,9 @@
 // The paper's environment kernel: a missed ray (h.slot < 0) takes the environment's
 // colour where it leaves the cube, or a captured map's where `mapped` (RS_ENVMAP), and
 // ends (state -2). orig = (origin, skip slot), dir = (direction, throughput), acc = (rgb,
-// state).
+// state). The map is read at level 0 explicitly: this runs in per-pixel (non-uniform)
+// control flow, where GLSL ES 3.00 leaves implicit derivatives, and so texture()'s level,
+// undefined (section 8.9); the map has one level, so the texels are the same.
 void rs_path_environment_from(vec4 orig, vec4 dir, inout vec4 acc, bool mapped)
 {
 	Ray r = Ray(orig.xyz, dir.xyz, RS_FAR, int(orig.w));
@@ -15,7 +17,7 @@ void rs_path_environment_from(vec4 orig, vec4 dir, inout vec4 acc, bool mapped)
 #if RS_INTERREFLECT
 	acc.rgb += throughput * (mapped ? rs_mapped(r.skip, r.d) : rs_environment(r.o, r.d));
 #else
-	acc.rgb += throughput * (mapped ? texture(u_envmap, r.d).rgb : rs_environment(r.o, r.d));
+	acc.rgb += throughput * (mapped ? textureLod(u_envmap, r.d, 0.0).rgb : rs_environment(r.o, r.d));
 #endif
 #else
 	acc.rgb += throughput * rs_environment(r.o, r.d);
