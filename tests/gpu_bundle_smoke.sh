@@ -71,8 +71,10 @@ mkdir out2
 if bash "$runner" --quick --bundle bundle/fake.tar.gz --out out2 --platform auto >stdout.txt 2>stderr.txt; then
   bad "failing step: exit 0"
 else
-  grep -q "gpu-device-run: tools/gpu-bench.sh failed" stderr.txt && ok "failing step named" ||
-    bad "failing step: $(tail -n 2 stderr.txt)"
+  [ "$(wc -l <stderr.txt)" -eq 2 ] && grep -q "^gpu-device-run: Tables 1-3" stderr.txt &&
+    grep -q "^gpu-device-run: tools/gpu-bench.sh failed: .* (the whole output: out2/gpu-run.log)" stderr.txt &&
+    ok "failing step named in one line after the progress line" ||
+    bad "failing step: $(cat stderr.txt)"
 fi
 [ ! -e out2/table2-cow17-4lights.json ] && ok "no target JSON after the failure" || bad "target JSON written"
 

@@ -60,15 +60,14 @@ fi
 
 log=$out/gpu-run.log
 : >"$log" || die "cannot write $log"
-# step NAME CMD...: the command and its output into the log; stops the run when it fails
+# step NAME CMD...: the command and its output into the log (its stdout into $stdout where
+# that is set); a failure stops the run with one line, the log's last line in it
 step() {
   local name=$1
   shift
   echo "\$ $*" >>"$log"
-  if ! "$@" >>"$log" 2>&1; then
-    tail -n 5 "$log" >&2
-    die "$name failed (the whole output: $log)"
-  fi
+  "$@" >>"${stdout:-$log}" 2>>"$log" ||
+    die "$name failed: $(tail -n 1 "$log") (the whole output: $log)"
 }
 {
   echo "# tools/gpu-device-run.sh ${quick[*]} --platform $platform, $(date -u '+%Y-%m-%d %H:%M UTC')"
@@ -80,18 +79,21 @@ step() {
 } >>"$log"
 step "the bundle's raystream-bench (does this machine's glibc run it?)" "$bench" --help
 echo "gpu-device-run: Tables 1-3 (tools/gpu-bench.sh ${quick[*]} --platform $platform)" >&2
-step "tools/gpu-bench.sh" bash "$root/tools/gpu-bench.sh" "${quick[@]}" --build "$tmp/build" \
-  --platform "$platform" --out-dir "$out"
-report=$(sed -n 's/^gpu-bench: wrote //p' "$log" | tail -n 1)
+stdout=$tmp/report.txt step "tools/gpu-bench.sh" bash "$root/tools/gpu-bench.sh" "${quick[@]}" \
+  --build "$tmp/build" --platform "$platform" --out-dir "$out"
+report=$(tail -n 1 "$tmp/report.txt")
 [ -n "$report" ] && [ -s "$report" ] || die "tools/gpu-bench.sh named no report (see $log)"
+echo "report: $report" >>"$log"
 
 # Issue 20's GPU target: Cow17, 2 passes, 4 lights, 512x512 (--quick: 64x64, one frame).
 target=(--table 2 --backend egl --scene cow17 --lights 4)
 if [ ${#quick[@]} -gt 0 ]; then target+=(--size 64 --repeats 1); else target+=(--repeats 9); fi
 [ "$platform" = auto ] || export RS_EGL_PLATFORM=$platform
 echo "gpu-device-run: raystream-bench ${target[*]}" >&2
-step "Table 2 on Cow17 with 4 lights" "$bench" "${target[@]}" --json "$out/table2-cow17-4lights.json"
-jq -e '.rows | length > 0' "$out/table2-cow17-4lights.json" >/dev/null ||
+# the JSON lands in $out only whole and with rows
+step "Table 2 on Cow17 with 4 lights" "$bench" "${target[@]}" --json "$tmp/target.json"
+jq -e '.rows | length > 0' "$tmp/target.json" >/dev/null ||
   die "Table 2 on Cow17 wrote no rows (see $log)"
+cp "$tmp/target.json" "$out/table2-cow17-4lights.json" || die "cannot write $out"
 echo "$report"
 echo "$log"
