@@ -54,6 +54,13 @@ for want in "^# bundle source: " "^# nvidia-smi: " "raystream-bench --help" "gpu
 done
 jq -e '.rows | length > 0' out/table2-cow17-4lights.json >/dev/null 2>&1 &&
   ok "target line's JSON has rows" || bad "no target JSON rows"
+grep -Eq -- "--times --backend egl --passes 2 --lights 4 --size 64 --repeats 1 --kernels compute" \
+  out/gpu-run.log && ok "log has the compute times" || bad "log lacks the compute times"
+jq -e '[.rows[] | select(.scene == "cow17" and .kernels == "compute" and .fps > 0)] | length == 1' \
+  out/times-cow17-4lights.json >/dev/null 2>&1 &&
+  jq -e '[.rows[] | select(.kernels == "fragment" and .fps > 0)] | length == 1' \
+    out/times-cow17-4lights.json >/dev/null 2>&1 &&
+  ok "times JSON has a fragment and a compute row" || bad "times JSON: $(head -c 300 out/times-cow17-4lights.json)"
 
 # A step that fails (Table 2 refused by the packed bench): non-zero, the step named, and
 # no target JSON claimed.

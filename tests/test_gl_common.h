@@ -91,6 +91,86 @@ static inline const struct rs_render_kernel_time *gl_kernel(const struct rs_rend
 	return NULL;
 }
 
+/* How many times a frame ran the kernel named `name` (0: none). */
+static inline uint32_t gl_calls(const struct rs_render_stats *s, const char *name)
+{
+	const struct rs_render_kernel_time *t = gl_kernel(s, name);
+	return t ? t->calls : 0;
+}
+
+/* Render frame `f` with the renderer's scene and camera; the frame's stats into *out. */
+static inline void gl_render_frame(struct rs_renderer *r, const struct rs_frame *f,
+                                   struct rs_render_stats *out)
+{
+	struct rs_error err = {0};
+	if (rs_renderer_render(r, NULL, f, &err) != RS_OK)
+		fail_msg("render: %s", err.message);
+	*out = *rs_renderer_stats(r);
+}
+
+/* Every method the fused chain's passes can be (docs/gles.md "Chains"), as frames of at
+ * most w x h with 2 lights: traced primaries at 1, 2 and 5 passes, shadow maps and none,
+ * classic environment maps (2 passes: one trace pass reading the maps at its end; 1 pass:
+ * none read; without shadows), inter-reflection (capture plans each frame), rasterized
+ * primaries at 1 and 3 passes, an odd frame size, and cube faces larger than the frame (the
+ * targets then larger than the frame). The tests of the fused chain's ways (the display
+ * pass fused, compute kernels) each run them all. */
+struct gl_fused_case {
+	const char *what, *scene;
+	struct rs_render_desc desc;
+};
+#define GL_FUSED_CASES 13
+
+static inline void gl_fused_cases(uint32_t w, uint32_t h, struct gl_fused_case out[GL_FUSED_CASES])
+{
+	const struct rs_render_desc base = {.width = w, .height = h, .passes = 2, .lights = 2};
+	for (int i = 0; i < GL_FUSED_CASES; ++i)
+		out[i].desc = base;
+	struct rs_render_desc *d;
+	out[0].what = "box, 2 passes", out[0].scene = "box";
+	out[1].what = "cow1, 1 pass", out[1].scene = "cow1";
+	out[1].desc.passes = 1;
+	out[2].what = "mirrors, 5 passes", out[2].scene = "mirrors";
+	out[2].desc.passes = 5;
+	out[3].what = "cow1, shadow maps", out[3].scene = "cow1";
+	d = &out[3].desc;
+	d->shadows = RS_SHADOW_MAP;
+	d->shadow_map_size = 128;
+	d->shadow_filter = 3;
+	out[4].what = "cow1, no shadows", out[4].scene = "cow1";
+	out[4].desc.shadows = RS_SHADOW_NONE;
+	for (int i = 5; i < 8; ++i) {
+		out[i].scene = "mirrors";
+		out[i].desc.reflections = RS_REFLECT_ENVMAP;
+		out[i].desc.envmap_size = 32;
+	}
+	out[5].what = "mirrors, classic map, 2 passes";
+	out[6].what = "mirrors, classic map, 1 pass";
+	out[6].desc.passes = 1;
+	out[7].what = "mirrors, classic map, no shadows";
+	out[7].desc.shadows = RS_SHADOW_NONE;
+	out[8].what = "mirrors, inter-reflection", out[8].scene = "mirrors";
+	d = &out[8].desc;
+	d->passes = 3;
+	d->reflections = RS_REFLECT_INTERREFLECT;
+	d->reflection_bounces = 2;
+	d->envmap_size = 24;
+	out[9].what = "cow1, raster, 1 pass", out[9].scene = "cow1";
+	out[9].desc.passes = 1;
+	out[9].desc.primary = RS_PRIMARY_RASTER;
+	out[10].what = "cow1, raster, 3 passes", out[10].scene = "cow1";
+	out[10].desc.passes = 3;
+	out[10].desc.primary = RS_PRIMARY_RASTER;
+	for (int i = 11; i < 13; ++i) {
+		out[i].desc.width = w < 37 ? w : 37;
+		out[i].desc.height = h < 23 ? h : 23;
+	}
+	out[11].what = "box, 37x23", out[11].scene = "box";
+	out[12].what = "mirrors, 37x23, classic map", out[12].scene = "mirrors";
+	out[12].desc.reflections = RS_REFLECT_ENVMAP;
+	out[12].desc.envmap_size = 40; /* the targets larger than the frame */
+}
+
 /* A frame of `scene` on `backend` opened with `desc`: colour and depth (either may be NULL)
  * and, when `stats` is given, the stats copied out (zeroed when there is no frame). False
  * when this machine cannot make the context (the caller gl_skip()s). */

@@ -30,20 +30,6 @@ struct frames {
 	struct rs_render_stats s_fused, s_unfused, s_rgb;
 };
 
-static uint32_t calls(const struct rs_render_stats *s, const char *name)
-{
-	const struct rs_render_kernel_time *t = gl_kernel(s, name);
-	return t ? t->calls : 0;
-}
-
-static void render(struct rs_renderer *r, const struct rs_frame *f, struct rs_render_stats *out)
-{
-	struct rs_error err = {0};
-	if (rs_renderer_render(r, NULL, f, &err) != RS_OK)
-		fail_msg("render: %s", err.message);
-	*out = *rs_renderer_stats(r);
-}
-
 /* One renderer, one scene: the displayed frame first, then the forced display pass, then the
  * float colour (each frame starts from nothing: none can lean on the one before). */
 static bool three_frames(const struct rs_render_desc *desc, const struct rs_scene *scene,
@@ -56,12 +42,13 @@ static bool three_frames(const struct rs_render_desc *desc, const struct rs_scen
 	if (rs_renderer_set_scene(r, scene, &err) != RS_OK)
 		fail_msg("set_scene: %s", err.message);
 	rs__gles_force_display_unfused(false);
-	render(r, &(struct rs_frame){.rgba8 = f->fused, .depth = f->depth_fused}, &f->s_fused);
+	gl_render_frame(r, &(struct rs_frame){.rgba8 = f->fused, .depth = f->depth_fused},
+	                &f->s_fused);
 	rs__gles_force_display_unfused(true);
-	render(r, &(struct rs_frame){.rgba8 = f->unfused, .depth = f->depth_unfused},
-	       &f->s_unfused);
+	gl_render_frame(r, &(struct rs_frame){.rgba8 = f->unfused, .depth = f->depth_unfused},
+	                &f->s_unfused);
 	rs__gles_force_display_unfused(false);
-	render(r, &(struct rs_frame){.rgb = f->rgb}, &f->s_rgb);
+	gl_render_frame(r, &(struct rs_frame){.rgb = f->rgb}, &f->s_rgb);
 	rs_image_quantize(f->rgb, desc->width, desc->height, f->quantized);
 	rs_renderer_destroy(&r);
 	return true;
@@ -115,14 +102,14 @@ static void displayed_as_the_display_pass(const char *what, struct rs_render_des
 		gl_skip();
 	}
 	print_message("%s: trace %u / %u calls, display %u / %u\n", what,
-	              calls(&f.s_fused, "trace"), calls(&f.s_unfused, "trace"),
-	              calls(&f.s_fused, "display"), calls(&f.s_unfused, "display"));
-	assert_true(calls(&f.s_fused, "trace") >= 1);
-	assert_int_equal(calls(&f.s_fused, "trace"), calls(&f.s_unfused, "trace"));
-	assert_int_equal(calls(&f.s_fused, "display"), 0);
-	assert_int_equal(calls(&f.s_unfused, "display"), 1);
+	              gl_calls(&f.s_fused, "trace"), gl_calls(&f.s_unfused, "trace"),
+	              gl_calls(&f.s_fused, "display"), gl_calls(&f.s_unfused, "display"));
+	assert_true(gl_calls(&f.s_fused, "trace") >= 1);
+	assert_int_equal(gl_calls(&f.s_fused, "trace"), gl_calls(&f.s_unfused, "trace"));
+	assert_int_equal(gl_calls(&f.s_fused, "display"), 0);
+	assert_int_equal(gl_calls(&f.s_unfused, "display"), 1);
 	/* a float frame needs the float colour: no displayed run, no display pass either */
-	assert_int_equal(calls(&f.s_rgb, "display"), 0);
+	assert_int_equal(gl_calls(&f.s_rgb, "display"), 0);
 	same_bytes(what, &desc, &f);
 	rs_scene_destroy(&scene);
 }
@@ -133,89 +120,14 @@ static struct rs_render_desc base(uint32_t passes)
 	    .width = MAX_W, .height = MAX_H, .passes = passes, .lights = 2};
 }
 
-static void tracer_box_two_passes(void **state)
+/* Every method the last pass can be (test_gl_common.h, gl_fused_cases). */
+static void every_fused_method(void **state)
 {
 	(void)state;
-	displayed_as_the_display_pass("box, 2 passes", base(2), "box");
-}
-
-static void tracer_cow1_one_pass(void **state)
-{
-	(void)state;
-	displayed_as_the_display_pass("cow1, 1 pass", base(1), "cow1");
-}
-
-static void tracer_mirrors_five_passes(void **state)
-{
-	(void)state;
-	displayed_as_the_display_pass("mirrors, 5 passes", base(5), "mirrors");
-}
-
-static void shadow_maps_and_none(void **state)
-{
-	(void)state;
-	struct rs_render_desc d = base(2);
-	d.shadows = RS_SHADOW_MAP;
-	d.shadow_map_size = 128;
-	d.shadow_filter = 3;
-	displayed_as_the_display_pass("cow1, shadow maps", d, "cow1");
-	d = base(2);
-	d.shadows = RS_SHADOW_NONE;
-	displayed_as_the_display_pass("cow1, no shadows", d, "cow1");
-}
-
-/* Classic environment maps: a frame of 2 passes is one trace pass reading the maps for the
- * rays it leaves (rs_gles_step.mapped), and 1 pass reads none. */
-static void classic_environment_map(void **state)
-{
-	(void)state;
-	struct rs_render_desc d = base(2);
-	d.reflections = RS_REFLECT_ENVMAP;
-	d.envmap_size = 32;
-	displayed_as_the_display_pass("mirrors, classic map, 2 passes", d, "mirrors");
-	d.passes = 1;
-	displayed_as_the_display_pass("mirrors, classic map, 1 pass", d, "mirrors");
-	d = base(2);
-	d.reflections = RS_REFLECT_ENVMAP;
-	d.envmap_size = 32;
-	d.shadows = RS_SHADOW_NONE;
-	displayed_as_the_display_pass("mirrors, classic map, no shadows", d, "mirrors");
-}
-
-/* Inter-reflection: the maps are captured each frame by capture plans, which never display. */
-static void inter_reflection(void **state)
-{
-	(void)state;
-	struct rs_render_desc d = base(3);
-	d.reflections = RS_REFLECT_INTERREFLECT;
-	d.reflection_bounces = 2;
-	d.envmap_size = 24;
-	displayed_as_the_display_pass("mirrors, inter-reflection", d, "mirrors");
-}
-
-/* Rasterized primaries: the last pass is the first one over the visibility pass's hits
- * (1 pass) or a later one. */
-static void raster_primaries(void **state)
-{
-	(void)state;
-	struct rs_render_desc d = base(1);
-	d.primary = RS_PRIMARY_RASTER;
-	displayed_as_the_display_pass("cow1, raster, 1 pass", d, "cow1");
-	d.passes = 3;
-	displayed_as_the_display_pass("cow1, raster, 3 passes", d, "cow1");
-}
-
-/* An odd frame size (the per-pixel targets and the display target share the viewport). */
-static void odd_frame_size(void **state)
-{
-	(void)state;
-	struct rs_render_desc d = base(2);
-	d.width = 37;
-	d.height = 23;
-	displayed_as_the_display_pass("box, 37x23", d, "box");
-	d.reflections = RS_REFLECT_ENVMAP;
-	d.envmap_size = 40; /* the targets larger than the frame */
-	displayed_as_the_display_pass("mirrors, 37x23, classic map", d, "mirrors");
+	struct gl_fused_case cases[GL_FUSED_CASES];
+	gl_fused_cases(MAX_W, MAX_H, cases);
+	for (int i = 0; i < GL_FUSED_CASES; ++i)
+		displayed_as_the_display_pass(cases[i].what, cases[i].desc, cases[i].scene);
 }
 
 /* Where the float colour is needed, or the plan cannot, the display pass runs: both at once
@@ -240,16 +152,16 @@ static void the_display_pass_stays_where_it_must(void **state)
 		assert_int_equal(rs_renderer_set_scene(r, scene, NULL), RS_OK);
 		struct rs_render_stats s;
 		/* rgb and rgba8 at once: the display pass, whatever the chain */
-		render(r, &(struct rs_frame){.rgb = rgb, .rgba8 = first}, &s);
-		assert_int_equal(calls(&s, "display"), 1);
+		gl_render_frame(r, &(struct rs_frame){.rgb = rgb, .rgba8 = first}, &s);
+		assert_int_equal(gl_calls(&s, "display"), 1);
 		/* rgba8 alone: displayed only on the fused chain without counters; the same bytes
 		 */
-		render(r, &(struct rs_frame){.rgba8 = bytes}, &s);
-		assert_int_equal(calls(&s, "display"), k == 0 ? 0 : 1);
+		gl_render_frame(r, &(struct rs_frame){.rgba8 = bytes}, &s);
+		assert_int_equal(gl_calls(&s, "display"), k == 0 ? 0 : 1);
 		assert_memory_equal(bytes, first, sizeof bytes);
 		/* and a float frame after a displayed one has its colour again */
 		static float again[MAX_PX * 3];
-		render(r, &(struct rs_frame){.rgb = again}, &s);
+		gl_render_frame(r, &(struct rs_frame){.rgb = again}, &s);
 		assert_memory_equal(again, rgb, sizeof again);
 		rs_renderer_destroy(&r);
 	}
@@ -259,14 +171,7 @@ static void the_display_pass_stays_where_it_must(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-	    cmocka_unit_test(tracer_box_two_passes),
-	    cmocka_unit_test(tracer_cow1_one_pass),
-	    cmocka_unit_test(tracer_mirrors_five_passes),
-	    cmocka_unit_test(shadow_maps_and_none),
-	    cmocka_unit_test(classic_environment_map),
-	    cmocka_unit_test(inter_reflection),
-	    cmocka_unit_test(raster_primaries),
-	    cmocka_unit_test(odd_frame_size),
+	    cmocka_unit_test(every_fused_method),
 	    cmocka_unit_test(the_display_pass_stays_where_it_must),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));

@@ -2,16 +2,20 @@
 # The GPU run in one command, on a machine with none of the project's packages (the device
 # tool's lent NVIDIA machine), from the repository root: unpacks tools/gpu-bundle.sh's
 # archive, points the loader at its libraries and, where /usr/local/nvidia has one, at the
-# NVIDIA EGL driver, then runs tools/gpu-bench.sh (Tables 1-3, its report) and issue 20's
-# target line, Table 2 on Cow17 with 4 lights. Everything lands in the output folder: the
-# report, gpu-run.log (nvidia-smi, the bundle's manifest, every command and its output) and
-# the target line's JSON. Exits non-zero, naming the step, when any step fails.
+# NVIDIA EGL driver, then runs tools/gpu-bench.sh (Tables 1-3, its report), issue 20's
+# target line (Table 2 on Cow17 with 4 lights) and the same frame's times with fragment and
+# compute kernels alternately (a Hopper data-centre GPU shades fragments on 2 of its 66 TPCs:
+# docs/gles.md "Compute kernels"). Everything lands in the output folder: the report,
+# gpu-run.log (nvidia-smi, the bundle's manifest, every command and its output) and the JSON
+# of the target line and of the times. Exits non-zero, naming the step, when any step fails.
 set -euo pipefail
 usage() {
   cat <<'EOF'
 usage: tools/gpu-device-run.sh [--quick] [--bundle FILE] [--out DIR] [--platform NAME]
-  Unpacks the bundle and runs tools/gpu-bench.sh and Table 2 on Cow17 with 4 lights on the
-  egl backend, writing the report, gpu-run.log and table2-cow17-4lights.json into DIR.
+  Unpacks the bundle and runs tools/gpu-bench.sh, Table 2 on Cow17 with 4 lights and that
+  frame's times with fragment and compute kernels (3 alternating rounds) on the egl
+  backend, writing the report, gpu-run.log, table2-cow17-4lights.json and
+  times-cow17-4lights.json into DIR.
   --quick          tiny sizes, one frame: the plumbing only (no figures)
   --bundle FILE    tools/gpu-bundle.sh's archive (default: .gpu/raystream-gpu.tar.gz)
   --out DIR        where the results go (default: $OUT where set, else docs/report)
@@ -95,5 +99,22 @@ step "Table 2 on Cow17 with 4 lights" "$bench" "${target[@]}" --json "$tmp/targe
 jq -e '.rows | length > 0' "$tmp/target.json" >/dev/null ||
   die "Table 2 on Cow17 wrote no rows (see $log)"
 cp "$tmp/target.json" "$out/table2-cow17-4lights.json" || die "cannot write $out"
+
+# The same frame's times as fragment passes and as compute dispatches, alternating round by
+# round (--quick: 64x64, one frame, one round); the rows of every run in one JSON.
+times=(--times --backend egl --passes 2 --lights 4)
+rounds=3
+if [ ${#quick[@]} -gt 0 ]; then times+=(--size 64 --repeats 1); rounds=1; else times+=(--size 512 --repeats 9); fi
+for r in $(seq 1 "$rounds"); do
+  for k in fragment compute; do
+    echo "gpu-device-run: raystream-bench ${times[*]} --kernels $k cow17 (round $r of $rounds)" >&2
+    step "Cow17 times with $k kernels" "$bench" "${times[@]}" --kernels "$k" \
+      --json "$tmp/times-$r-$k.json" cow17
+  done
+done
+jq -s '{mode: "times", rows: [.[].rows[]]}' "$tmp"/times-*.json >"$tmp/times.json" &&
+  jq -e "[.rows[].kernels] | (index(\"fragment\") != null) and (index(\"compute\") != null)" \
+    "$tmp/times.json" >/dev/null || die "the Cow17 times wrote no rows of both kernels (see $log)"
+cp "$tmp/times.json" "$out/times-cow17-4lights.json" || die "cannot write $out"
 echo "$report"
 echo "$log"

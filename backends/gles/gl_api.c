@@ -23,6 +23,14 @@ enum rs_status rs_gl_load(struct rs_gl *gl, void *(*get)(void *ctx, const char *
 	for (int i = 0; i < 3 && !gl->TexBuffer; ++i)
 		if ((p = get(ctx, tex_buffer[i])) != NULL)
 			memcpy(&gl->TexBuffer, &p, sizeof p);
+	/* GLES 3.1 compute: all three or none */
+	void *dispatch = get(ctx, "glDispatchCompute"), *image = get(ctx, "glBindImageTexture"),
+	     *barrier = get(ctx, "glMemoryBarrier");
+	if (dispatch && image && barrier) {
+		memcpy(&gl->DispatchCompute, &dispatch, sizeof dispatch);
+		memcpy(&gl->BindImageTexture, &image, sizeof image);
+		memcpy(&gl->MemoryBarrier, &barrier, sizeof barrier);
+	}
 	if (rs__gl_fault_hook) /* test builds only (gles_seams.h) */
 		rs__gl_fault_hook(gl);
 	return RS_OK;

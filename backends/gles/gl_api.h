@@ -2,7 +2,7 @@
  * get_proc_address: never linked directly, so one module serves an EGL GLES context and an
  * OSMesa desktop context (libOSMesa and libGLESv2 both export gl* symbols; linking one of
  * them would bind every call to it). Types and enums come from the GLES 3.2 header; every
- * entry point of the table is GLES 3.0 except the optional TexBuffer. */
+ * entry point of the table is GLES 3.0 except the optional TexBuffer and compute calls. */
 #ifndef RS_GLES_GL_API_H
 #define RS_GLES_GL_API_H
 
@@ -105,6 +105,13 @@ struct rs_gl {
 	/* Optional (GLES 3.2 glTexBuffer, or the OES/EXT entry point of GLES 3.1; desktop GL
 	 * 3.1): NULL where the context has none. */
 	void(GL_APIENTRY *TexBuffer)(GLenum target, GLenum internalformat, GLuint buffer);
+	/* Optional (GLES 3.1, desktop GL 4.3): compute dispatches writing images
+	 * (rs_render_desc.kernels); all three or NULL where the context has none. */
+	void(GL_APIENTRY *DispatchCompute)(GLuint groups_x, GLuint groups_y, GLuint groups_z);
+	void(GL_APIENTRY *BindImageTexture)(GLuint unit, GLuint texture, GLint level,
+	                                    GLboolean layered, GLint layer, GLenum access,
+	                                    GLenum format);
+	void(GL_APIENTRY *MemoryBarrier)(GLbitfield barriers);
 };
 #undef RS_GL_MEMBER
 

@@ -110,7 +110,9 @@ enum rs_status rs_gles_plan_run(struct gles *g, const struct rs_gles_plan *plan,
 		GLuint out[4];
 		for (int k = 0; k < s->n_out; ++k)
 			out[k] = rs_gles_target(g, shown ? s->shown[k] : s->out[k]);
-		st = rs_gles_draw(g, s->name, out, s->n_out, stats, t0, err);
+		st = p->compute
+		         ? rs_gles_dispatch(g, p, s->name, out, s->n_out, w, h, stats, t0, err)
+		         : rs_gles_draw(g, s->name, out, s->n_out, stats, t0, err);
 	}
 	return st;
 }

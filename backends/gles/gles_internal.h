@@ -56,6 +56,10 @@ enum {
 	PROG_RESOLVE,      /* rasterized primaries: exact hits from the visibility pass */
 	PROG_FUSED_RASTER, /* the fused chain's first pass over rasterized primaries */
 	PROG_PRIMARY,      /* rs_render_desc.hits_only: camera ray and closest hit, nothing else */
+	/* RS_KERNELS_COMPUTE: the three fused passes as compute dispatches (fused.glsl) */
+	PROG_FUSED_COMPUTE,
+	PROG_FUSED_FIRST_COMPUTE,
+	PROG_FUSED_RASTER_COMPUTE,
 	PROG_COUNT
 };
 
@@ -115,12 +119,15 @@ enum {
 	U_INSTANCE_COUNT,
 	U_PROTO_INSTANCES,
 	U_DISPLAY, /* fused.glsl: target 0 takes the RGBA8 colour (rs_gles_step.display) */
+	U_EXTENT,  /* fused.glsl as a compute kernel: the pixels of the pass */
+	U_STORES,  /* ... and which of its four images it stores (bit k: image k) */
 	U_COUNT
 };
 
 struct rs_gles_program {
 	GLuint id; /* 0: not built for this scene */
 	GLint loc[U_COUNT];
+	bool compute; /* a compute program: dispatched, its targets bound as images */
 };
 
 /* A texture of the per-pixel state, as a plan names it: resolved at run time by
@@ -173,6 +180,7 @@ struct rs_gles_plan_desc {
 	bool counters;
 	bool envmap;    /* RS_REFLECT_ENVMAP or _INTERREFLECT: later passes may read cube maps */
 	bool hits_only; /* rs_render_desc.hits_only: the primary hits, nothing shaded */
+	bool compute;   /* RS_KERNELS_COMPUTE: the fused passes as compute programs */
 };
 
 /* Which programs run in which order into which targets, decided once (gles_plan.c). */
@@ -208,6 +216,9 @@ struct gles {
 	 * them, else NULL; GL_MAX_TEXTURE_BUFFER_SIZE. */
 	const char *buffer_glsl;
 	GLint max_tex_buffer;
+	/* Compute kernels (RS_KERNELS_COMPUTE): their version line where the context has
+	 * GLES 3.1 compute shaders with 4 image units, else NULL. */
+	const char *compute_glsl;
 	GLuint vao, fbo;
 
 	/* set_scene */
@@ -397,6 +408,12 @@ void rs_gles_frame_state(const struct gles *g, GLsizei w, GLsizei h);
  * bound program, finish and add the time since `t0` to kernel `name` of `stats`. */
 enum rs_status rs_gles_draw(const struct gles *g, const char *name, const GLuint *targets, int n,
                             struct rs_render_stats *stats, double t0, struct rs_error *err);
+/* The same with the bound compute program over a w x h grid: target k bound to image unit k
+ * as RGBA32F (a 0 is not stored: u_stores), then a barrier for every later read of them. */
+enum rs_status rs_gles_dispatch(const struct gles *g, const struct rs_gles_program *p,
+                                const char *name, const GLuint *targets, int n, GLsizei w,
+                                GLsizei h, struct rs_render_stats *stats, double t0,
+                                struct rs_error *err);
 /* Add `ms` to the kernel timing `name` of `stats` (a new entry while there is room). */
 void rs_gles_kernel_time(struct rs_render_stats *stats, const char *name, double ms);
 

@@ -8,7 +8,9 @@
  *             (the separate chain's second pass traces nothing, yet costs two full-screen
  *             kernels, docs/benchmarks.md). Its last pass can write the frame's RGBA8
  *             colour in place of the display pass (rs_gles_step.display; whether a frame
- *             does is gles_render's choice);
+ *             does is gles_render's choice). With compute kernels (rs_render_desc.kernels)
+ *             its passes are the same kernels as compute programs, and the last one never
+ *             displays: its outputs are RGBA32F images, whose format a program fixes;
  *   separate  ray generation, then per segment intersect (or the raster visibility and
  *             resolve passes) and shade;
  *   paper     as separate, with shade split into the paper's environment, shading and
@@ -80,18 +82,23 @@ static void raster_step(struct rs_gles_plan *plan, uint32_t pass)
 	v->n_out = 1;
 }
 
-/* The fused chain's pass: intersection and path step in one kernel. */
+/* The fused chain's pass: intersection and path step in one kernel, a fragment or (compute)
+ * a compute program. */
 static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pass, bool last,
-                       bool rasterized, uint8_t envmap, bool mapped)
+                       bool rasterized, uint8_t envmap, bool mapped, bool compute)
 {
 	if (rasterized)
 		raster_step(plan, pass);
 	int prog = pass > 0 ? PROG_FUSED : rasterized ? PROG_FUSED_RASTER : PROG_FUSED_FIRST;
+	if (compute)
+		prog = pass > 0     ? PROG_FUSED_COMPUTE
+		       : rasterized ? PROG_FUSED_RASTER_COMPUTE
+		                    : PROG_FUSED_FIRST_COMPUTE;
 	uint8_t bind = BIND_SCENE;
 	bind |= pass == 0 ? BIND_CAMERA | BIND_NEAR | (rasterized ? BIND_VIS : 0) : BIND_STATE;
 	/* with cube maps bound on every pass: a samplerCube left on a 2D texture's unit fails */
 	bind |= envmap;
-	struct rs_gles_step *s = add(plan, "trace", prog, bind, pass);
+	struct rs_gles_step *s = add(plan, compute ? "trace compute" : "trace", prog, bind, pass);
 	s->mapped = mapped;
 	inputs(c, REF_NONE, s);
 	for (int k = 0; k < ST_COUNT; ++k)
@@ -108,7 +115,7 @@ static void fused_pass(struct rs_gles_plan *plan, struct cursor *c, uint32_t pas
 		 * target 0 takes them, and the colour nothing reads after it is not stored
 		 * (the display pass and a float write a pixel fewer: docs/benchmarks.md, "The
 		 * display pass fused into the last trace pass"). */
-		s->display = true;
+		s->display = !compute;
 		memcpy(s->shown, s->out, sizeof s->shown);
 		s->shown[0] = REF_COLOR;
 		s->shown[ST_ACC] = REF_NONE;
@@ -232,7 +239,8 @@ void rs_gles_plan_make(const struct rs_gles_plan_desc *d, struct rs_gles_plan *o
 		bool rasterized = pass == 0 && d->primary == RS_PRIMARY_RASTER;
 		uint8_t hit = (uint8_t)(REF_HIT + (pass == 0 ? 0 : 1));
 		if (fused) {
-			fused_pass(out, &c, pass, pass + 1 == passes, rasterized, envmap, mapped);
+			fused_pass(out, &c, pass, pass + 1 == passes, rasterized, envmap, mapped,
+			           d->compute);
 			continue;
 		}
 		if (rasterized) {

@@ -36,6 +36,7 @@ static const struct {
 	const char *vertex[3]; /* NULL: the fullscreen triangle */
 	size_t vcount;
 	int variant;
+	bool compute; /* the files as one compute stage (no vertex stage) */
 } programs[PROG_COUNT] = {
     [PROG_RAYGEN] = {{"camera.glsl", "raygen.glsl"}, 2, {NULL}, 0, ALL_PASSES},
     [PROG_INTERSECT] =
@@ -67,6 +68,21 @@ static const struct {
                            0,
                            RASTER_FIRST_PASS},
     [PROG_PRIMARY] = {{"common.glsl", "camera.glsl", "primary.glsl"}, 3, {NULL}, 0, ALL_PASSES},
+    [PROG_FUSED_COMPUTE] =
+        {{PATH_FILES, "quantize.glsl", "fused.glsl"}, PATH_COUNT + 2, {NULL}, 0, ALL_PASSES, true},
+    [PROG_FUSED_FIRST_COMPUTE] = {{PATH_FILES, "camera.glsl", "quantize.glsl", "fused.glsl"},
+                                  PATH_COUNT + 3,
+                                  {NULL},
+                                  0,
+                                  FIRST_PASS,
+                                  true},
+    [PROG_FUSED_RASTER_COMPUTE] = {{PATH_FILES, "camera.glsl", "visibility.glsl", "quantize.glsl",
+                                    "fused.glsl"},
+                                   PATH_COUNT + 4,
+                                   {NULL},
+                                   0,
+                                   RASTER_FIRST_PASS,
+                                   true},
 };
 
 /* The uniforms' names, in the order of the U_* enum. */
@@ -128,6 +144,8 @@ static const char *const uniform_names[U_COUNT] = {
     [U_INSTANCE_COUNT] = "u_instance_count",
     [U_PROTO_INSTANCES] = "u_proto_instances",
     [U_DISPLAY] = "u_display",
+    [U_EXTENT] = "u_extent",
+    [U_STORES] = "u_stores",
 };
 _Static_assert(RS_RENDER_MAX_MIRROR_OBJECTS == 4, "one u_objmapN name per mirror object");
 
@@ -206,18 +224,21 @@ static enum rs_status compile(const struct rs_gl *gl, GLenum type, const char **
 	return RS_OK;
 }
 
-/* Sources of one stage: prelude, defines, then each file at line LINE_BASE * (k + 1). */
+/* Sources of one stage: prelude, defines (RS_COMPUTE: 1 in a compute stage, which the files
+ * test for their entry point), then each file at line LINE_BASE * (k + 1). */
 static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *version,
                             const char *const *files, size_t count, const char *defines,
                             GLuint *out, struct rs_error *err)
 {
 	RS_ASSERT(count > 0 && count <= MAX_FILES);
-	const char *parts[3 + 2 * MAX_FILES];
+	const char *parts[4 + 2 * MAX_FILES];
 	char lines[MAX_FILES][32];
 	GLsizei n = 0;
 	parts[n++] = version;
 	parts[n++] = precision;
 	parts[n++] = defines;
+	parts[n++] =
+	    type == GL_COMPUTE_SHADER ? "#define RS_COMPUTE 1\n" : "#define RS_COMPUTE 0\n";
 	for (size_t i = 0; i < count; ++i) {
 		const char *src = kernel_source(files[i]);
 		if (!src)
@@ -230,27 +251,35 @@ static enum rs_status stage(const struct rs_gl *gl, GLenum type, const char *ver
 	return compile(gl, type, parts, n, files, count, out, err);
 }
 
+/* A program of the vertex files (NULL: the fullscreen triangle) and fragment files, or with
+ * `compute` of the files as one compute stage. */
 static enum rs_status program(const struct rs_gl *gl, const char *version,
                               const char *const *vfiles, size_t vcount, const char *const *files,
-                              size_t count, const char *defines, GLuint *out, struct rs_error *err)
+                              size_t count, const char *defines, bool compute, GLuint *out,
+                              struct rs_error *err)
 {
 	static const char *const fullscreen[1] = {"fullscreen.glsl"};
 	*out = 0;
 	GLuint vs = 0, fs = 0;
-	enum rs_status st = stage(gl, GL_VERTEX_SHADER, version, vfiles ? vfiles : fullscreen,
-	                          vfiles ? vcount : 1, defines, &vs, err);
+	enum rs_status st = RS_OK;
+	if (!compute)
+		st = stage(gl, GL_VERTEX_SHADER, version, vfiles ? vfiles : fullscreen,
+		           vfiles ? vcount : 1, defines, &vs, err);
 	if (st == RS_OK)
-		st = stage(gl, GL_FRAGMENT_SHADER, version, files, count, defines, &fs, err);
+		st = stage(gl, compute ? GL_COMPUTE_SHADER : GL_FRAGMENT_SHADER, version, files,
+		           count, defines, &fs, err);
 	if (st != RS_OK) {
 		if (vs)
 			gl->DeleteShader(vs);
 		return st;
 	}
 	GLuint prog = gl->CreateProgram();
-	gl->AttachShader(prog, vs);
+	if (vs)
+		gl->AttachShader(prog, vs);
 	gl->AttachShader(prog, fs);
 	gl->LinkProgram(prog);
-	gl->DeleteShader(vs);
+	if (vs)
+		gl->DeleteShader(vs);
 	gl->DeleteShader(fs);
 	GLint ok = 0;
 	gl->GetProgramiv(prog, GL_LINK_STATUS, &ok);
@@ -275,18 +304,23 @@ enum rs_status rs_gles_programs_build(struct gles *g, const char *const prelude[
 	for (int k = 0; k < PLAN_COUNT; ++k)
 		for (uint32_t i = 0; i < g->plans[k].count; ++i)
 			used[g->plans[k].steps[i].prog] = true;
-	const char *version =
-	    g->storage == RS_SCENE_STORAGE_BUFFER ? g->buffer_glsl : "#version 300 es\n";
+	bool buffers = g->storage == RS_SCENE_STORAGE_BUFFER;
+	const char *version = buffers ? g->buffer_glsl : "#version 300 es\n";
+	/* compute needs GLES 3.1; a buffer-texture line is 3.1 or later already */
+	const char *cs_version = buffers ? g->buffer_glsl : g->compute_glsl;
 	for (int i = 0; i < PROG_COUNT; ++i) {
 		struct rs_gles_program *p = &g->prog[i];
 		if (!used[i])
 			continue;
+		bool cs = programs[i].compute;
+		RS_ASSERT(!cs || g->compute_glsl); /* set_scene refused compute without it */
 		const char *const *vs = programs[i].vcount ? programs[i].vertex : NULL;
-		enum rs_status st =
-		    program(&g->gl, version, vs, programs[i].vcount, programs[i].files,
-		            programs[i].count, prelude[programs[i].variant], &p->id, err);
+		enum rs_status st = program(
+		    &g->gl, cs ? cs_version : version, vs, programs[i].vcount, programs[i].files,
+		    programs[i].count, prelude[programs[i].variant], cs, &p->id, err);
 		if (st != RS_OK)
 			return st;
+		p->compute = cs;
 		for (int u = 0; u < U_COUNT; ++u)
 			p->loc[u] = g->gl.GetUniformLocation(p->id, uniform_names[u]);
 	}
@@ -305,5 +339,5 @@ enum rs_status rs_gles_program_compile(const struct rs_gl *gl, const char *versi
                                        const char *const *files, size_t count, GLuint *out,
                                        struct rs_error *err)
 {
-	return program(gl, version, NULL, 0, files, count, "", out, err);
+	return program(gl, version, NULL, 0, files, count, "", false, out, err);
 }

@@ -128,7 +128,8 @@ static void make_plans(struct gles *g)
 	                               .chain = d->chain,
 	                               .counters = d->counters,
 	                               .envmap = d->reflections != RS_REFLECT_TRACE,
-	                               .hits_only = d->hits_only};
+	                               .hits_only = d->hits_only,
+	                               .compute = d->kernels == RS_KERNELS_COMPUTE};
 	rs_gles_plan_make(&pd, &g->plans[PLAN_FRAME]);
 	if (!pd.envmap)
 		return;
@@ -204,6 +205,19 @@ static enum rs_status set_scene(struct gles *g, const struct rs_scene *scene,
 		g->cops->release(g->ctx);
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "gles: hits_only has no image for the window to show");
+	}
+	if (desc->kernels == RS_KERNELS_COMPUTE &&
+	    (!g->compute_glsl || desc->chain != RS_CHAIN_FUSED)) {
+		g->cops->release(g->ctx);
+		if (desc->chain != RS_CHAIN_FUSED)
+			return rs_error_set(
+			    err, RS_ERR_UNSUPPORTED,
+			    "gles: kernels compute runs the fused chain only (chain "
+			    "fused)");
+		return rs_error_set(err, RS_ERR_UNSUPPORTED,
+		                    "gles: kernels compute needs GLES 3.1 compute shaders with 4 "
+		                    "image units, which %s lacks (kernels fragment runs here)",
+		                    g->renderer);
 	}
 	rs_gles_scene_delete(g);
 	g->desc = *desc;
@@ -480,6 +494,31 @@ static void gles_describe(const void *impl, char *out, size_t cap)
 	snprintf(out, cap, "%s", g->renderer);
 }
 
+/* Compute kernels (RS_KERNELS_COMPUTE): GLES 3.1, or desktop GL running ES 3.1 shaders,
+ * with the entry points, 4 image units (the fused pass's four outputs) and the kernels'
+ * texture units in the compute stage. A function pointer alone proves nothing: EGL may hand
+ * one out for any name. */
+static void probe_compute(struct gles *g, const char *version, bool es31_compat)
+{
+	const struct rs_gl *gl = &g->gl;
+	int major = 0, minor = 0;
+	sscanf(g->es ? version + 9 : version, " %d.%d", &major, &minor);
+	bool es31 = g->es ? major > 3 || (major == 3 && minor >= 1) : es31_compat;
+	g->compute_glsl = NULL;
+	/* test builds only (gles_seams.h): a context without compute */
+	if (rs__gles_no_compute && rs__gles_no_compute())
+		return;
+	if (!es31 || !gl->DispatchCompute)
+		return;
+	GLint images = 0, units = 0;
+	gl->GetIntegerv(GL_MAX_COMPUTE_IMAGE_UNIFORMS, &images);
+	gl->GetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units);
+	while (gl->GetError() != GL_NO_ERROR) {
+	}
+	if (images >= 4 && units >= UNIT_COUNT)
+		g->compute_glsl = "#version 310 es\n";
+}
+
 static enum rs_status probe(struct gles *g, struct rs_error *err)
 {
 	const struct rs_gl *gl = &g->gl;
@@ -494,7 +533,7 @@ static enum rs_status probe(struct gles *g, struct rs_error *err)
 		return rs_error_set(err, RS_ERR_UNSUPPORTED,
 		                    "gles: need GLES 3.0 or desktop GL 3.3, the context is \"%s\"",
 		                    version);
-	bool float_targets = !g->es, es3_compat = g->es;
+	bool float_targets = !g->es, es3_compat = g->es, es31_compat = false;
 	GLint n = 0;
 	gl->GetIntegerv(GL_NUM_EXTENSIONS, &n);
 	for (GLint i = 0; i < n; ++i) {
@@ -503,8 +542,11 @@ static enum rs_status probe(struct gles *g, struct rs_error *err)
 			float_targets = true;
 		if (e && strcmp(e, "GL_ARB_ES3_compatibility") == 0)
 			es3_compat = true;
+		if (e && strcmp(e, "GL_ARB_ES3_1_compatibility") == 0)
+			es31_compat = true;
 	}
 	rs_gles_probe_buffers(g, version);
+	probe_compute(g, version, es31_compat);
 	GLint dims[2] = {0, 0};
 	gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &g->max_tex);
 	gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);

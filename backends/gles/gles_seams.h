@@ -20,6 +20,9 @@ bool rs__gles_capture_readback(void) __attribute__((weak));
 /* True: every frame that asks for RGBA8 takes the display pass, as where the last fused
  * pass may not write it (rs_gles_step.display; compared against it in tests). */
 bool rs__gles_display_unfused(void) __attribute__((weak));
+/* True: a renderer created from now on finds no compute shaders in its context (as a
+ * GLES 3.0 device), so RS_KERNELS_COMPUTE is refused. */
+bool rs__gles_no_compute(void) __attribute__((weak));
 
 /* gles_seams.c: compile `source` in place of kernel file `name` (NULL name: none). */
 void rs__gles_override_kernel(const char *name, const char *source);
@@ -29,6 +32,9 @@ void rs__gles_force_capture_readback(bool on);
 
 /* gles_seams.c: rs__gles_display_unfused() answers `on` from now on. */
 void rs__gles_force_display_unfused(bool on);
+
+/* gles_seams.c: rs__gles_no_compute() answers `on` from now on. */
+void rs__gles_force_no_compute(bool on);
 
 /* gl_fault.c: out of GPU memory on demand. rs__gl_fault_wrap(true) makes every table loaded
  * from then on wrap the allocating entry points (glTexImage2D/3D, glTexStorage2D,

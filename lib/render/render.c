@@ -150,6 +150,9 @@ enum rs_status rs_render_desc_resolve(const struct rs_render_desc *desc, struct 
 	if (d.chain != RS_CHAIN_FUSED && d.chain != RS_CHAIN_SEPARATE && d.chain != RS_CHAIN_PAPER)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown kernel chain %d",
 		                    (int)d.chain);
+	if (d.kernels != RS_KERNELS_FRAGMENT && d.kernels != RS_KERNELS_COMPUTE)
+		return rs_error_set(err, RS_ERR_INVALID, "render: unknown kernel stage %d",
+		                    (int)d.kernels);
 	if (d.scene_storage != RS_SCENE_STORAGE_AUTO && d.scene_storage != RS_SCENE_STORAGE_2D &&
 	    d.scene_storage != RS_SCENE_STORAGE_BUFFER)
 		return rs_error_set(err, RS_ERR_INVALID, "render: unknown scene storage %d",

@@ -28,6 +28,8 @@ static const struct rs_render_option options[] = {
     {"threads", "1..256", "cores", "CPU backend and BVH build threads; cores: the machine's"},
     {"triangle-test", "watertight|mt", "watertight", "mt: the paper's Moller-Trumbore"},
     {"chain", "fused|separate|paper", "fused", "GL: how kernels are chained"},
+    {"kernels", "fragment|compute", "fragment",
+     "GL: the fused chain as fragment passes, or GLES 3.1 compute dispatches"},
     {"instances", "auto|flatten|two-level", "auto",
      "instanced scenes: BLAS per mesh + TLAS, or flattened (auto: CPU two levels; GL "
      "flattened until instances move or where it does not fit)"},
@@ -65,6 +67,7 @@ static const char *const instance_modes[] = {"auto", "flatten", "two-level"};
 static const char *const storages[] = {"auto", "2d", "buffer"};
 static const char *const tests[] = {"watertight", "mt"};
 static const char *const chains[] = {"fused", "separate", "paper"};
+static const char *const stages[] = {"fragment", "compute"};
 
 /* "rays", "none", "map", "map:RES" or "map:RES:FILTER". */
 static bool set_shadows(struct rs_render_desc *d, const char *v)
@@ -173,6 +176,8 @@ static bool set_value(struct rs_render_desc *d, const struct rs_render_option *o
 		d->triangle_test = i ? RS_TRIANGLE_MOLLER_TRUMBORE : RS_TRIANGLE_WATERTIGHT;
 	else if (!strcmp(k, "chain") && PICK(chains))
 		d->chain = (enum rs_kernel_chain)i;
+	else if (!strcmp(k, "kernels") && PICK(stages))
+		d->kernels = (enum rs_kernel_stage)i;
 	else if (!strcmp(k, "instances") && PICK(instance_modes))
 		d->instances = (enum rs_instances_mode)i;
 	else
@@ -191,7 +196,7 @@ enum rs_status rs_render_desc_set(struct rs_render_desc *desc, const char *key, 
 		                    "unknown render option '%s' (backend, size, passes, lights, "
 		                    "shadows, primary, reflections, envmap-size, bvh, nodes, "
 		                    "scene-storage, "
-		                    "threads, triangle-test, chain, instances)",
+		                    "threads, triangle-test, chain, kernels, instances)",
 		                    key);
 	/* A failed parse leaves the descriptor as it was. */
 	struct rs_render_desc d = *desc;
@@ -283,6 +288,8 @@ enum rs_status rs_render_desc_get(const struct rs_render_desc *desc, const char 
 	else if (!strcmp(key, "triangle-test"))
 		n = snprintf(out, cap, "%s",
 		             d->triangle_test == RS_TRIANGLE_MOLLER_TRUMBORE ? "mt" : "watertight");
+	else if (!strcmp(key, "kernels"))
+		n = snprintf(out, cap, "%s", (unsigned)d->kernels < 2 ? stages[d->kernels] : "?");
 	else if (!strcmp(key, "instances"))
 		n = snprintf(out, cap, "%s",
 		             (unsigned)d->instances < 3 ? instance_modes[d->instances] : "?");

@@ -33,6 +33,7 @@ struct bench_options {
 	struct rs_pack_desc pack;      /* --nodes; table 1 defaults to the paper's layout */
 	bool pack_set;                 /* --nodes given */
 	enum rs_scene_storage storage; /* table 2: --scene-storage */
+	enum rs_kernel_stage kernels;  /* table 2: --kernels */
 	struct rs_render_desc render;  /* the render options as given (--times renders with it) */
 	cJSON *json;                   /* --json: rows are added here; NULL: not asked for */
 };

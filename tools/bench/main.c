@@ -119,7 +119,8 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	    .option_count = sizeof opts / sizeof opts[0],
 	    .render = &o->render,
 	    .render_keys = "backend,passes,threads,bvh,nodes,scene-storage,"
-	                   "primary,shadows,reflections,envmap-size,chain,triangle-test,instances",
+	                   "primary,shadows,reflections,envmap-size,chain,kernels,triangle-test,"
+	                   "instances",
 	    .positional = positional,
 	    .positional_max = BENCH_MAX_SCENES,
 	    .positional_name = "SCENE..."};
@@ -158,6 +159,7 @@ static int parse(int argc, char **argv, struct bench_options *o, const char **js
 	o->builder = o->render.bvh.builder;
 	o->pack = o->render.pack;
 	o->storage = o->render.scene_storage;
+	o->kernels = o->render.kernels;
 	o->threads = o->render.threads;
 	if (!o->threads) {
 		long n = sysconf(_SC_NPROCESSORS_ONLN);

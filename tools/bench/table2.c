@@ -63,6 +63,7 @@ struct rs_render_desc t2_desc(const struct bench_options *o, enum rs_primary_mod
 	                               .bvh = {.builder = o->builder},
 	                               .pack = o->pack,
 	                               .scene_storage = o->storage,
+	                               .kernels = o->kernels,
 	                               .threads = o->threads};
 }
 
@@ -365,9 +366,10 @@ int bench_table2(const struct bench_options *o)
 	if (code == 0) {
 		print_refused(o, scenes);
 		char nodes[32];
-		printf("\nrenderer: %s; BVH nodes %s; scene storage %s\n", renderer,
+		printf("\nrenderer: %s; BVH nodes %s; scene storage %s; kernels %s\n", renderer,
 		       rs_tool_nodes_name(&o->pack, nodes, sizeof nodes),
-		       rs_tool_storage_name(results[0].settings[0].stats.scene_storage));
+		       rs_tool_storage_name(results[0].settings[0].stats.scene_storage),
+		       o->kernels == RS_KERNELS_COMPUTE ? "compute" : "fragment");
 		print_kernels(o, scenes);
 		if (o->peer)
 			t2_peer_print(o, results, scenes);

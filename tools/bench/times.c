@@ -17,9 +17,13 @@
 #include "raystream/rs_renderers.h"
 #include "tool_common.h"
 
-static const char *chain_name(enum rs_kernel_chain c)
+/* The chain, and "fused compute" for the fused chain's compute kernels. */
+static const char *chain_name(const struct rs_render_desc *d)
 {
-	return c == RS_CHAIN_PAPER ? "paper" : c == RS_CHAIN_SEPARATE ? "separate" : "fused";
+	return d->chain == RS_CHAIN_PAPER         ? "paper"
+	       : d->chain == RS_CHAIN_SEPARATE    ? "separate"
+	       : d->kernels == RS_KERNELS_COMPUTE ? "fused compute"
+	                                          : "fused";
 }
 
 static void print_row(const char *name, const struct rs_render_desc *d,
@@ -41,7 +45,7 @@ static void print_row(const char *name, const struct rs_render_desc *d,
 	printf("%-6s %-6s %ux%u passes %u lights %u %s %s %s%s%s nodes %s storage %s: cpu %.1f ms "
 	       "(%.1f-%.1f), wall %.1f ms (%.1f-%.1f) = %.2f fps, %.2f Mrays/s (%llu rays), hit "
 	       "numbers %.1f;",
-	       name, s->backend, d->width, d->height, d->passes, d->lights, chain_name(d->chain),
+	       name, s->backend, d->width, d->height, d->passes, d->lights, chain_name(d),
 	       d->primary == RS_PRIMARY_RASTER ? "raster" : "trace",
 	       rs_tool_shadows_name(d->shadows), refl, inst,
 	       rs_tool_nodes_name(&d->pack, nodes, sizeof nodes),
@@ -64,9 +68,9 @@ static cJSON *json_row(const char *name, const struct rs_render_desc *d,
 	cJSON_AddStringToObject(row, "scene", name);
 	cJSON_AddStringToObject(row, "backend", s->backend);
 	cJSON_AddStringToObject(row, "renderer", s->renderer);
-	static const char *const keys[] = {"size",    "passes",   "lights",      "chain",
-	                                   "primary", "shadows",  "reflections", "bvh",
-	                                   "nodes",   "instances"};
+	static const char *const keys[] = {"size",    "passes",  "lights",   "chain",
+	                                   "kernels", "primary", "shadows",  "reflections",
+	                                   "bvh",     "nodes",   "instances"};
 	for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i)
 		if (rs_render_desc_get(d, keys[i], text, sizeof text, NULL) == RS_OK)
 			cJSON_AddStringToObject(row, keys[i], text);

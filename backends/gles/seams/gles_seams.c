@@ -1,7 +1,8 @@
 /* Test seams (gles_seams.h; test builds only): one kernel's source replaced, to check that a
  * compile error names the file and line; cube map captures forced onto their readback
  * fallback, to compare it with the GPU path; frames forced onto the display pass, to compare
- * it with the last fused pass writing the RGBA8 colour. */
+ * it with the last fused pass writing the RGBA8 colour; a context made to answer that it has
+ * no compute shaders. */
 #include <string.h>
 
 #include "gles_seams.h"
@@ -41,4 +42,16 @@ void rs__gles_force_display_unfused(bool on)
 bool rs__gles_display_unfused(void)
 {
 	return display_unfused;
+}
+
+static bool no_compute;
+
+void rs__gles_force_no_compute(bool on)
+{
+	no_compute = on;
+}
+
+bool rs__gles_no_compute(void)
+{
+	return no_compute;
 }

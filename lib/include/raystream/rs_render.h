@@ -62,6 +62,22 @@ enum rs_kernel_chain {
 	RS_CHAIN_PAPER = 2,
 };
 
+/** How the GL backends run the fused chain's trace passes. */
+enum rs_kernel_stage {
+	/** Full-screen fragment passes into render targets: GLES 3.0, the paper's way, and
+	 * what handheld GPUs run best (default). */
+	RS_KERNELS_FRAGMENT = 0,
+	/** GLES 3.1 compute dispatches writing the same targets as images: the same kernels
+	 * and images bit for bit. For GPUs whose fragment stage gets only part of the chip
+	 * (NVIDIA's Hopper data-centre GPUs shade fragments on 2 of their 66 TPCs:
+	 * docs/gles.md "Compute kernels"). The fused chain only (chain fused; a counting frame,
+	 * which runs the separate chain, and a hits_only frame's one kernel stay fragment
+	 * passes), and its last pass does not write the RGBA8 colour itself (the display pass
+	 * does). Refused at set_scene for the other chains and where the context has no
+	 * compute shaders. */
+	RS_KERNELS_COMPUTE = 1,
+};
+
 /** How a scene with instances (rs_scene_add_instance) is traced. */
 enum rs_instances_mode {
 	/** Two levels where the scene has instances and the renderer can walk them, else
@@ -144,6 +160,9 @@ struct rs_render_desc {
 	 * 0 -> the machine's cores. */
 	uint32_t threads;
 	enum rs_kernel_chain chain;
+	/** GL backends: fragment passes or compute dispatches (rs_kernel_stage); the CPU
+	 * backend ignores it. */
+	enum rs_kernel_stage kernels;
 	enum rs_reflection_mode reflections;
 	/** RS_REFLECT_INTERREFLECT: cube-map captures per frame, 1..8; 0 -> 1. */
 	uint32_t reflection_bounces;
@@ -393,8 +412,8 @@ struct rs_render_option {
 };
 
 /** Every render option (static table, `*out_count` entries), in --help order: backend, size,
- * passes, lights, shadows, primary, reflections, bvh, nodes, scene-storage, threads,
- * triangle-test, chain. */
+ * passes, lights, shadows, primary, reflections, envmap-size, bvh, nodes, scene-storage,
+ * threads, triangle-test, chain, kernels, instances. */
 const struct rs_render_option *rs_render_options(size_t *out_count);
 
 /** The option named `key`, or NULL. */
