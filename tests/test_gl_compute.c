@@ -4,11 +4,11 @@
  * every method a fused pass can be: traced and rasterized primaries, one and several
  * passes, shadow rays, maps and none, classic environment maps and inter-reflection, 2D and
  * buffer storage, wide nodes, two levels, an odd frame size and cube faces larger than the
- * frame, vertices moved between frames. Each case also proves the compute programs ran (the
- * frame's kernel timings name "trace compute", never "trace"). Where compute cannot run as
- * asked it is refused in one line: the separate and paper chains, and a context without
- * compute shaders (the seam rs__gles_force_no_compute). A counting frame runs the separate
- * chain in fragment passes, as documented, with the same image. EGL (llvmpipe in CI), and
+ * frame, faces taken through the readback fallback, vertices moved between frames. Each case also
+ * proves the compute programs ran (the frame's kernel timings name "trace compute", never "trace").
+ * Where compute cannot run as asked it is refused in one line: the separate and paper chains, and a
+ * context without compute shaders (the seam rs__gles_force_no_compute). A counting frame runs the
+ * separate chain in fragment passes, as documented, with the same image. EGL (llvmpipe in CI), and
  * OSMesa where the build has it; skipped without a context. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -58,7 +58,7 @@ static bool frames(const char *backend, struct rs_render_desc desc, enum rs_kern
 		fail_msg("set_scene (%s): %s", stage ? "compute" : "fragment", err.message);
 	struct rs_scene *moved = move ? move_on(r, move) : NULL;
 	gl_render_frame(r, &(struct rs_frame){.rgb = f->rgb, .depth = f->depth, .triangle = f->tri},
-	       &f->stats);
+	                &f->stats);
 	gl_render_frame(r, &(struct rs_frame){.rgba8 = f->bytes}, &f->stats_bytes);
 	rs_renderer_destroy(&r);
 	rs_scene_destroy(&moved);
@@ -93,8 +93,8 @@ static void compute_as_fragment_on(const char *backend, const char *what,
 	print_message("%s (%s): trace %u, trace compute %u, display %u; %zu of %zu floats "
 	              "differ, %zu lit\n",
 	              what, backend, gl_calls(&frag.stats, "trace"),
-	              gl_calls(&comp.stats, "trace compute"), gl_calls(&comp.stats_bytes, "display"),
-	              differ, 3 * n, lit);
+	              gl_calls(&comp.stats, "trace compute"),
+	              gl_calls(&comp.stats_bytes, "display"), differ, 3 * n, lit);
 	assert_true(gl_calls(&frag.stats, "trace") >= 1);
 	assert_int_equal(gl_calls(&comp.stats, "trace compute"), gl_calls(&frag.stats, "trace"));
 	assert_int_equal(gl_calls(&comp.stats, "trace"), 0);
@@ -151,6 +151,20 @@ static void storage_and_node_layouts(void **state)
 	d = base(2);
 	d.instances = RS_INSTANCES_TWO_LEVEL;
 	compute_as_fragment("cow5i, two levels", d, "cow5i");
+}
+
+/* Cube faces taken through the readback fallback (as where an RGBA16F face is no colour
+ * attachment): the compute passes' images read back by glReadPixels after the barrier. */
+static void captures_read_back(void **state)
+{
+	(void)state;
+	struct rs_render_desc d = base(3);
+	d.reflections = RS_REFLECT_INTERREFLECT;
+	d.reflection_bounces = 2;
+	d.envmap_size = 24;
+	rs__gles_force_capture_readback(true);
+	compute_as_fragment("mirrors, inter-reflection, faces read back", d, "mirrors");
+	rs__gles_force_capture_readback(false);
 }
 
 static void moving_scene(void **state)
@@ -257,6 +271,7 @@ int main(void)
 	    cmocka_unit_test(option_text),
 	    cmocka_unit_test(every_fused_method),
 	    cmocka_unit_test(storage_and_node_layouts),
+	    cmocka_unit_test(captures_read_back),
 	    cmocka_unit_test(moving_scene),
 	    cmocka_unit_test(osmesa_too),
 	    cmocka_unit_test(refused_where_it_cannot_run),
