@@ -25,6 +25,16 @@ for case in "fused: trace" "separate: intersect shade" \
   done
   if [ -n "$missing" ]; then bad "$chain: no time for$missing in '$line'"; else ok "$chain"; fi
 done
+# Compute kernels: named in the line ("fused compute") with their own kernel's time, and in
+# the JSON; a chain they cannot run refused in one line.
+if run --kernels compute --json t.json && grep -q " fused compute trace rays " out.txt &&
+   grep -q " trace compute [0-9]" out.txt &&
+   jq -e '.rows[0].kernels == "compute" and (.rows[0].kernel_ms | has("trace compute"))' \
+     t.json >/dev/null; then ok "--kernels compute"
+else bad "--kernels compute: $(head -c 300 err.txt) $(head -n 1 out.txt)"; fi
+if fails_cleanly "compute on the paper chain" 1 "kernels compute runs the fused chain only" \
+  --times --backend egl --size 16 --repeats 1 --kernels compute --chain paper box; then
+  ok "compute on the paper chain"; fi
 # The figures as JSON beside the text, one row per scene, named on stdout.
 if run --chain paper --json t.json && grep -q '^wrote t.json$' out.txt; then
   if jq -e '.mode == "times" and (.rows | length) == 1 and .rows[0].scene == "box" and

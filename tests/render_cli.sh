@@ -102,6 +102,23 @@ done
 if "$bin" --scene box --size 8x8 --backend egl >/dev/null 2>&1; then
   RS_EGL_PLATFORM=wayland expect_fail "unknown EGL platform" 1 "unknown platform 'wayland'" \
     --scene box --size 8x8 --backend egl
+  # --kernels compute: the fused chain as compute dispatches, not counted (a counting frame
+  # would run the separate chain), and said so; the image the fragment run's, byte for byte;
+  # a chain it cannot run refused in one line with no output left.
+  rm -f k.png k.json f.png
+  if "$bin" --scene box --size 32x32 --backend egl --kernels compute --out k.png \
+      --stats k.json >stdout.txt 2>stderr.txt &&
+      grep -q ", compute kernels (hit numbers not counted)$" stdout.txt &&
+      grep -q '"kernel_stage":[[:space:]]*"compute"' k.json && ! grep -q '"hit_numbers"' k.json &&
+      jq -e '[.kernels[].name] | index("trace compute") != null' k.json >/dev/null &&
+      "$bin" --scene box --size 32x32 --backend egl --out f.png >/dev/null 2>&1 &&
+      cmp -s k.png f.png; then
+    ok "egl --kernels compute renders the fragment image, not counted"
+  else
+    bad "egl --kernels compute: $(cat stderr.txt) $(cat stdout.txt) $(head -c 300 k.json)"
+  fi
+  expect_fail "compute on the separate chain" 1 "kernels compute runs the fused chain only" \
+    --scene box --size 8x8 --backend egl --kernels compute --chain separate
 fi
 
 finish

@@ -131,8 +131,8 @@ static cJSON *stats_json(const struct options *o, const struct rs_scene *scene,
 	add_option(doc, "triangle_test", d, "triangle-test");
 	add_option(doc, "primary", d, "primary");
 	add_option(doc, "shadows", d, "shadows");
-	if (strcmp(st->backend, "cpu") != 0)
-		add_option(doc, "kernels", d, "kernels");
+	if (strcmp(st->backend, "cpu") != 0) /* "kernels" is the per-kernel times' list */
+		add_option(doc, "kernel_stage", d, "kernels");
 	if (st->counters_valid) {
 		cJSON *hits = cJSON_AddObjectToObject(doc, "hit_numbers");
 		cJSON_AddNumberToObject(hits, "box", st->box_per_pixel);
