@@ -53,6 +53,34 @@ kill "$server_pid"; wait "$server_pid"; rc=$?
 [ $rc -eq 0 ] && ok "server stops cleanly on SIGTERM" || bad "server exit $rc"
 grep -q "viewer said bye" s1.log && ok "viewer's BYE logged" || bad "no bye in: $(cat s1.log)"
 
+# ---- 1b. a server on compute kernels (--kernels compute): the same frames -------------
+rm -f port.json
+"$server" --port 0 --port-file port.json --threads 1 --size 64x64 --quality 85 --backend egl \
+  --kernels compute --stats s1c.json 2>s1c.log &
+pids+=($!)
+server_pid=$!
+for _ in $(seq 100); do [ -s port.json ] && break; kill -0 "$server_pid" 2>/dev/null || break; sleep 0.1; done
+port=$(jget port.json port)
+if [ -z "$port" ] && grep -qi "egl" s1c.log; then
+  skipped "compute kernels: no EGL context here: $(head -c 200 s1c.log)"
+elif [ -z "$port" ]; then
+  bad "compute server did not start: $(cat s1c.log)"
+else
+  grep -q "backend egl (compute kernels)" s1c.log && ok "server names its compute kernels" ||
+    bad "server log: $(head -c 300 s1c.log)"
+  timeout 60 "$viewer" --server 127.0.0.1:"$port" --size 64x64 --headless --threads 1 \
+    --duration 2 --stats v1c.json --verify-local > v1c.out 2> v1c.err ||
+    bad "viewer of the compute server: $(cat v1c.err)"
+  frames=$(jget v1c.json frames)
+  check "compute server: frames arrived (${frames:-0})" "${frames:-0} >= 10"
+  psnr=$(jget v1c.json psnr_min_db)
+  check "compute server: every frame matches a local render: min PSNR ${psnr:-0} dB >= 27" "${psnr:-0} >= 27"
+  check "compute server: every frame was checked" "$(jget v1c.json psnr_checked) == ${frames:-0}"
+  kill "$server_pid"; wait "$server_pid"
+  grep -q '"kernels":[[:space:]]*"compute"' s1c.json && ok "compute server's stats name the kernels" ||
+    bad "compute server stats: $(head -c 300 s1c.json)"
+fi
+
 # ---- 2. bad clients while 8 good viewers keep receiving -----------------------------
 start_server s2.log --size 96x96 --encoding raw --read-timeout-ms 1000 --stale-ms 100 --max-viewers 32 \
   --render-threads 2

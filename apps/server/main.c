@@ -165,7 +165,7 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	                     .options = opts,
 	                     .option_count = sizeof opts / sizeof opts[0],
 	                     .render = &desc,
-	                     .render_keys = "backend,passes,shadows,threads"};
+	                     .render_keys = "backend,passes,shadows,threads,kernels"};
 	int code;
 	if (!rs_cli_parse(&cli, argc, argv, &code))
 		return code ? code : -1;
@@ -174,6 +174,7 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	o->shadows = desc.shadows;
 	o->shadow_map_size = desc.shadow_map_size;
 	o->shadow_filter = desc.shadow_filter;
+	o->kernels = desc.kernels;
 	o->threads = desc.threads;
 	o->port = (uint16_t)port;
 	o->quality = (int)quality;
@@ -210,6 +211,8 @@ static int write_stats(const struct server *s, double secs)
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddStringToObject(doc, "scene", s->o.scene);
 	cJSON_AddStringToObject(doc, "backend", s->backend);
+	cJSON_AddStringToObject(doc, "kernels",
+	                        s->o.kernels == RS_KERNELS_COMPUTE ? "compute" : "fragment");
 	cJSON_AddNumberToObject(doc, "width", s->o.width);
 	cJSON_AddNumberToObject(doc, "height", s->o.height);
 	cJSON_AddNumberToObject(doc, "seconds", secs);
@@ -281,8 +284,9 @@ static int run(struct server *s)
 			goto done;
 		}
 	}
-	server_log(s, "listening on %s:%u: scene %s, %ux%u, backend %s, %u pass(es), %s q%d%s",
-	           s->o.bind, port, s->o.scene, s->o.width, s->o.height, s->backend, s->o.passes,
+	server_log(s, "listening on %s:%u: scene %s, %ux%u, backend %s%s, %u pass(es), %s q%d%s",
+	           s->o.bind, port, s->o.scene, s->o.width, s->o.height, s->backend,
+	           s->o.kernels == RS_KERNELS_COMPUTE ? " (compute kernels)" : "", s->o.passes,
 	           s->o.raw ? "raw" : "jpeg", s->o.quality,
 	           s->o.link_mbps > 0 ? ", link emulated" : "");
 	code = server_run(s, lfd);

@@ -271,6 +271,7 @@ int server_render_start(struct server *s, pthread_t *threads, uint32_t n)
 	                              .shadows = s->o.shadows,
 	                              .shadow_map_size = s->o.shadow_map_size,
 	                              .shadow_filter = s->o.shadow_filter,
+	                              .kernels = s->o.kernels,
 	                              .threads = s->o.threads};
 	for (uint32_t i = 0; i < n; ++i) {
 		struct worker *w = &workers[i];

@@ -26,6 +26,7 @@ struct server_options {
 	uint32_t width, height, passes, lights, threads, render_threads, max_viewers;
 	enum rs_shadow_mode shadows;
 	uint32_t shadow_map_size, shadow_filter; /* --shadows map:RES:FILTER (0: default) */
+	enum rs_kernel_stage kernels;            /* --kernels: fragment passes or compute */
 	int quality;                             /* default JPEG quality */
 	int raw;                                 /* send raw RGBA8 instead of JPEG */
 	enum rs_jpeg_subsampling sub;            /* 4:2:0 or 4:4:4 */
