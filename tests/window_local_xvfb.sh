@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Under Xvfb, every way the viewer shows a frame in its window (issue 17): local egl (the
 # renderer draws straight into the window), local egl through a readback, local osmesa,
-# local cpu, and remote (raw frames from raystream-server on egl, osmesa and cpu) at
+# local cpu, and remote (raw frames from raystream-server on egl, osmesa and cpu, and on
+# egl and osmesa with compute kernels) at
 # 128x128. A still, noiseless tracker in camera view shows the scene's own camera: an xwd
 # screenshot of the window must be within 40 dB of raystream-render's CPU reference of that
 # camera and equal the bytes the viewer last rendered or received (--last); a black window
@@ -59,17 +60,24 @@ check_ref local-egl-readback
 show remote "$still" --server 127.0.0.1:"$port"
 check_ref remote
 check_last remote
-# the server's other backends (the one above is auto: egl here): a server that renders
-# black on osmesa or cpu would show a black window
-for b in osmesa cpu; do
+# the server's other backends (the one above is auto: egl here), and its GL backends on
+# compute kernels (--kernels compute): a server that renders black on any would show a
+# black window
+for b in osmesa cpu egl-compute osmesa-compute; do
+  backend=(--backend "${b%-compute}")
+  [ "$b" = "${b%-compute}" ] || backend+=(--kernels compute)
   "$server" --port 0 --port-file "port-$b.json" --size $size --threads 1 --encoding raw \
-    --backend $b 2> "server-$b.log" &
+    "${backend[@]}" 2> "server-$b.log" &
   pids+=($!)
   for _ in $(seq 100); do [ -s "port-$b.json" ] && break; sleep 0.1; done
   p=$(sed -n 's/.*"port":[[:space:]]*\([0-9]*\).*/\1/p' "port-$b.json")
   show "remote-$b" "$still" --server 127.0.0.1:"$p"
   check_ref "remote-$b"
   check_last "remote-$b"
+  if [ "$b" != "${b%-compute}" ]; then # it ran the compute programs, not fragment passes
+    grep -q "backend ${b%-compute} (compute kernels)" "server-$b.log" &&
+      ok "remote-$b: the server ran compute kernels" || bad "remote-$b: $(head -c 300 "server-$b.log")"
+  fi
 done
 # moving: a stale window would show an older frame than the last one
 show moving-egl 'sim:realtime=1' --local --backend egl
