@@ -105,11 +105,12 @@ static void compute_as_fragment_on(const char *backend, const char *what,
 	assert_memory_equal(frag.depth, comp.depth, n * sizeof(float));
 	assert_memory_equal(frag.tri, comp.tri, n * sizeof(uint32_t));
 	assert_memory_equal(frag.bytes, comp.bytes, n * 4);
-	/* not black: something lit, and primary rays hit (the moved cow1 covers ~5 %) */
-	size_t hits = 0;
+	/* not black: a quarter lit, and primary rays hit; the moved cow1 (frame 5, from its own
+	 * frame 0 camera) fills only ~5 % of the view, the rest dark: 1 % there */
+	size_t hits = 0, least = move ? n / 100 : n / 4;
 	for (size_t i = 0; i < n; ++i)
 		hits += isfinite(comp.depth[i]);
-	assert_true(lit > n / 100);
+	assert_true(lit > least);
 	assert_true(hits > n / 100);
 	rs_scene_destroy(&scene);
 }

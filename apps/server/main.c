@@ -205,14 +205,25 @@ static int parse_args(int argc, char **argv, struct server_options *o)
 	return 0;
 }
 
+/* The server renders on a GL backend, where --kernels means something (auto may have fallen
+ * back to cpu, which has no kernels: then neither the log nor the stats name any). */
+static bool server_gl_kernels(const struct server *s)
+{
+	return s->backend && strcmp(s->backend, "cpu") != 0;
+}
+
 /* 0, or 1 after reporting that the file could not be written. */
 static int write_stats(const struct server *s, double secs)
 {
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddStringToObject(doc, "scene", s->o.scene);
 	cJSON_AddStringToObject(doc, "backend", s->backend);
-	cJSON_AddStringToObject(doc, "kernels",
-	                        s->o.kernels == RS_KERNELS_COMPUTE ? "compute" : "fragment");
+	if (server_gl_kernels(s)) { /* the CPU backend has none (auto may have fallen back) */
+		char kernels[16];
+		rs_render_desc_get(&(struct rs_render_desc){.kernels = s->o.kernels}, "kernels",
+		                   kernels, sizeof kernels, NULL);
+		cJSON_AddStringToObject(doc, "kernels", kernels);
+	}
 	cJSON_AddNumberToObject(doc, "width", s->o.width);
 	cJSON_AddNumberToObject(doc, "height", s->o.height);
 	cJSON_AddNumberToObject(doc, "seconds", secs);
@@ -286,8 +297,9 @@ static int run(struct server *s)
 	}
 	server_log(s, "listening on %s:%u: scene %s, %ux%u, backend %s%s, %u pass(es), %s q%d%s",
 	           s->o.bind, port, s->o.scene, s->o.width, s->o.height, s->backend,
-	           s->o.kernels == RS_KERNELS_COMPUTE ? " (compute kernels)" : "", s->o.passes,
-	           s->o.raw ? "raw" : "jpeg", s->o.quality,
+	           server_gl_kernels(s) && s->o.kernels == RS_KERNELS_COMPUTE ? " (compute kernels)"
+	                                                                      : "",
+	           s->o.passes, s->o.raw ? "raw" : "jpeg", s->o.quality,
 	           s->o.link_mbps > 0 ? ", link emulated" : "");
 	code = server_run(s, lfd);
 	double secs = server_now_s() - s->started_s;

@@ -365,11 +365,12 @@ int bench_table2(const struct bench_options *o)
 	}
 	if (code == 0) {
 		print_refused(o, scenes);
-		char nodes[32];
+		char nodes[32], kernels[16];
+		rs_render_desc_get(&(struct rs_render_desc){.kernels = o->kernels}, "kernels",
+		                   kernels, sizeof kernels, NULL);
 		printf("\nrenderer: %s; BVH nodes %s; scene storage %s; kernels %s\n", renderer,
 		       rs_tool_nodes_name(&o->pack, nodes, sizeof nodes),
-		       rs_tool_storage_name(results[0].settings[0].stats.scene_storage),
-		       o->kernels == RS_KERNELS_COMPUTE ? "compute" : "fragment");
+		       rs_tool_storage_name(results[0].settings[0].stats.scene_storage), kernels);
 		print_kernels(o, scenes);
 		if (o->peer)
 			t2_peer_print(o, results, scenes);
