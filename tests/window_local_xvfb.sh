@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Under Xvfb, every way the viewer shows a frame in its window (issue 17): local egl (the
 # renderer draws straight into the window), local egl through a readback, local osmesa,
-# local cpu, and remote (raw frames from raystream-server on egl, osmesa and cpu, and on
+# local cpu, local egl and osmesa with compute kernels (--kernels compute), and remote (raw frames from raystream-server on egl, osmesa and cpu, and on
 # egl and osmesa with compute kernels) at
 # 128x128. A still, noiseless tracker in camera view shows the scene's own camera: an xwd
 # screenshot of the window must be within 40 dB of raystream-render's CPU reference of that
@@ -57,6 +57,17 @@ for b in egl osmesa cpu; do
 done
 show local-egl-readback "$still" --local --backend egl --present readback
 check_ref local-egl-readback
+# the viewer's own GL backends on compute kernels: egl draws straight into the window
+# (the display pass after the dispatches), osmesa's frames are uploaded; the stats must
+# show the dispatches ran ("trace compute"), not fragment passes
+for b in egl osmesa; do
+  show "local-$b-compute" "$still" --local --backend $b --kernels compute --stats "local-$b-compute.json"
+  check_ref "local-$b-compute"
+  check_last "local-$b-compute"
+  grep -q '"name":[[:space:]]*"trace compute"' "local-$b-compute.json" &&
+    ok "local-$b-compute: the viewer ran compute kernels" ||
+    bad "local-$b-compute: no compute kernels in the stats: $(head -c 600 "local-$b-compute.json")"
+done
 show remote "$still" --server 127.0.0.1:"$port"
 check_ref remote
 check_last remote

@@ -18,8 +18,11 @@ static int open_renderer(struct viewer *v, uint32_t w, uint32_t h, struct rs_ren
 {
 	const struct viewer_options *o = &v->o;
 	struct rs_error err = {0};
-	struct rs_render_desc d = {
-	    .width = w, .height = h, .passes = o->passes, .threads = o->threads};
+	struct rs_render_desc d = {.width = w,
+	                           .height = h,
+	                           .passes = o->passes,
+	                           .threads = o->threads,
+	                           .kernels = o->kernels};
 	int gpu = !strcmp(o->backend, "egl") || !strcmp(o->backend, "auto");
 	*direct = 0;
 	if (v->window && gpu && !o->readback) {

@@ -233,13 +233,14 @@ static int parse_args(int argc, char **argv, struct viewer_options *o)
 	                     .options = opts,
 	                     .option_count = sizeof opts / sizeof opts[0],
 	                     .render = &desc,
-	                     .render_keys = "backend,passes,threads"};
+	                     .render_keys = "backend,passes,threads,kernels"};
 	int code;
 	if (!rs_cli_parse(&cli, argc, argv, &code))
 		return code ? code : -1;
 	o->backend = desc.backend;
 	o->passes = desc.passes;
 	o->threads = desc.threads;
+	o->kernels = desc.kernels;
 	o->quality = (int)quality;
 	o->headless = headless;
 	o->verify_local = verify;

@@ -150,6 +150,33 @@ void viewer_status_line(struct viewer *v, double now, int force)
 	v->bytes_at_line = v->link.bytes_in;
 }
 
+/* What renders the local frames (and --verify-local's checks): the full-size renderer and
+ * its last frame's kernels, so a run can tell which stage ran (compute names "trace
+ * compute"). */
+static void add_local_renderer(cJSON *doc, const struct viewer *v)
+{
+	if (!v->local)
+		return;
+	const struct rs_render_stats *st = rs_renderer_stats(v->local);
+	const char *backend = rs_renderer_backend(v->local);
+	cJSON *o = cJSON_AddObjectToObject(doc, "local_renderer");
+	cJSON_AddStringToObject(o, "backend", backend);
+	cJSON_AddStringToObject(o, "renderer", st->renderer);
+	if (!strcmp(backend, "cpu")) /* no kernels: --kernels means nothing there */
+		return;
+	char stage[16];
+	rs_render_desc_get(rs_renderer_desc(v->local), "kernels", stage, sizeof stage, NULL);
+	cJSON_AddStringToObject(o, "kernel_stage", stage);
+	cJSON *list = cJSON_AddArrayToObject(o, "kernels");
+	for (uint32_t i = 0; i < st->kernel_count; ++i) {
+		cJSON *k = cJSON_CreateObject();
+		cJSON_AddStringToObject(k, "name", st->kernels[i].name);
+		cJSON_AddNumberToObject(k, "calls", st->kernels[i].calls);
+		cJSON_AddNumberToObject(k, "ms", st->kernels[i].ms);
+		cJSON_AddItemToArray(list, k);
+	}
+}
+
 int viewer_write_stats(struct viewer *v)
 {
 	double secs = viewer_now_s() - v->started_s;
@@ -186,6 +213,7 @@ int viewer_write_stats(struct viewer *v)
 		cJSON_AddNumberToObject(doc, "psnr_min_db", v->psnr_min);
 		cJSON_AddNumberToObject(doc, "psnr_mean_db", v->psnr_sum / (double)v->psnr_n);
 	}
+	add_local_renderer(doc, v);
 	struct rs_error err = {0};
 	enum rs_status st = app_write_json(v->o.stats, doc, &err);
 	cJSON_Delete(doc);

@@ -30,6 +30,7 @@ struct viewer_options {
 	/* --frame N: the frame of a scene that moves; --animate FPS: local frame k shows scene
 	 * frame N + k at FPS frames a second of scene time (0: still) */
 	uint32_t frame, animate;
+	enum rs_kernel_stage kernels; /* --kernels: the GL backends' stage for local frames */
 };
 
 /* Latency samples kept for the median and 99th percentile. */
