@@ -63,6 +63,33 @@ static void normals_are_angle_weighted(void **state)
 	rs_scene_destroy(&scene);
 }
 
+/* Computed normals come from the double positions: a 1 mm cube 1e5 units from the origin
+ * collapses in float (spacing 2^-10 there), so normals from the float rounding would point
+ * anywhere; the doubles give each corner the exact diagonal, for a mesh and a prototype. */
+static void computed_normals_use_double_positions(void **state)
+{
+	struct rs_scene *scene = make_scene();
+	double pos[8 * 3];
+	for (int i = 0; i < 8 * 3; ++i)
+		pos[i] = 1e5 + 1e-3 * cube_pos[i];
+	struct rs_mesh_desc mesh = cube_mesh();
+	mesh.positions = NULL;
+	mesh.positions_f64 = pos;
+	uint32_t proto = 0;
+	assert_int_equal(rs_scene_add_mesh(scene, &mesh, NULL), RS_OK);
+	assert_int_equal(rs_scene_add_prototype(scene, &mesh, &proto, NULL), RS_OK);
+	struct rs_mesh_desc copy;
+	rs_scene_prototype_mesh(scene, proto, &copy);
+	const float *normals[2] = {rs_scene_normals(scene), copy.normals};
+	for (int m = 0; m < 2; ++m)
+		for (int v = 0; v < 8; ++v)
+			for (int a = 0; a < 3; ++a) { /* outwards: -1 on a side at 0, +1 at 1 */
+				double k = (cube_pos[3 * v + a] > 0.5f ? 1.0 : -1.0) / sqrt(3.0);
+				assert_true(fabs(normals[m][3 * v + a] - k) < 1e-6);
+			}
+	rs_scene_destroy(&scene);
+}
+
 /* positions_f64 are kept exactly (with a stride), their float rounding is what
  * rs_scene_positions() shows, and the bounds come from the doubles. */
 static void double_positions_are_kept_exactly(void **state)
@@ -244,6 +271,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(mesh_is_copied),
 	    cmocka_unit_test(normals_are_angle_weighted),
+	    cmocka_unit_test(computed_normals_use_double_positions),
 	    cmocka_unit_test(double_positions_are_kept_exactly),
 	    cmocka_unit_test(double_positions_are_validated),
 	    cmocka_unit_test(nan_vertex_is_rejected),

@@ -1,17 +1,19 @@
 /*
  * Vertex normals when a file has none: each face's unit normal weighted by the corner angle
  * it makes at the vertex, accumulated in double. Angle weighting makes the result
- * independent of how a surface is tessellated, unlike area or plain averaging.
+ * independent of how a surface is tessellated, unlike area or plain averaging. The edges
+ * come from the double positions: a small mesh far from the origin keeps its shape there,
+ * where its float rounding may not (the tracers' geometry is the doubles too).
  */
 #include <math.h>
 #include <stdlib.h>
 
 #include "scene_internal.h"
 
-static void sub(const float *a, const float *b, double *out)
+static void sub(const double *a, const double *b, double *out)
 {
 	for (int i = 0; i < 3; ++i)
-		out[i] = (double)a[i] - (double)b[i];
+		out[i] = a[i] - b[i];
 }
 
 static double len(const double *v)
@@ -28,7 +30,7 @@ static double corner_angle(const double *e1, const double *e2)
 	return acos(c < -1.0 ? -1.0 : c > 1.0 ? 1.0 : c);
 }
 
-int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
+int rs_scene_angle_weighted_normals(const double *positions, const uint32_t *indices,
                                     size_t triangle_count, size_t first_vertex, size_t vertex_count,
                                     float *out)
 {
@@ -37,8 +39,9 @@ int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indi
 		return 0;
 	for (size_t t = 0; t < triangle_count; ++t) {
 		const uint32_t *tri = indices + t * 3;
-		const float *p[3] = {positions + (size_t)tri[0] * 3, positions + (size_t)tri[1] * 3,
-		                     positions + (size_t)tri[2] * 3};
+		const double *p[3] = {positions + (size_t)tri[0] * 3,
+		                      positions + (size_t)tri[1] * 3,
+		                      positions + (size_t)tri[2] * 3};
 		double e01[3], e02[3], n[3];
 		sub(p[1], p[0], e01);
 		sub(p[2], p[0], e02);

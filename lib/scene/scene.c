@@ -249,7 +249,7 @@ enum rs_status rs__scene_append_mesh(struct rs_scene *scene, const struct rs_mes
 			memcpy(scene->normals + (v0 + i) * 3,
 			       strided(mesh->normals, mesh->normal_stride, i), 3 * sizeof(float));
 		rs_scene_normalize_normals(scene->normals + v0 * 3, mesh->vertex_count);
-	} else if (!rs_scene_angle_weighted_normals(scene->positions, scene->indices + t0 * 3,
+	} else if (!rs_scene_angle_weighted_normals(scene->positions_f64, scene->indices + t0 * 3,
 	                                            mesh->triangle_count, v0, mesh->vertex_count,
 	                                            scene->normals + v0 * 3)) {
 		/* Counts are not advanced yet, so the scene is unchanged. */

@@ -34,20 +34,14 @@ enum rs_status rs_scene_add_prototype(struct rs_scene *scene, const struct rs_me
 	p.positions = malloc(nv * 3 * sizeof *p.positions);
 	p.normals = malloc(nv * 3 * sizeof *p.normals);
 	p.indices = malloc(nt * 3 * sizeof *p.indices);
-	float *scratch = mesh->normals ? NULL : malloc(nv * 3 * sizeof *scratch);
-	if (!p.positions || !p.normals || !p.indices || (!mesh->normals && !scratch) ||
+	if (!p.positions || !p.normals || !p.indices ||
 	    !rs__scene_grow((void **)&scene->prototypes, &scene->prototype_capacity,
 	                    scene->prototype_count + 1, sizeof *scene->prototypes)) {
-		free(scratch);
 		free_prototype(&p);
 		return rs_error_set(err, RS_ERR_NO_MEMORY, "out of memory adding a prototype");
 	}
-	for (size_t i = 0; i < nv; ++i) {
+	for (size_t i = 0; i < nv; ++i)
 		rs__scene_mesh_position(mesh, i, p.positions + i * 3);
-		if (scratch)
-			for (int a = 0; a < 3; ++a)
-				scratch[i * 3 + a] = (float)p.positions[i * 3 + a];
-	}
 	size_t istride = mesh->index_stride ? mesh->index_stride : 3 * sizeof(uint32_t);
 	for (size_t t = 0; t < nt; ++t)
 		memcpy(p.indices + t * 3, (const char *)mesh->indices + t * istride,
@@ -60,9 +54,8 @@ enum rs_status rs_scene_add_prototype(struct rs_scene *scene, const struct rs_me
 		rs_scene_normalize_normals(p.normals, nv);
 	} else {
 		/* the normals the same mesh would get from rs_scene_add_mesh() */
-		int ok = rs_scene_angle_weighted_normals(scratch, p.indices, nt, 0, nv, p.normals);
-		free(scratch);
-		if (!ok) {
+		if (!rs_scene_angle_weighted_normals(p.positions, p.indices, nt, 0, nv,
+		                                     p.normals)) {
 			free_prototype(&p);
 			return rs_error_set(err, RS_ERR_NO_MEMORY,
 			                    "out of memory computing a prototype's normals");

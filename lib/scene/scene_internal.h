@@ -55,7 +55,7 @@ struct rs_scene {
  * global indices point into `positions`; vertices [first_vertex, first_vertex + count)
  * get their normals written to out (count * 3 floats). Returns 0 when out of scratch memory.
  */
-int rs_scene_angle_weighted_normals(const float *positions, const uint32_t *indices,
+int rs_scene_angle_weighted_normals(const double *positions, const uint32_t *indices,
                                     size_t triangle_count, size_t first_vertex, size_t vertex_count,
                                     float *out);
 

@@ -50,7 +50,8 @@ struct rs_mesh_desc {
 	const float *positions; /**< vertex_count xyz triples, or NULL with positions_f64 */
 	size_t vertex_count;
 	size_t position_stride;
-	const float *normals; /**< optional; NULL: angle-weighted normals are computed */
+	/** Optional; NULL: angle-weighted normals computed from the positions in double. */
+	const float *normals;
 	size_t normal_stride;
 	const uint32_t *indices; /**< triangle_count index triples into this mesh's vertices */
 	size_t triangle_count;
