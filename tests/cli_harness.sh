@@ -4,6 +4,9 @@
 # part that could not run (`skipped`: no GL context here) makes it exit 77, which ctest
 # reports as Skipped where the test has SKIP_RETURN_CODE 77, never as Passed.
 set -u
+# the scripts' own folder, absolute: sourcing a sibling after the cd below must not depend
+# on how the script was named (ctest passes an absolute path, a developer a relative one)
+here=$(cd "$(dirname "$0")" && pwd)
 bin=$1
 work=$2
 rm -rf "$work"

@@ -9,7 +9,7 @@ source "$(dirname "$0")/cli_harness.sh"
 viewer=$bin
 compare=$3
 render=$4
-source "$(dirname "$0")/xvfb_harness.sh" 140
+source "$here/xvfb_harness.sh" 140
 size=128x128
 still='sim:realtime=1&noise=0&script=still:600'
 "$render" --scene box --size $size --backend cpu --passes 2 --samples 16 --out ref16.png > render.out 2>&1 &&

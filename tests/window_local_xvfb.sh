@@ -13,7 +13,7 @@ viewer=$bin
 server=$3
 compare=$4
 render=$5
-source "$(dirname "$0")/xvfb_harness.sh" 120
+source "$here/xvfb_harness.sh" 120
 size=128x128
 still='sim:realtime=1&noise=0&script=still:600'
 "$render" --scene box --size $size --backend cpu --passes 2 --out ref.png > render.out 2>&1 &&

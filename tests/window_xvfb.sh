@@ -6,7 +6,7 @@ source "$(dirname "$0")/cli_harness.sh"
 viewer=$bin
 server=$3
 compare=$4
-source "$(dirname "$0")/xvfb_harness.sh" 90
+source "$here/xvfb_harness.sh" 90
 
 "$server" --port 0 --port-file port.json --size 64x64 --threads 1 --quality 90 2> server.log &
 pids+=($!)
