@@ -1,7 +1,8 @@
-/* The ray rules of docs/tracer.md (R1-R5) in the GL kernels, on the robustness cases of
+/* The ray rules of docs/tracer.md (R1-R5, R7) in the GL kernels, on the robustness cases of
  * the CPU tests: closed subdivided rooms seen from inside with a light inside, at tiny and
  * huge scales and translated by 10^4 and 10^6 (every point sees the light, no path leaves
- * the room), coincident faces over all four builders (identical images), grazing rays.
+ * the room), at the ends of the fp32 range and beyond it (refused), tiny triangles in a wide
+ * frame, coincident faces over all four builders (identical images), grazing rays.
  * Each GL image is also held against the CPU reference. EGL; skipped without a context. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -37,8 +38,7 @@ static struct rs_scene *room(double scale, const double off[3], float reflectanc
 				p[axis] = off[axis] + (f % 2 ? half[axis] : -half[axis]);
 				p[a1] = off[a1] + half[a1] * (2.0 * i / GRID - 1.0);
 				p[a2] = off[a2] + half[a2] * (2.0 * j / GRID - 1.0);
-				/* given, not computed: the scene computes normals from float
-				 * positions, which a 0.02-wide room at 10^6 does not survive */
+				/* given: the walls' own, exactly */
 				float *nn = &nrm[3 * (i * n + j)];
 				nn[0] = nn[1] = nn[2] = 0.0f;
 				nn[axis] = f % 2 ? -1.0f : 1.0f;
@@ -123,6 +123,96 @@ static void rooms_translated_by_1e4_and_1e6(void **state)
 	room_case(1e-2, o6);
 }
 
+/* The egl frame of `scene` against the CPU reference: at most `max_bad` of the pixels off
+ * by more than 8/255 (skipped without a context). */
+static void matches_cpu(const char *name, const struct rs_render_desc *desc,
+                        const struct rs_scene *scene, double max_bad)
+{
+	if (!gl_frame("egl", desc, scene, got, NULL, NULL))
+		gl_skip();
+	gl_reference(desc, scene, want, NULL);
+	struct rs_image_diff diff;
+	rs_image_compare(got, want, SIZE, SIZE, 3, 1.0, 8.0 / 255.0, &diff);
+	print_message("%s: PSNR %.2f dB, %.3f%% off by > 8/255\n", name, diff.psnr_db,
+	              100.0 * diff.bad_share);
+	assert_true(diff.bad_share <= max_bad);
+}
+
+/* R7 (docs/tracer.md): inside the fp32 range the kernels shade as the CPU does up to its
+ * ends. A room 1e10 units wide: a wall triangle's doubled area (1e19) squared by length()
+ * overflowed float, a zero geometric normal left every wall unlit. A room 4e-9 wide, where
+ * the frame still reaches over RS_TRACE_FP32_REACH_MIN (its environment box). */
+static void rooms_at_the_ends_of_the_fp32_range(void **state)
+{
+	const double zero[3] = {0, 0, 0};
+	room_case(1e10, zero);
+	room_case(4e-9, zero);
+}
+
+/* A 2e-10 square seen from 4e-10, lit from close by, in a frame its environment box makes
+ * 1 wide: each triangle's doubled area (4e-20) squared flushed to zero in fp32, so R5 took
+ * the triangle as having no height and shaded every hit at its centroid, one flat colour a
+ * triangle, where the CPU's light falls off across the square. */
+static void tiny_triangles_are_shaded_where_hit(void **state)
+{
+	struct rs_scene *scene = fx_scene();
+	struct rs_material m = {.diffuse = {0.8f, 0.8f, 0.8f}};
+	uint32_t mat = fx_material(scene, m);
+	const double h = 1e-10;
+	const double pos[12] = {-h, -h, 0, h, -h, 0, h, h, 0, -h, h, 0};
+	const float nrm[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+	const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+	struct rs_mesh_desc d = {.positions_f64 = pos,
+	                         .normals = nrm,
+	                         .vertex_count = 4,
+	                         .indices = idx,
+	                         .triangle_count = 2,
+	                         .material = mat};
+	assert_int_equal(rs_scene_add_mesh(scene, &d, NULL), RS_OK);
+	struct rs_camera c = {.eye = {0, 0, 4 * h}, .up = {0, 1, 0}, .fov_y_deg = 60};
+	c.width = c.height = SIZE;
+	assert_int_equal(rs_scene_set_camera(scene, &c, NULL), RS_OK);
+	fx_light(scene, 1.5 * h, 1.0 * h, 0.8 * h, 1, 1, 1);
+	struct rs_environment env = {.half_size = 1.0};
+	assert_int_equal(rs_scene_set_environment(scene, &env, NULL), RS_OK);
+	matches_cpu("tiny square", &(struct rs_render_desc){.passes = 1}, scene, 0.002);
+	rs_scene_destroy(&scene);
+}
+
+/* Beyond the range (R7) a GL renderer refuses, in one message naming it, and never draws:
+ * a room 1e12 wide and one 1e-10 wide at set_scene; a frame whose camera stands 1e13 away
+ * from a room of 1 (the frame after it, from inside, is drawn). The CPU renders all three. */
+static void frames_beyond_the_fp32_range_are_refused(void **state)
+{
+	const double zero[3] = {0, 0, 0};
+	struct rs_render_desc desc = {.passes = 1};
+	struct rs_renderer *r = gl_open("egl", &desc);
+	if (!r)
+		gl_skip();
+	struct rs_error err;
+	const double scales[2] = {1e12, 1e-10};
+	for (int i = 0; i < 2; ++i) {
+		struct rs_scene *scene = room(scales[i], zero, 0.0f);
+		assert_int_equal(rs_renderer_set_scene(r, scene, &err), RS_ERR_LIMIT);
+		assert_non_null(strstr(err.message, "fp32 kernels need"));
+		gl_reference(&desc, scene, want, NULL);
+		rs_scene_destroy(&scene);
+	}
+	struct rs_scene *scene = room(1.0, zero, 0.0f);
+	assert_int_equal(rs_renderer_set_scene(r, scene, &err), RS_OK);
+	struct rs_camera far = *rs_scene_camera(scene);
+	far.eye[2] = 1e13;
+	struct rs_frame frame = {.rgb = got};
+	got[0] = -1.0f;
+	assert_int_equal(rs_renderer_render(r, &far, &frame, &err), RS_ERR_LIMIT);
+	assert_non_null(strstr(err.message, "reaches 1e+13 units"));
+	assert_true(got[0] == -1.0f); /* nothing written */
+	assert_int_equal(rs_renderer_render(r, NULL, &frame, &err), RS_OK);
+	assert_true(got[0] >= 0.0f);
+	rs_renderer_destroy(&r);
+	rs_scene_destroy(&scene);
+}
+
 /* Squares in one plane (coincident, duplicated, split on either diagonal), one an ulp above
  * and below, seen at a slant: the closest hit must not depend on the BVH (R3, R4). */
 static struct rs_scene *coincident(void)
@@ -187,15 +277,7 @@ static void grazing_rays_match_the_cpu(void **state)
 	const double eye[3] = {0.0, 0.5, 8.0}, target[3] = {0.0, 0.5 - 208.0 * 0.0035, -200.0};
 	fx_camera(scene, eye, target, SIZE);
 	fx_light(scene, -2.0, 3.0, 0.0, 1, 1, 1);
-	struct rs_render_desc desc = {.passes = 2};
-	if (!gl_frame("egl", &desc, scene, got, NULL, NULL))
-		gl_skip();
-	gl_reference(&desc, scene, want, NULL);
-	struct rs_image_diff diff;
-	rs_image_compare(got, want, SIZE, SIZE, 3, 1.0, 8.0 / 255.0, &diff);
-	print_message("grazing: PSNR %.2f dB, %.3f%% off by > 8/255\n", diff.psnr_db,
-	              100.0 * diff.bad_share);
-	assert_true(diff.bad_share <= 0.001);
+	matches_cpu("grazing", &(struct rs_render_desc){.passes = 2}, scene, 0.001);
 	rs_scene_destroy(&scene);
 }
 
@@ -204,6 +286,9 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(rooms_at_tiny_and_huge_scales),
 	    cmocka_unit_test(rooms_translated_by_1e4_and_1e6),
+	    cmocka_unit_test(rooms_at_the_ends_of_the_fp32_range),
+	    cmocka_unit_test(tiny_triangles_are_shaded_where_hit),
+	    cmocka_unit_test(frames_beyond_the_fp32_range_are_refused),
 	    cmocka_unit_test(coincident_faces_render_alike_over_all_builders),
 	    cmocka_unit_test(grazing_rays_match_the_cpu),
 	};

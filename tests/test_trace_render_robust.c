@@ -181,12 +181,39 @@ static void degenerate_triangles_and_odd_lights_never_give_nan(void **state)
 	fx_free(&fx);
 }
 
+/* R7's reach: the largest packed-frame coordinate of bounds (centre + half-diagonal),
+ * environment box, lights and the eye; 0 for an empty scene. */
+static void frame_reach_covers_bounds_environment_lights_and_eye(void **state)
+{
+	struct fx fx = {.scene = fx_scene()};
+	struct rs_trace_frame f;
+	struct rs_error err;
+	fx_pack(&fx, RS_BVH_SAH);
+	assert_int_equal(rs_trace_frame_init(fx.scene, &fx.packed, NULL, &f, &err), RS_OK);
+	const double eye[3] = {0, 0, 5};
+	assert_true(rs_trace_frame_reach(&f, eye) == 0.0); /* no geometry */
+	fx_free(&fx);
+	fx.scene = fx_scene();
+	uint32_t mat = fx_material(fx.scene, (struct rs_material){.diffuse = {0.5f, 0.5f, 0.5f}});
+	fx_rect(fx.scene, 2, 0.0, -1, 1, -1, 1, 0, mat); /* z = 0, x and y in [-1, 1] */
+	fx_light(fx.scene, 0.0, 30.0, 0.0, 1, 1, 1);
+	struct rs_environment env = {.half_size = 10.0};
+	assert_int_equal(rs_scene_set_environment(fx.scene, &env, NULL), RS_OK);
+	fx_pack(&fx, RS_BVH_SAH);
+	assert_int_equal(rs_trace_frame_init(fx.scene, &fx.packed, NULL, &f, &err), RS_OK);
+	assert_true(fabs(rs_trace_frame_reach(&f, eye) - 30.0) < 1e-12); /* the light */
+	const double far_eye[3] = {0, -40, 0};
+	assert_true(fabs(rs_trace_frame_reach(&f, far_eye) - 40.0) < 1e-12);
+	fx_free(&fx);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(tilted_plane_far_from_the_origin_has_no_acne),
 	    cmocka_unit_test(lit_side_of_a_closed_sphere_has_no_speckles),
 	    cmocka_unit_test(degenerate_triangles_and_odd_lights_never_give_nan),
+	    cmocka_unit_test(frame_reach_covers_bounds_environment_lights_and_eye),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,6 +13,22 @@
 
 /* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). 2D
  * storage only: buffer textures have no rows (rs_gles_choose_storage checked their length). */
+/* R7 (docs/tracer.md): the kernels compute in fp32, whose range a frame must stay within:
+ * one that reaches too far (or stays too near its centre) is refused, never drawn wrong.
+ * `eye` in the packed frame. */
+static enum rs_status check_reach(const struct rs_trace_frame *f, const double eye[3],
+                                  struct rs_error *err)
+{
+	double reach = rs_trace_frame_reach(f, eye);
+	if (reach == 0.0 || (reach >= RS_TRACE_FP32_REACH_MIN && reach <= RS_TRACE_FP32_REACH_MAX))
+		return RS_OK;
+	return rs_error_set(err, RS_ERR_LIMIT,
+	                    "gles: the frame reaches %.3g units from the scene's centre (camera, "
+	                    "lights and environment box included); the fp32 kernels need %.3g to "
+	                    "%.3g: scale the scene, or render it on the cpu backend",
+	                    reach, RS_TRACE_FP32_REACH_MIN, RS_TRACE_FP32_REACH_MAX);
+}
+
 static enum rs_status check_limits(const struct gles *g, const struct rs_packed *p,
                                    const struct rs_trace_frame *f, struct rs_error *err)
 {
@@ -45,7 +61,8 @@ static enum rs_status check_limits(const struct gles *g, const struct rs_packed 
 	if (f->light_count > RS_GLES_MAX_LIGHTS)
 		return rs_error_set(err, RS_ERR_LIMIT, "gles: %u lights (the kernels take %u)",
 		                    f->light_count, RS_GLES_MAX_LIGHTS);
-	return RS_OK;
+	/* the scene alone (seen from its centre; each frame checks its own camera) */
+	return check_reach(f, f->bounds_center, err);
 }
 
 static bool scene_has_optics(const struct rs_scene *scene)
@@ -304,7 +321,13 @@ static enum rs_status gles_render(void *impl, const struct rs_camera *camera,
                                   struct rs_error *err)
 {
 	struct gles *g = impl;
-	enum rs_status st = g->cops->make_current(g->ctx, err);
+	double eye[3];
+	for (int a = 0; a < 3; ++a)
+		eye[a] = camera->eye[a] - g->frame.origin[a];
+	enum rs_status st = check_reach(&g->frame, eye, err);
+	if (st != RS_OK)
+		return st;
+	st = g->cops->make_current(g->ctx, err);
 	if (st != RS_OK)
 		return st;
 	/* Inter-reflection maps are dynamic: captured for every frame (and counted in its time,

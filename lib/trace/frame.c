@@ -100,3 +100,23 @@ void rs_trace_frame_light(const struct rs_trace_frame *frame, uint32_t i, double
 	for (int a = 0; a < 3; ++a)
 		out_position[a] = frame->lights[i].position[a] - frame->origin[a];
 }
+
+double rs_trace_frame_reach(const struct rs_trace_frame *frame, const double eye[3])
+{
+	RS_ASSERT(frame && eye);
+	if (!frame->has_geometry)
+		return 0.0;
+	double reach = 0.0;
+	for (int a = 0; a < 3; ++a) {
+		reach = fmax(reach, fabs(frame->bounds_center[a]) + frame->bounds_radius);
+		reach = fmax(reach, fabs(frame->env.center[a]) + frame->env.half_size);
+		reach = fmax(reach, fabs(eye[a]));
+	}
+	for (uint32_t i = 0; i < frame->light_count; ++i) {
+		double p[3];
+		rs_trace_frame_light(frame, i, p);
+		for (int a = 0; a < 3; ++a)
+			reach = fmax(reach, fabs(p[a]));
+	}
+	return reach;
+}

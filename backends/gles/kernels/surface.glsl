@@ -79,6 +79,13 @@ Surf rs_surface(Ray r, Hit h)
 #endif
 	vec3 e1 = t1.xyz - t0.xyz, e2 = t2.xyz - t0.xyz;
 	vec3 g = cross(e1, e2);
+	// |g| = twice the area squares the scene's size, and length() squares it again: beyond
+	// ~4e9 units of edge that is past the float range (inf), under ~1e-10 it flushes to 0
+	// (either way a lost normal). A power of two scales such a g exactly (k = 1 everywhere
+	// else, so those bits are unchanged); the heights below divide by the edges scaled alike.
+	float gm = rs_maxabs(g);
+	float k = gm > 1.0e18 ? RS_ZERO_ABS : (gm < 1.0e-18 ? 1.0 / RS_ZERO_ABS : 1.0); // 2^-+64
+	g *= k;
 	float gl = length(g);
 	// R5: pulled at least ~4 delta away from every edge (small triangles: the centroid),
 	// so the point lies in front of every neighbour's plane at a concave edge.
@@ -87,7 +94,7 @@ Surf rs_surface(Ray r, Hit h)
 	vec3 edge = vec3(length(t2.xyz - t1.xyz), length(t0.xyz - t2.xyz), length(e1));
 	vec3 b = vec3(1.0 - hu - hv, hu, hv);
 	for (int i = 0; i < 3; i++) {
-		float hi = edge[i] > 0.0 ? gl / edge[i] : 0.0;
+		float hi = edge[i] > 0.0 ? gl / (edge[i] * k) : 0.0;
 		b[i] = max(b[i], hi > RS_SPAWN_PULL_HEIGHT * s.delta ? RS_SPAWN_PULL * s.delta / hi
 		                                                  : 1.0 / 3.0);
 	}

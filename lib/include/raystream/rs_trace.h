@@ -376,6 +376,18 @@ enum rs_status rs_trace_frame_init(const struct rs_scene *scene, const struct rs
 /** Light `i` (< light_count) moved into the packed frame, in double (R1). */
 void rs_trace_frame_light(const struct rs_trace_frame *frame, uint32_t i, double out_position[3]);
 
+/** R7: the range fp32 kernels compute in. Their triangle test multiplies three coordinates
+ * relative to the ray's origin and a normal's length squares an area: a frame reaching
+ * beyond MAX units from the packed frame's centre overflows the float range, one reaching
+ * less than MIN underflows it (measured failures: ~2e13 and ~3e-11; docs/tracer.md R7). */
+#define RS_TRACE_FP32_REACH_MIN 0x1p-26
+#define RS_TRACE_FP32_REACH_MAX 0x1p40
+
+/** How far a frame seen from `eye` (packed frame) reaches: the largest coordinate of the
+ * scene's bounds, its environment box, the frame's lights and the eye, in the packed frame;
+ * 0 for an empty scene (every ray misses: nothing to overflow). */
+double rs_trace_frame_reach(const struct rs_trace_frame *frame, const double eye[3]);
+
 /** A camera resolved for ray generation (docs/tracer.md, Ray generation). */
 struct rs_trace_view {
 	double eye[3];                  /**< relative to the origin given to rs_trace_view_init() */
