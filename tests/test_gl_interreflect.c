@@ -2,7 +2,8 @@
  * spheres facing each other come out closer to the traced image than with the classic map,
  * a second bounce changes what they see of each other, nothing changes at 1 pass, the fused
  * chain (captures and frame one pass each, the maps read at its end) gives the separate
- * chain's image bit for bit, and what cannot work is refused. */
+ * chain's image bit for bit, the scene a millionth of the size gives the same image, and
+ * what cannot work is refused. */
 #include <setjmp.h>
 #include <stdbool.h>
 #include <stdarg.h>
@@ -16,9 +17,9 @@
 #define PIXELS (SIZE * SIZE * 3)
 
 /* Mirror spheres of radius 0.5 at x = -0.7 and 0.7 (0.4 apart), a grey floor below, under
- * an environment cube of six colours, seen from the front and a little above. With
- * `extra` mirror spheres added above them (for the object limit). */
-static struct rs_scene *facing_spheres(int extra)
+ * an environment cube of six colours, seen from the front and a little above; every length
+ * times `k`. With `extra` mirror spheres added above them (for the object limit). */
+static struct rs_scene *facing_spheres(int extra, double k)
 {
 	struct rs_scene *s = NULL;
 	assert_int_equal(rs_scene_create(NULL, &s, NULL), RS_OK);
@@ -28,10 +29,13 @@ static struct rs_scene *facing_spheres(int extra)
 	assert_int_equal(rs_scene_add_material(s, &mirror, &m_mirror, NULL), RS_OK);
 	assert_int_equal(rs_scene_add_material(s, &grey, &m_grey, NULL), RS_OK);
 	for (int i = 0; i < 2 + extra; ++i) {
-		double c[3] = {i % 2 ? 0.7 : -0.7, 1.5 * (i / 2), 0.0};
-		gl_add_sphere(s, c, 0.5, m_mirror);
+		double c[3] = {(i % 2 ? 0.7 : -0.7) * k, 1.5 * (i / 2) * k, 0.0};
+		gl_add_sphere(s, c, 0.5 * k, m_mirror);
 	}
-	static const double floor_pos[12] = {-4, -0.6, -4, 4, -0.6, -4, 4, -0.6, 4, -4, -0.6, 4};
+	static const double floor_unit[12] = {-4, -0.6, -4, 4, -0.6, -4, 4, -0.6, 4, -4, -0.6, 4};
+	double floor_pos[12];
+	for (int i = 0; i < 12; ++i)
+		floor_pos[i] = floor_unit[i] * k;
 	static const uint32_t floor_idx[6] = {0, 2, 1, 0, 3, 2};
 	struct rs_mesh_desc floor = {.positions_f64 = floor_pos,
 	                             .vertex_count = 4,
@@ -39,7 +43,7 @@ static struct rs_scene *facing_spheres(int extra)
 	                             .triangle_count = 2,
 	                             .material = m_grey};
 	assert_int_equal(rs_scene_add_mesh(s, &floor, NULL), RS_OK);
-	struct rs_camera cam = {.eye = {0.3, 0.5, 3.0},
+	struct rs_camera cam = {.eye = {0.3 * k, 0.5 * k, 3.0 * k},
 	                        .target = {0, 0, 0},
 	                        .up = {0, 1, 0},
 	                        .fov_y_deg = 40,
@@ -47,8 +51,8 @@ static struct rs_scene *facing_spheres(int extra)
 	                        .height = SIZE};
 	assert_int_equal(rs_scene_set_camera(s, &cam, NULL), RS_OK);
 	static const double env_center[3] = {0, 0, 0};
-	gl_coloured_environment(s, env_center, 50.0);
-	struct rs_light light = {{3, 5, 4}, {1, 1, 1}};
+	gl_coloured_environment(s, env_center, 50.0 * k);
+	struct rs_light light = {{3 * k, 5 * k, 4 * k}, {1, 1, 1}};
 	assert_int_equal(rs_scene_add_light(s, &light, NULL), RS_OK);
 	return s;
 }
@@ -75,7 +79,7 @@ static struct rs_image_diff diff(const float *a, const float *b)
 static void closer_to_tracing_than_the_classic_map(void **state)
 {
 	(void)state;
-	struct rs_scene *s = facing_spheres(0);
+	struct rs_scene *s = facing_spheres(0, 1.0);
 	static float inter[PIXELS], classic[PIXELS], traced[PIXELS];
 	render(s, RS_REFLECT_INTERREFLECT, 3, 2, inter);
 	render(s, RS_REFLECT_ENVMAP, 3, 0, classic);
@@ -117,7 +121,7 @@ static double mean_where_differ(const float *a, const float *b, const float *b1,
 static void second_bounce_shows_where_spheres_see_each_other(void **state)
 {
 	(void)state;
-	struct rs_scene *s = facing_spheres(0);
+	struct rs_scene *s = facing_spheres(0, 1.0);
 	static float b1[PIXELS], b2[PIXELS], t2[PIXELS], t3[PIXELS];
 	render(s, RS_REFLECT_INTERREFLECT, 3, 1, b1);
 	render(s, RS_REFLECT_INTERREFLECT, 3, 2, b2);
@@ -159,7 +163,7 @@ static void mirrors_closer_than_the_classic_map(void **state)
 static void one_pass_is_tracing(void **state)
 {
 	(void)state;
-	struct rs_scene *s = facing_spheres(0);
+	struct rs_scene *s = facing_spheres(0, 1.0);
 	static float inter[PIXELS], traced[PIXELS];
 	render(s, RS_REFLECT_INTERREFLECT, 1, 2, inter);
 	render(s, RS_REFLECT_TRACE, 1, 0, traced);
@@ -173,7 +177,7 @@ static void one_pass_is_tracing(void **state)
 static void fused_chain_equals_separate(void **state)
 {
 	(void)state;
-	struct rs_scene *s = facing_spheres(0);
+	struct rs_scene *s = facing_spheres(0, 1.0);
 	static float fused[PIXELS], separate[PIXELS], one[PIXELS];
 	struct rs_render_desc desc = {.width = SIZE,
 	                              .height = SIZE,
@@ -192,6 +196,26 @@ static void fused_chain_equals_separate(void **state)
 	render(s, RS_REFLECT_INTERREFLECT, 1, 2, one);
 	assert_memory_not_equal(fused, one, sizeof fused);
 	rs_scene_destroy(&s);
+}
+
+/* The captures start on each object's sphere, just outside it by a share of its radius (and
+ * of its centre's float): no fixed length, which put them 1e-6 out, 4 radii off spheres of
+ * 5e-7, so they saw the floor from below. The same scene a millionth of the size gives the
+ * same image (R7: its frame still reaches over RS_TRACE_FP32_REACH_MIN). */
+static void the_same_at_a_millionth_of_the_size(void **state)
+{
+	(void)state;
+	static float unit[PIXELS], small[PIXELS];
+	struct rs_scene *s = facing_spheres(0, 1.0);
+	render(s, RS_REFLECT_INTERREFLECT, 3, 2, unit);
+	rs_scene_destroy(&s);
+	s = facing_spheres(0, 1e-6);
+	render(s, RS_REFLECT_INTERREFLECT, 3, 2, small);
+	rs_scene_destroy(&s);
+	struct rs_image_diff d = diff(small, unit);
+	print_message("1e-6 against 1: PSNR %.1f dB, %.3f%% off by > 8/255\n", d.psnr_db,
+	              100.0 * d.bad_share);
+	assert_true(d.bad_share <= 0.002);
 }
 
 static void refused_where_it_cannot_work(void **state)
@@ -213,7 +237,7 @@ static void refused_where_it_cannot_work(void **state)
 	r = gl_open("egl", &desc);
 	if (!r)
 		gl_skip();
-	struct rs_scene *five = facing_spheres(3);
+	struct rs_scene *five = facing_spheres(3, 1.0);
 	assert_int_equal(rs_renderer_set_scene(r, five, &err), RS_ERR_LIMIT);
 	assert_non_null(strstr(err.message, "has 5"));
 	rs_renderer_destroy(&r);
@@ -221,7 +245,7 @@ static void refused_where_it_cannot_work(void **state)
 	/* The faces have a size of their own: a frame need not be square. */
 	desc.height = SIZE / 2;
 	r = gl_open("egl", &desc);
-	struct rs_scene *s = facing_spheres(0);
+	struct rs_scene *s = facing_spheres(0, 1.0);
 	assert_int_equal(rs_renderer_set_scene(r, s, &err), RS_OK);
 	rs_renderer_destroy(&r);
 	rs_scene_destroy(&s);
@@ -235,6 +259,7 @@ int main(void)
 	    cmocka_unit_test(mirrors_closer_than_the_classic_map),
 	    cmocka_unit_test(one_pass_is_tracing),
 	    cmocka_unit_test(fused_chain_equals_separate),
+	    cmocka_unit_test(the_same_at_a_millionth_of_the_size),
 	    cmocka_unit_test(refused_where_it_cannot_work),
 	};
 	return gl_exit(cmocka_run_group_tests(tests, NULL, NULL));

@@ -7,6 +7,7 @@
  * slot through u_objects); rays from other surfaces read the classic map. The two sets
  * are made at set_scene; a bounce renders into one set on the GPU (gles_envmap.c) while its
  * rays read the other. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "gles_internal.h"
@@ -93,8 +94,14 @@ enum rs_status rs_gles_interreflect_capture(struct gles *g, struct rs_error *err
 		for (uint32_t o = 0; st == RS_OK && o < g->object_count; ++o) {
 			/* Just outside the sphere through the farthest vertex: the start points lie
 			 * beyond every triangle of the object, and rays leaving the centre's sphere
-			 * outwards never come back into it. */
-			float near = (float)(g->objects[o].radius * (1.0 + 1e-4) + 1e-6);
+			 * outwards never come back into it. The margin is a share of the radius and
+			 * 8 ulps of the centre's float in the packed frame, never a fixed length: a
+			 * fixed 1e-6 put the points far outside an object 1e-7 wide (R7). */
+			double c = 0.0;
+			for (int a = 0; a < 3; ++a)
+				c = fmax(c, fabs(g->objects[o].center[a] - g->frame.origin[a]));
+			float near = (float)(g->objects[o].radius * (1.0 + 1e-4) + c * 0x1p-20 +
+			                     RS_TRACE_SPAWN_FLOOR_MIN);
 			const struct rs_gles_plan *plan =
 			    &g->plans[b == 0 ? PLAN_BOUNCE_1 : PLAN_BOUNCE_N];
 			st = rs_gles_capture_cube(g, plan, g->objects[o].center, near,
