@@ -121,11 +121,16 @@ struct gl_fused_case {
 };
 #define GL_FUSED_CASES 13
 
+/* The fused-chain tests' descriptor: a w x h frame of `passes` passes with 2 lights. */
+static inline struct rs_render_desc gl_fused_desc(uint32_t w, uint32_t h, uint32_t passes)
+{
+	return (struct rs_render_desc){.width = w, .height = h, .passes = passes, .lights = 2};
+}
+
 static inline void gl_fused_cases(uint32_t w, uint32_t h, struct gl_fused_case out[GL_FUSED_CASES])
 {
-	const struct rs_render_desc base = {.width = w, .height = h, .passes = 2, .lights = 2};
 	for (int i = 0; i < GL_FUSED_CASES; ++i)
-		out[i].desc = base;
+		out[i].desc = gl_fused_desc(w, h, 2);
 	struct rs_render_desc *d;
 	out[0].what = "box, 2 passes", out[0].scene = "box";
 	out[1].what = "cow1, 1 pass", out[1].scene = "cow1";

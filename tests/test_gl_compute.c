@@ -121,12 +121,6 @@ static void compute_as_fragment(const char *what, struct rs_render_desc desc,
 	compute_as_fragment_on("egl", what, desc, scene_name, NULL);
 }
 
-static struct rs_render_desc base(uint32_t passes)
-{
-	return (struct rs_render_desc){
-	    .width = MAX_W, .height = MAX_H, .passes = passes, .lights = 2};
-}
-
 /* Every method a fused pass can be (test_gl_common.h, gl_fused_cases). */
 static void every_fused_method(void **state)
 {
@@ -135,7 +129,7 @@ static void every_fused_method(void **state)
 	gl_fused_cases(MAX_W, MAX_H, cases);
 	for (int i = 0; i < GL_FUSED_CASES; ++i)
 		compute_as_fragment(cases[i].what, cases[i].desc, cases[i].scene);
-	struct rs_render_desc d = base(3);
+	struct rs_render_desc d = gl_fused_desc(MAX_W, MAX_H, 3);
 	d.lights = 0; /* all of them */
 	compute_as_fragment("mirrors, 3 passes, all lights", d, "mirrors");
 }
@@ -143,13 +137,13 @@ static void every_fused_method(void **state)
 static void storage_and_node_layouts(void **state)
 {
 	(void)state;
-	struct rs_render_desc d = base(2);
+	struct rs_render_desc d = gl_fused_desc(MAX_W, MAX_H, 2);
 	d.scene_storage = RS_SCENE_STORAGE_2D;
 	compute_as_fragment("cow1, 2D storage", d, "cow1");
-	d = base(2);
+	d = gl_fused_desc(MAX_W, MAX_H, 2);
 	d.pack.nodes = RS_PACK_NODES_WIDE4;
 	compute_as_fragment("cow1, wide nodes", d, "cow1");
-	d = base(2);
+	d = gl_fused_desc(MAX_W, MAX_H, 2);
 	d.instances = RS_INSTANCES_TWO_LEVEL;
 	compute_as_fragment("cow5i, two levels", d, "cow5i");
 }
@@ -159,7 +153,7 @@ static void storage_and_node_layouts(void **state)
 static void captures_read_back(void **state)
 {
 	(void)state;
-	struct rs_render_desc d = base(3);
+	struct rs_render_desc d = gl_fused_desc(MAX_W, MAX_H, 3);
 	d.reflections = RS_REFLECT_INTERREFLECT;
 	d.reflection_bounces = 2;
 	d.envmap_size = 24;
@@ -171,7 +165,8 @@ static void captures_read_back(void **state)
 static void moving_scene(void **state)
 {
 	(void)state;
-	compute_as_fragment_on("egl", "cow1, vertices moved", base(2), "cow1", "cow1");
+	compute_as_fragment_on("egl", "cow1, vertices moved", gl_fused_desc(MAX_W, MAX_H, 2),
+	                       "cow1", "cow1");
 }
 
 static void osmesa_too(void **state)
@@ -181,7 +176,8 @@ static void osmesa_too(void **state)
 		print_message("osmesa: not in this build\n");
 		return;
 	}
-	compute_as_fragment_on("osmesa", "box, 2 passes", base(2), "box", NULL);
+	compute_as_fragment_on("osmesa", "box, 2 passes", gl_fused_desc(MAX_W, MAX_H, 2), "box",
+	                       NULL);
 }
 
 static void refused(struct rs_render_desc desc, const char *needle)
@@ -205,7 +201,7 @@ static void refused(struct rs_render_desc desc, const char *needle)
 static void refused_where_it_cannot_run(void **state)
 {
 	(void)state;
-	struct rs_render_desc d = base(2);
+	struct rs_render_desc d = gl_fused_desc(MAX_W, MAX_H, 2);
 	d.kernels = RS_KERNELS_COMPUTE;
 	d.chain = RS_CHAIN_SEPARATE;
 	refused(d, "fused chain");
@@ -233,7 +229,7 @@ static void counting_frames_stay_fragment(void **state)
 	static struct frame f[2];
 	memset(f, 0, sizeof f);
 	for (int k = 0; k < 2; ++k) {
-		struct rs_render_desc d = base(2);
+		struct rs_render_desc d = gl_fused_desc(MAX_W, MAX_H, 2);
 		d.counters = true;
 		if (!frames("egl", d, (enum rs_kernel_stage)k, scene, NULL, &f[k])) {
 			rs_scene_destroy(&scene);

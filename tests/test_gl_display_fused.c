@@ -114,12 +114,6 @@ static void displayed_as_the_display_pass(const char *what, struct rs_render_des
 	rs_scene_destroy(&scene);
 }
 
-static struct rs_render_desc base(uint32_t passes)
-{
-	return (struct rs_render_desc){
-	    .width = MAX_W, .height = MAX_H, .passes = passes, .lights = 2};
-}
-
 /* Every method the last pass can be (test_gl_common.h, gl_fused_cases). */
 static void every_fused_method(void **state)
 {
@@ -138,7 +132,9 @@ static void the_display_pass_stays_where_it_must(void **state)
 	struct rs_scene *scene = gl_scene("box");
 	static uint8_t bytes[MAX_PX * 4], first[MAX_PX * 4];
 	static float rgb[MAX_PX * 3];
-	struct rs_render_desc descs[4] = {base(2), base(2), base(2), base(2)};
+	struct rs_render_desc descs[4] = {
+	    gl_fused_desc(MAX_W, MAX_H, 2), gl_fused_desc(MAX_W, MAX_H, 2),
+	    gl_fused_desc(MAX_W, MAX_H, 2), gl_fused_desc(MAX_W, MAX_H, 2)};
 	descs[1].counters = true;
 	descs[2].chain = RS_CHAIN_SEPARATE;
 	descs[3].chain = RS_CHAIN_PAPER;

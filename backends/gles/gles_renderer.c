@@ -11,8 +11,6 @@
 #include "gles_internal.h"
 #include "gles_seams.h"
 
-/* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). 2D
- * storage only: buffer textures have no rows (rs_gles_choose_storage checked their length). */
 /* R7 (docs/tracer.md): the kernels compute in fp32, whose range a frame must stay within:
  * one that reaches too far (or stays too near its centre) is refused, never drawn wrong.
  * `eye` in the packed frame. */
@@ -29,6 +27,8 @@ static enum rs_status check_reach(const struct rs_trace_frame *f, const double e
 	                    reach, RS_TRACE_FP32_REACH_MIN, RS_TRACE_FP32_REACH_MAX);
 }
 
+/* Refuse what this GL cannot hold, naming the limit (GLES 3.0 guarantees only 2048). 2D
+ * storage only: buffer textures have no rows (rs_gles_choose_storage checked their length). */
 static enum rs_status check_limits(const struct gles *g, const struct rs_packed *p,
                                    const struct rs_trace_frame *f, struct rs_error *err)
 {
