@@ -4,7 +4,8 @@
  * (same triangle on >= 99.99 % of pixels, >= 60 dB) from <= 1/10 of the uploaded bytes, and
  * its hit numbers equal the CPU reference's two-level walk within 0.05 % (as test_gl_instances
  * allows flattened Cow17); rotated, scaled, non-uniformly scaled, mirrored and far-from-origin
- * instances render as the same geometry baked; a closed room of instanced walls leaks no
+ * instances render as the same geometry baked, as do prototypes modelled at 1e21 or 1e-22
+ * units; a closed room of instanced walls leaks no
  * pixel; two levels are refused, in one line, where a raster pass would need world triangles.
  * EGL; skipped without a context. */
 #include <setjmp.h>
@@ -180,6 +181,52 @@ static void far_from_origin_instances_render_as_baked(void **state)
 	if (!hits)
 		gl_skip();
 	assert_true(hits > SIZE * SIZE / 4);
+}
+
+/* Prototypes modelled at 1e21 and 1e-14 units (and 1e-22, whose instances' normal matrix
+ * has entries of 1e22), each placed by instances that scale it back to a normal world: the
+ * fp32 walk in the prototype's frame overflowed or flushed (instances missing: 25 dB) and the
+ * normals' length overflowed (41 dB) until rs_pack_instances scaled the BLAS frame and the
+ * normal matrix by powers of two (docs/bvh.md "Instances", R7). */
+static void prototypes_modelled_at_any_scale_render_as_baked(void **state)
+{
+	const double units[] = {1e21, 1e-14, 1e-22};
+	size_t hits[3] = {0};
+	for (size_t k = 0; k < 3; k++) {
+		double s = units[k], pos[SPHERE_VERTICES * 3];
+		uint32_t idx[SPHERE_TRIANGLES * 3];
+		sphere_arrays(pos, idx);
+		for (size_t i = 0; i < SPHERE_VERTICES * 3; i++)
+			pos[i] =
+			    (pos[i] + (i % 3 == 0 ? 3.0 : 0.0)) * s; /* off its own origin too */
+		struct rs_mesh_desc mesh = {.positions_f64 = pos,
+		                            .vertex_count = SPHERE_VERTICES,
+		                            .indices = idx,
+		                            .triangle_count = SPHERE_TRIANGLES};
+		struct rs_scene *scene = new_scene();
+		uint32_t proto;
+		assert_int_equal(rs_scene_add_prototype(scene, &mesh, &proto, NULL), RS_OK);
+		add_floor(scene, -1.5, 0);
+		const double tilt[3] = {1, 2, 3};
+		for (int i = 0; i < 4; i++) {
+			const double scale[3] = {1.0 / s, 1.0 / s, (i % 2 ? -1.0 : 1.0) / s};
+			const double move[3] = {-2.5 * i, 0.3 * i, 0};
+			struct rs_instance_desc d = {.mesh = proto};
+			make_transform(tilt, 0.5 * i, scale, move, d.transform);
+			assert_int_equal(rs_scene_add_instance(scene, &d, NULL, NULL), RS_OK);
+		}
+		const double eye[3] = {0.3, 4.0, 11.0}, at[3] = {0, 0, 0};
+		look(scene, eye, at);
+		char what[64];
+		snprintf(what, sizeof what, "egl prototype in units of %g", s);
+		hits[k] = two_level_as_baked(what, scene);
+		rs_scene_destroy(&scene);
+		if (!hits[k])
+			gl_skip();
+	}
+	assert_true(hits[0] > SIZE * SIZE / 4);
+	assert_int_equal(hits[1], hits[0]);
+	assert_int_equal(hits[2], hits[0]);
 }
 
 /* A cube room of six instanced walls of one quad (two mirrored), turned about a generic
@@ -388,6 +435,7 @@ int main(void)
 	    cmocka_unit_test(cow17i_two_level_renders_as_cow17_on_every_chain),
 	    cmocka_unit_test(transformed_instances_render_as_baked),
 	    cmocka_unit_test(far_from_origin_instances_render_as_baked),
+	    cmocka_unit_test(prototypes_modelled_at_any_scale_render_as_baked),
 	    cmocka_unit_test(paper_and_single_order_nodes_render_as_baked),
 	    cmocka_unit_test(room_of_instanced_walls_leaks_no_pixel),
 	    cmocka_unit_test(moved_instances_render_as_set_scene_sending_the_tlas_only),

@@ -61,26 +61,93 @@ static enum rs_status scratch_scene(const struct rs_scene *src, struct rs_scene 
 	return status;
 }
 
+/* The power of two that brings a magnitude outside [2^-10, 2^10] into [1, 2); 1 for one
+ * inside (whose packed bits then stay as they were), zero or not finite. Used for what the
+ * kernels compute with in fp32 that the scene's units do not bound (docs/bvh.md
+ * "Instances", R7):
+ * - a BLAS frame: a prototype modelled at 1e20 or 1e-14 units, scaled back to a normal world
+ *   by its instances, overflowed or flushed the watertight test's products in its frame
+ *   while the world frame was fine; scaled by this power of two, positions, origin, grid and
+ *   transforms scale exactly, so the walk is the same;
+ * - a normal matrix: only its direction counts (the normals are made unit), but an entry of
+ *   1e21 overflowed the length. */
+static double unit_power_of_two(double magnitude)
+{
+	if (!(magnitude > 0.0) || !isfinite(magnitude) ||
+	    (magnitude >= 0x1p-10 && magnitude <= 0x1p10))
+		return 1.0;
+	return ldexp(1.0, -ilogb(magnitude));
+}
+
+static double mesh_half_extent(const struct rs_mesh_desc *mesh)
+{
+	struct rs_bounds b;
+	for (int a = 0; a < 3; a++) {
+		b.lo[a] = INFINITY;
+		b.hi[a] = -INFINITY;
+	}
+	for (size_t v = 0; v < mesh->vertex_count; v++)
+		for (int a = 0; a < 3; a++) {
+			b.lo[a] = fmin(b.lo[a], mesh->positions_f64[v * 3 + a]);
+			b.hi[a] = fmax(b.hi[a], mesh->positions_f64[v * 3 + a]);
+		}
+	double half = 0.0;
+	for (int a = 0; a < 3; a++)
+		if (b.hi[a] >= b.lo[a])
+			half = fmax(half, 0.5 * (b.hi[a] - b.lo[a]));
+	return half;
+}
+
+/* Build and pack one mesh (object space) as BLAS k, in its frame scaled by
+ * unit_power_of_two() of its half extent:
+ * the scale into out->mesh_scale[k], its object-space box into mesh_bounds[k]. */
+static enum rs_status pack_mesh(const struct rs_scene *scene, const struct rs_mesh_desc *mesh,
+                                const struct rs_bvh_desc *bvh, const struct rs_pack_desc *pack,
+                                struct rs_packed_instances *out, uint32_t k,
+                                struct rs_bounds *mesh_bounds, struct rs_error *err)
+{
+	double scale = unit_power_of_two(mesh_half_extent(mesh)), pack_ms = 0.0;
+	double *scaled = NULL;
+	struct rs_mesh_desc d = *mesh;
+	if (scale != 1.0) {
+		scaled = malloc((mesh->vertex_count ? mesh->vertex_count : 1) * 3 * sizeof *scaled);
+		if (!scaled)
+			return rs_error_set(err, RS_ERR_NO_MEMORY,
+			                    "pack: out of memory for a mesh");
+		for (size_t i = 0; i < mesh->vertex_count * 3; i++)
+			scaled[i] = mesh->positions_f64[i] * scale;
+		d.positions_f64 = scaled;
+	}
+	struct rs_scene *s = NULL;
+	enum rs_status status = scratch_scene(scene, &s, err);
+	if (status == RS_OK)
+		status = rs_scene_add_mesh(s, &d, err);
+	if (status == RS_OK)
+		status =
+		    build_and_pack(s, bvh, pack, &out->meshes[k], &out->build_ms, &pack_ms, err);
+	if (status == RS_OK) {
+		rs_scene_bounds(s, &mesh_bounds[k]);
+		for (int a = 0; a < 3; a++) {
+			mesh_bounds[k].lo[a] /= scale;
+			mesh_bounds[k].hi[a] /= scale;
+		}
+		out->mesh_scale[k] = scale;
+	}
+	rs_scene_destroy(&s);
+	free(scaled);
+	return status;
+}
+
 static enum rs_status pack_meshes(const struct rs_scene *scene, const struct rs_bvh_desc *bvh,
                                   const struct rs_pack_desc *pack, struct rs_packed_instances *out,
                                   struct rs_bounds *mesh_bounds, struct rs_error *err)
 {
 	enum rs_status status = RS_OK;
-	double pack_ms = 0.0;
 	uint32_t protos = (uint32_t)rs_scene_prototype_count(scene);
 	for (uint32_t k = 0; status == RS_OK && k < protos; k++) {
-		struct rs_scene *s = NULL;
 		struct rs_mesh_desc mesh;
 		rs_scene_prototype_mesh(scene, k, &mesh);
-		status = scratch_scene(scene, &s, err);
-		if (status == RS_OK)
-			status = rs_scene_add_mesh(s, &mesh, err);
-		if (status == RS_OK)
-			status = build_and_pack(s, bvh, pack, &out->meshes[k], &out->build_ms,
-			                        &pack_ms, err);
-		if (status == RS_OK)
-			rs_scene_bounds(s, &mesh_bounds[k]);
-		rs_scene_destroy(&s);
+		status = pack_mesh(scene, &mesh, bvh, pack, out, k, mesh_bounds, err);
 	}
 	return status;
 }
@@ -144,8 +211,11 @@ static enum rs_status pack_loose(const struct rs_scene *scene, const bool *cover
 	if (status == RS_OK)
 		status = build_and_pack(s, bvh, pack, &out->meshes[out->mesh_count - 1],
 		                        &out->build_ms, &pack_ms, err);
-	if (status == RS_OK)
+	if (status == RS_OK) {
 		rs_scene_bounds(s, bounds);
+		/* world space: the frame R7 already bounds (rs_trace_frame_reach) */
+		out->mesh_scale[out->mesh_count - 1] = 1.0;
+	}
 	rs_scene_destroy(&s);
 	free(remap);
 	free(stamp);
@@ -262,20 +332,27 @@ static struct rs_scene_instance *instance_list(const struct rs_scene *scene, boo
 	return inst;
 }
 
-/* Per instance: its mesh, first triangle, world -> BLAS frame and normal matrix. */
+/* Per instance: its mesh, first triangle, world -> BLAS frame (object space scaled by the
+ * mesh's power of two, less its packed origin) and normal matrix. */
 static void set_transforms(struct rs_packed_instances *out, const struct rs_scene_instance *inst)
 {
 	for (size_t i = 0; i < out->instance_count; i++) {
 		const double *o = out->meshes[inst[i].mesh].origin;
+		double scale = out->mesh_scale[inst[i].mesh], largest = 0.0;
 		out->mesh[i] = inst[i].mesh;
 		out->first_triangle[i] = inst[i].first_triangle;
 		for (int r = 0; r < 3; r++) {
-			memcpy(out->to_object[i][r], inst[i].inverse[r], sizeof inst[i].inverse[r]);
+			for (int c = 0; c < 4; c++)
+				out->to_object[i][r][c] = inst[i].inverse[r][c] * scale;
 			out->to_object[i][r][3] -= o[r];
-			/* (A^-1)^T: row r of the normal matrix is column r of the inverse */
-			for (int k = 0; k < 3; k++)
-				out->to_world_normal[i][r][k] = inst[i].inverse[k][r];
+			for (int c = 0; c < 3; c++)
+				largest = fmax(largest, fabs(inst[i].inverse[r][c]));
 		}
+		/* (A^-1)^T: row r of the normal matrix is column r of the inverse */
+		double n_scale = unit_power_of_two(largest);
+		for (int r = 0; r < 3; r++)
+			for (int k = 0; k < 3; k++)
+				out->to_world_normal[i][r][k] = inst[i].inverse[k][r] * n_scale;
 	}
 }
 
@@ -319,12 +396,14 @@ enum rs_status rs_pack_instances(const struct rs_scene *scene, const struct rs_b
 	out->first_triangle = malloc(n * sizeof *out->first_triangle);
 	out->loose_ids = loose > 0 ? malloc(loose * sizeof *out->loose_ids) : NULL;
 	out->mesh_bounds = calloc(out->mesh_count, sizeof *out->mesh_bounds);
+	out->mesh_scale = calloc(out->mesh_count, sizeof *out->mesh_scale);
 	if (pack)
 		out->pack = *pack;
 	struct rs_scene_instance *inst = NULL;
 	enum rs_status status = RS_OK;
 	if (!out->meshes || !out->to_object || !out->to_world_normal || !out->mesh ||
-	    !out->first_triangle || !out->mesh_bounds || (loose > 0 && !out->loose_ids))
+	    !out->first_triangle || !out->mesh_bounds || !out->mesh_scale ||
+	    (loose > 0 && !out->loose_ids))
 		status = rs_error_set(err, RS_ERR_NO_MEMORY, "pack: out of memory for instances");
 	if (status == RS_OK && !(inst = instance_list(scene, loose > 0, err)))
 		status = RS_ERR_NO_MEMORY;
@@ -360,6 +439,7 @@ void rs_pack_instances_free(struct rs_packed_instances *packed)
 	free(packed->first_triangle);
 	free(packed->loose_ids);
 	free(packed->mesh_bounds);
+	free(packed->mesh_scale);
 	memset(packed, 0, sizeof *packed);
 }
 

@@ -96,10 +96,12 @@ static void write_instance(const struct rs_scene *scene, const struct rs_packed_
 		/* world = TLAS frame + o_top */
 		double w = m[3] + m[0] * o_top[0] + m[1] * o_top[1] + m[2] * o_top[2];
 		set4(t + 4 * r, m[0], m[1], m[2], w);
-		/* TLAS frame = A (BLAS frame + mesh origin) + b - o_top */
+		/* TLAS frame = A (BLAS frame + mesh origin) / mesh scale + b - o_top */
 		const double *o = blas->origin;
-		double b = a[r][3] + a[r][0] * o[0] + a[r][1] * o[1] + a[r][2] * o[2] - o_top[r];
-		set4(t + 4 * (3 + r), a[r][0], a[r][1], a[r][2], b);
+		double s = pi->mesh_scale[mesh];
+		double b =
+		    a[r][3] + (a[r][0] * o[0] + a[r][1] * o[1] + a[r][2] * o[2]) / s - o_top[r];
+		set4(t + 4 * (3 + r), a[r][0] / s, a[r][1] / s, a[r][2] / s, b);
 	}
 	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
 	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +

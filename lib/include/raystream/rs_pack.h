@@ -203,12 +203,16 @@ struct rs_pack_wide {
  * The TLAS is packed as an ordinary rs_packed whose "triangles" are degenerate: item i holds
  * instance i's box as (lo, hi, (lo + hi) / 2), widened so that rounding to float never
  * shrinks it, with the instance id in t0.w; a TLAS leaf's items are instances, not triangles.
- * to_object[i] maps world to the BLAS frame of instance i's mesh (world -> object, minus the
- * mesh's packed origin), to_world_normal[i] the inverse transpose (object -> world normals).
- * Triangles of the scene outside every instance (rs_scene_add_mesh) go into one more BLAS,
- * meshes[mesh_count - 1] when `loose_ids` is set, walked through one more identity instance
- * (the last); loose_ids maps its local triangle ids to scene ids.
- * Threaded node formats only (compact or paper); wide4 is refused.
+ * to_object[i] maps world to the BLAS frame of instance i's mesh (world -> object, times the
+ * mesh's mesh_scale, minus its packed origin), to_world_normal[i] the inverse transpose
+ * (object -> world normals; scaled by a power of two as well when its largest entry is outside
+ * [2^-10, 2^10], since only its direction counts). A prototype's BLAS is packed from its positions
+ * times mesh_scale, a power of two that brings a half extent outside [2^-10, 2^10] into [1, 2) (1
+ * otherwise, and for the loose triangles), so the fp32 walk in its frame neither overflows nor
+ * flushes (R7) whatever units the prototype was modelled in. Triangles of the scene outside every
+ * instance (rs_scene_add_mesh) go into one more BLAS, meshes[mesh_count - 1] when `loose_ids` is
+ * set, walked through one more identity instance (the last); loose_ids maps its local triangle ids
+ * to scene ids. Threaded node formats only (compact or paper); wide4 is refused.
  */
 struct rs_packed_instances {
 	struct rs_packed top;     /**< TLAS over instance boxes (its triangles are boxes) */
@@ -227,6 +231,8 @@ struct rs_packed_instances {
 	/** Per mesh: its object-space box (of the BLAS's vertices), what the TLAS's instance
 	 * boxes are made from (mesh_count of them). */
 	struct rs_bounds *mesh_bounds;
+	/** Per mesh: the power of two its BLAS frame is scaled by (see above). */
+	double *mesh_scale;
 	struct rs_pack_desc pack; /**< the pack options as given (updates repack the TLAS so) */
 };
 
